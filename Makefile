@@ -1,0 +1,27 @@
+# lmfilm — the main job and the checks. `make help` lists the targets.
+CARGO ?= cargo
+SCENE ?= scenes/examples/cours_tree3.lm
+TIME ?= 3
+
+.PHONY: film test check lint bench help
+
+help:
+	@echo "make film   derive the default scene and print its word (SCENE=…, TIME=…)"
+	@echo "make test   build and run the whole test suite"
+	@echo "make lint   cargo fmt --check and cargo clippy --all-targets"
+	@echo "make bench  criterion benchmarks of the step function"
+
+film:
+	$(CARGO) run --release -- print $(SCENE) --time $(TIME)
+
+test:
+	$(CARGO) test --all-targets
+
+lint:
+	$(CARGO) fmt --check
+	$(CARGO) clippy --all-targets -- -D warnings
+
+check: lint test
+
+bench:
+	$(CARGO) bench --bench step

@@ -1,0 +1,111 @@
+//! Several L-systems derived together through time (code 2.1.1, part 0
+//! and the step of part 5): one global time, one seed, one id counter.
+
+use std::path::Path;
+
+use super::definition::CameraParams;
+use super::parse::parse;
+use super::sensors::Sensors;
+use super::source::{Diagnostic, Source};
+use super::step::LSystem;
+
+/// The L-systems of one animation and the global clock.
+pub struct Animation {
+    pub systems: Vec<LSystem>,
+    /// Camera and animation parameters: those of the first file that has a
+    /// `Camera_AnimationParameters` section.
+    pub camera: CameraParams,
+    /// Steps taken; the global time is `frame · Δt`.
+    pub frame: u64,
+    next_id: u64,
+}
+
+/// Why an animation could not be loaded.
+#[derive(Debug)]
+pub enum LoadError {
+    Io(String, std::io::Error),
+    Syntax(Diagnostic),
+}
+
+impl std::fmt::Display for LoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoadError::Io(p, e) => write!(f, "{p}: cannot read the file: {e}"),
+            LoadError::Syntax(d) => d.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for LoadError {}
+
+impl Animation {
+    /// Reads and parses definition files in order.
+    pub fn load<P: AsRef<Path>>(paths: &[P], sensors: &mut dyn Sensors) -> Result<Self, LoadError> {
+        let mut sources = Vec::new();
+        for p in paths {
+            let name = p.as_ref().display().to_string();
+            let text = std::fs::read_to_string(p).map_err(|e| LoadError::Io(name.clone(), e))?;
+            sources.push(Source::new(name, text));
+        }
+        Self::from_sources(&sources, sensors).map_err(LoadError::Syntax)
+    }
+
+    /// Parses the sources and derives their axioms (time 0).
+    pub fn from_sources(sources: &[Source], sensors: &mut dyn Sensors) -> Result<Self, Diagnostic> {
+        let defs = sources.iter().map(parse).collect::<Result<Vec<_>, _>>()?;
+        let camera = defs
+            .iter()
+            .find(|d| d.has_camera)
+            .map(|d| d.camera.clone())
+            .unwrap_or_default();
+        let mut next_id = 0;
+        let systems = defs
+            .into_iter()
+            .enumerate()
+            .map(|(k, d)| LSystem::new(d, k, camera.dt, camera.seed, &mut next_id, sensors))
+            .collect();
+        Ok(Animation {
+            systems,
+            camera,
+            frame: 0,
+            next_id,
+        })
+    }
+
+    /// Global time T of the current words.
+    pub fn time(&self) -> f64 {
+        self.frame as f64 * self.camera.dt
+    }
+
+    /// Number of frames of the whole animation: times 0, Δt, … ≤ t_final.
+    pub fn frame_count(&self) -> u64 {
+        (self.camera.t_final / self.camera.dt + 1e-9).floor() as u64 + 1
+    }
+
+    /// The frame nearest to time `t`.
+    pub fn frame_at(&self, t: f64) -> u64 {
+        (t / self.camera.dt).round().max(0.0) as u64
+    }
+
+    /// Steps every L-system from T to T + Δt, in file order.
+    pub fn step(&mut self, sensors: &mut dyn Sensors) {
+        let time = self.time();
+        for ls in &mut self.systems {
+            ls.step(
+                time,
+                self.frame,
+                self.camera.seed,
+                &mut self.next_id,
+                sensors,
+            );
+        }
+        self.frame += 1;
+    }
+
+    /// Steps until the current frame is `frame`.
+    pub fn advance_to(&mut self, frame: u64, sensors: &mut dyn Sensors) {
+        while self.frame < frame {
+            self.step(sensors);
+        }
+    }
+}

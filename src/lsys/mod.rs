@@ -1,0 +1,28 @@
+//! The behavioural L-system (thesis ch. 2.1, 6.2, appendices A and B):
+//! definition files, postfix expressions, the step function S and context
+//! matching. Knows nothing of geometry, physics or sound; what it needs of
+//! them comes through [`Sensors`].
+
+pub mod animation;
+pub mod context;
+pub mod definition;
+pub mod eval;
+pub mod expr;
+pub mod functions;
+pub mod options;
+pub mod parse;
+pub mod print;
+pub mod random;
+pub mod scan;
+pub mod sensors;
+pub mod source;
+pub mod step;
+pub mod word;
+
+pub use animation::{Animation, LoadError};
+pub use definition::Definition;
+pub use parse::parse;
+pub use sensors::{NoSensors, Sensors, Who};
+pub use source::{Diagnostic, Source};
+pub use step::{Ephemeral, LSystem};
+pub use word::Symbol;

@@ -1,0 +1,321 @@
+//! The `Options` section (table B1): every keyword is parsed and kept, even
+//! where the feature it declares belongs to a later layer.
+
+use super::scan::Scanner;
+use super::source::Diagnostic;
+
+/// A keyword with its arguments, as in automata and sound protocol lists.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Command {
+    pub name: String,
+    pub numbers: Vec<f64>,
+    pub word: Option<String>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum OptionItem {
+    MaxPart(i64),
+    CommandFile {
+        number: i64,
+        script: String,
+        arg1: String,
+        arg2: String,
+    },
+    FConst {
+        index: i64,
+        values: [f64; 8],
+    },
+    VlnetDeclare {
+        exported: Vec<[i64; 3]>,
+        imported: Vec<i64>,
+        objects: Vec<i64>,
+    },
+    AudioPortHost {
+        port: i64,
+        host: String,
+    },
+    NbrActors(i64),
+    VisionWinSize {
+        actor: i64,
+        edge: i64,
+        max_colors: i64,
+    },
+    ActorAutomata {
+        actor: i64,
+        automata: i64,
+        commands: Vec<Command>,
+    },
+    SoundEventFile {
+        file: String,
+        items: Vec<Command>,
+    },
+    RsFilePathName {
+        path: String,
+        name: String,
+    },
+    /// Up to three frame intervals (first, last) for ray tracing.
+    RsSwitch(Vec<i64>),
+    Channels(Vec<String>),
+    TraceActor {
+        actor: i64,
+        file: String,
+    },
+    ImportTrace {
+        actor: i64,
+        file: String,
+    },
+}
+
+/// (name, fewest numbers, most numbers, takes a word after the numbers).
+type Spec = (&'static str, usize, usize, bool);
+
+/// Automata commands of the BNF and table B6 (where they disagree on the
+/// argument count, both counts are accepted).
+const AUTOMATA: &[Spec] = &[
+    ("KEYFRAMEdef", 1, 1, true),
+    ("coll_test_func", 1, 1, false),
+    ("heuristic", 1, 1, false),
+    ("rel_search_level", 0, 1, false),
+    ("goal", 3, 3, false),
+    ("local_goal", 3, 4, false),
+    ("rgb_interest", 4, 4, false),
+    ("eps_arrived", 1, 2, false),
+    ("eps_look_at_goal", 1, 2, false),
+    ("eps_look_at", 1, 2, false),
+    ("reset_goal", 0, 0, false),
+    ("turtle", 1, 1, false),
+    ("mem_displ_cubes", 0, 0, false),
+    ("mem_no_displ", 0, 0, false),
+    ("mem_displ_points", 0, 0, false),
+    ("vis_mem_on", 0, 0, false),
+    ("vis_mem_off", 0, 0, false),
+    ("obs", 3, 3, false),
+    ("lat", 3, 3, false),
+    ("align", 3, 3, false),
+    ("init", 4, 4, false),
+    ("fov", 1, 1, false),
+    ("interest", 2, 2, false),
+    ("size_actor", 1, 1, false),
+    ("dist_coll", 1, 1, false),
+    ("tennis_state", 1, 1, false),
+    ("state", 1, 1, false),
+    ("optim_rate", 1, 1, false),
+    ("speed", 1, 1, false),
+    ("inertia", 1, 1, false),
+    ("ahead", 1, 1, false),
+    ("optim_ahead", 1, 1, false),
+    ("vision_range", 3, 3, false),
+    ("motor_init", 3, 3, false),
+];
+
+/// The sound protocol of table B7 (`PLAY n file` takes a word).
+const SOUND: &[Spec] = &[
+    ("INIT_source", 7, 7, false),
+    ("INIT_mic", 7, 7, false),
+    ("PLAY", 1, 1, true),
+    ("SP", 4, 4, false),
+    ("SO", 4, 4, false),
+    ("MP", 4, 4, false),
+    ("MO", 4, 4, false),
+    ("TIME", 1, 1, false),
+    ("Time", 1, 1, false),
+    ("CONST_S", 7, 7, false),
+    ("INIT_dist_matrix", 0, 0, false),
+];
+
+const KEYWORDS: &str = "MaxPart, command_file, fConst, VLNETdeclare, AUDIOport_host, NBR_actors, iVisionWinSize, actorNbr_automata, Sound_event_file, rs_file_path_name, rs_switch, NbrChannels_listOfNames, trace_actor, import_trace";
+
+fn commands(s: &mut Scanner, specs: &[Spec]) -> Result<Vec<Command>, Diagnostic> {
+    let mut out = Vec::new();
+    loop {
+        let (_, w) = s.peek_word()?;
+        let Some(&(name, min, max, word)) = specs.iter().find(|sp| sp.0 == w) else {
+            return Ok(out);
+        };
+        let (at, _) = s.word(name)?;
+        let numbers = s.numbers(max, &format!("an argument of `{name}`"))?;
+        if numbers.len() < min {
+            return Err(s.error(
+                at,
+                format!("`{name}` takes {min} numbers, found {}", numbers.len()),
+            ));
+        }
+        let word = if word {
+            Some(
+                s.word(&format!("a file name after `{name}`"))?
+                    .1
+                    .to_string(),
+            )
+        } else {
+            None
+        };
+        out.push(Command {
+            name: name.to_string(),
+            numbers,
+            word,
+        });
+    }
+}
+
+fn text(s: &mut Scanner, what: &str) -> Result<String, Diagnostic> {
+    Ok(s.word(what)?.1.to_string())
+}
+
+/// Parses one option; `None` when the next word is not an option keyword.
+pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
+    let (at, kw) = s.peek_word()?;
+    let item = match kw {
+        "MaxPart" => {
+            s.word(kw)?;
+            OptionItem::MaxPart(s.int("the maximal number of particles")?)
+        }
+        "command_file" => {
+            s.word(kw)?;
+            OptionItem::CommandFile {
+                number: s.int("the script number")?,
+                script: text(s, "the script name")?,
+                arg1: text(s, "the first script argument")?,
+                arg2: text(s, "the second script argument")?,
+            }
+        }
+        "fConst" => {
+            s.word(kw)?;
+            let index = s.int("the fConst array number")?;
+            if !(0..1000).contains(&index) {
+                return Err(s.error(at, "fConst array number must be between 0 and 999"));
+            }
+            let v = s.numbers(8, "an fConst coefficient")?;
+            if v.is_empty() {
+                return Err(s.error(
+                    at,
+                    "`fConst` needs an array number and up to 8 coefficients",
+                ));
+            }
+            let mut values = [0.0; 8];
+            values[..v.len()].copy_from_slice(&v);
+            OptionItem::FConst { index, values }
+        }
+        "VLNETdeclare" => {
+            s.word(kw)?;
+            let mut exported = Vec::new();
+            let mut imported = Vec::new();
+            let mut objects = Vec::new();
+            if s.at_keyword("Nbr_exported_actors")? {
+                s.word("Nbr_exported_actors")?;
+                for _ in 0..s.int("the number of exported actors")? {
+                    exported.push([
+                        s.int("a body key")?,
+                        s.int("an object key")?,
+                        s.int("an actor identifier")?,
+                    ]);
+                }
+            }
+            for (key, list) in [
+                ("Nbr_imported_actors", &mut imported),
+                ("Nbr_objects", &mut objects),
+            ] {
+                if s.at_keyword(key)? {
+                    s.word(key)?;
+                    for _ in 0..s.int("a count")? {
+                        list.push(s.int("a number")?);
+                    }
+                }
+            }
+            OptionItem::VlnetDeclare {
+                exported,
+                imported,
+                objects,
+            }
+        }
+        "AUDIOport_host" => {
+            s.word(kw)?;
+            OptionItem::AudioPortHost {
+                port: s.int("the port number")?,
+                host: text(s, "the host name")?,
+            }
+        }
+        "NBR_actors" => {
+            s.word(kw)?;
+            OptionItem::NbrActors(s.int("the number of actors")?)
+        }
+        "iVisionWinSize" => {
+            s.word(kw)?;
+            OptionItem::VisionWinSize {
+                actor: s.int("the actor number")?,
+                edge: s.int("the window edge length")?,
+                max_colors: s.int("the maximal number of colours")?,
+            }
+        }
+        "actorNbr_automata" => {
+            s.word(kw)?;
+            // The BNF repeats the actor number (`int Automata`, Automata =
+            // `int int …`); both the two- and three-number forms are read.
+            let mut ids = Vec::new();
+            while ids.len() < 3 && s.at_number()? {
+                ids.push(s.int("an actor or automata number")?);
+            }
+            if ids.len() < 2 {
+                return Err(s.error(
+                    at,
+                    "`actorNbr_automata` needs the actor and automata numbers",
+                ));
+            }
+            OptionItem::ActorAutomata {
+                actor: ids[0],
+                automata: ids[ids.len() - 1],
+                commands: commands(s, AUTOMATA)?,
+            }
+        }
+        "Sound_event_file" => {
+            s.word(kw)?;
+            OptionItem::SoundEventFile {
+                file: text(s, "the sound event file name")?,
+                items: commands(s, SOUND)?,
+            }
+        }
+        "rs_file_path_name" => {
+            s.word(kw)?;
+            OptionItem::RsFilePathName {
+                path: text(s, "the file path")?,
+                name: text(s, "the file name")?,
+            }
+        }
+        "rs_switch" => {
+            s.word(kw)?;
+            let v = s.numbers(6, "a frame number")?;
+            if v.len() < 2 {
+                return Err(s.error(at, "`rs_switch` needs frame intervals (first last …)"));
+            }
+            OptionItem::RsSwitch(v.iter().map(|x| *x as i64).collect())
+        }
+        "NbrChannels_listOfNames" => {
+            s.word(kw)?;
+            let n = s.int("the number of channels")?;
+            let mut names = Vec::new();
+            for _ in 0..n.max(0) {
+                names.push(text(s, "a channel file name")?);
+            }
+            OptionItem::Channels(names)
+        }
+        "trace_actor" | "import_trace" => {
+            s.word(kw)?;
+            let actor = s.int("the actor number")?;
+            let file = text(s, "the trace file name")?;
+            if kw == "trace_actor" {
+                OptionItem::TraceActor { actor, file }
+            } else {
+                OptionItem::ImportTrace { actor, file }
+            }
+        }
+        _ => return Ok(None),
+    };
+    Ok(Some(item))
+}
+
+/// The error for a word that is neither an option nor a section.
+pub fn unknown_option(s: &Scanner, at: usize, w: &str) -> Diagnostic {
+    s.error(
+        at,
+        format!("unknown option `{w}`; the Options section knows {KEYWORDS}"),
+    )
+}

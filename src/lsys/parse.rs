@@ -1,0 +1,570 @@
+//! The definition file parser (appendix A, code 6.2.1): sections in their
+//! fixed order, any of them omitted when empty.
+
+use super::definition::{
+    CameraParams, Definition, Growth, Production, RepetitionParams, RightSide, SymbolTemplate,
+};
+use super::expr::{Code, Compiler, Expr, Op};
+use super::functions::{constant_arity, Constants, Spline};
+use super::options::{parse_option, unknown_option};
+use super::scan::Scanner;
+use super::source::{Diagnostic, Source};
+
+const SECTIONS: [&str; 8] = [
+    "Camera_AnimationParameters",
+    "RepetitionParameters",
+    "Options",
+    "Splines",
+    "Constants",
+    "Surfaces",
+    "Axiom",
+    "Productions",
+];
+
+/// Characters that may name a symbol (BNF `Symbol`, plus the query `?`
+/// and the polygon vertex `.` of appendix C).
+pub fn is_symbol_char(c: u8) -> bool {
+    c.is_ascii_alphanumeric() || b"[]{}/^&$+-?.".contains(&c)
+}
+
+/// Parses a whole definition file.
+pub fn parse(src: &Source) -> Result<Definition, Diagnostic> {
+    let mut p = Parser {
+        s: Scanner::new(src),
+        def: Definition {
+            name: src.name.clone(),
+            camera: CameraParams::default(),
+            has_camera: false,
+            repetition: RepetitionParams::default(),
+            options: Vec::new(),
+            splines: Vec::new(),
+            constants: Constants::default(),
+            surfaces: Vec::new(),
+            axiom: Vec::new(),
+            productions: Vec::new(),
+            code: Code::default(),
+            growth: vec![Growth::default()],
+        },
+        spline_numbers: Vec::new(),
+    };
+    p.file()?;
+    Ok(p.def)
+}
+
+struct Parser<'a> {
+    s: Scanner<'a>,
+    def: Definition,
+    spline_numbers: Vec<u32>,
+}
+
+impl<'a> Parser<'a> {
+    fn file(&mut self) -> Result<(), Diagnostic> {
+        let mut next = 0;
+        while !self.s.at_end()? {
+            let (at, w) = self.s.peek_word()?;
+            let Some(k) = SECTIONS.iter().position(|s| *s == w) else {
+                return Err(self.s.error(
+                    at,
+                    format!(
+                        "expected a section name ({}), found `{w}`",
+                        SECTIONS[next.min(7)..].join(", ")
+                    ),
+                ));
+            };
+            if k < next {
+                return Err(self.s.error(
+                    at,
+                    format!(
+                        "section `{w}` is out of order or repeated: sections come in the order {}",
+                        SECTIONS.join(", ")
+                    ),
+                ));
+            }
+            self.s.word(w)?;
+            next = k + 1;
+            match k {
+                0 => self.camera()?,
+                1 => self.repetition()?,
+                2 => self.options()?,
+                3 => self.splines()?,
+                4 => self.constants()?,
+                5 => self.surfaces()?,
+                6 => self.axiom()?,
+                _ => self.productions()?,
+            }
+        }
+        Ok(())
+    }
+
+    /// True at the end of the file or at the next section's name.
+    fn at_section(&mut self) -> Result<bool, Diagnostic> {
+        let w = self.s.peek_word()?.1;
+        Ok(w.is_empty() || SECTIONS.contains(&w))
+    }
+
+    fn unknown(&self, at: usize, w: &str, section: &str, known: &str) -> Diagnostic {
+        self.s.error(
+            at,
+            format!("unknown keyword `{w}` in {section}; expected one of {known}"),
+        )
+    }
+
+    fn camera(&mut self) -> Result<(), Diagnostic> {
+        self.def.has_camera = true;
+        let c = &mut self.def.camera;
+        let s = &mut self.s;
+        loop {
+            let w = s.peek_word()?.1;
+            if w.is_empty() || SECTIONS.contains(&w) {
+                break;
+            }
+            let (at, w) = s.word("a keyword")?;
+            match w {
+                "pref_pos_x1_x2_y1_y2" | "prefpos_x1_x2_y1_y2" => {
+                    for v in &mut c.pref_pos {
+                        *v = s.int("a window coordinate")?;
+                    }
+                }
+                "observer" => c.observer = s.floats("the observer position")?,
+                "lookatPoint" => c.look_at = s.floats("the look-at point")?,
+                "twist" => c.twist = s.number("the twist angle")?,
+                "viewAngle" => c.view_angle = s.number("the view angle in tenths of a degree")?,
+                "aspectRatio" => c.aspect_ratio = s.number("the aspect ratio")?,
+                "near" => c.near = s.number("the near distance")?,
+                "far" => c.far = s.number("the far distance")?,
+                "swapinterval" => c.swap_interval = s.number("the swap interval")?,
+                "nbrCalcStep_seed" => {
+                    c.nbr_calc_step = s.int("the number of calculation steps")?;
+                    let (sat, sw) = s.word("the seed")?;
+                    c.seed = sw.parse::<u64>().map_err(|_| {
+                        s.error(sat, format!("the seed must be a non-negative integer, found `{sw}`"))
+                    })?;
+                }
+                "t_final_interval" => {
+                    c.t_final = s.number("the duration of the animation")?;
+                    let dat = s.peek_word()?.0;
+                    c.dt = s.number("the time interval Δt")?;
+                    if c.dt <= 0.0 || c.t_final < 0.0 {
+                        return Err(s.error(dat, "Δt must be > 0 and the duration ≥ 0"));
+                    }
+                }
+                _ => {
+                    return Err(self.unknown(at, w, "Camera_AnimationParameters",
+                        "pref_pos_x1_x2_y1_y2, observer, lookatPoint, twist, viewAngle, aspectRatio, near, far, swapinterval, nbrCalcStep_seed, t_final_interval"))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn repetition(&mut self) -> Result<(), Diagnostic> {
+        let r = &mut self.def.repetition;
+        let s = &mut self.s;
+        loop {
+            let w = s.peek_word()?.1;
+            if w.is_empty() || SECTIONS.contains(&w) {
+                break;
+            }
+            let (at, w) = s.word("a keyword")?;
+            match w {
+                "rotate" => r.rotate = s.floats("a rotation angle")?,
+                "rotate_max" => r.rotate_max = s.floats("a rotation angle")?,
+                "translate" => r.translate = s.floats("a translation")?,
+                "translate_max" => r.translate_max = s.floats("a translation")?,
+                "scale" => r.scale = s.number("the scale")?,
+                "scale_max" => r.scale_max = s.number("the scale")?,
+                "time_scale" => r.time_scale = s.number("the time scale")?,
+                "time_const" => r.time_const = s.number("the time limit")?,
+                "startp_sidel_nbr_dist" => {
+                    r.start_side_nbr_dist = (
+                        s.number("the start point")?,
+                        s.number("the side length")?,
+                        s.int("the number of objects")?,
+                        s.number("the minimal distance")?,
+                    )
+                }
+                _ => {
+                    return Err(self.unknown(at, w, "RepetitionParameters",
+                        "rotate, rotate_max, translate, translate_max, scale, scale_max, time_scale, time_const, startp_sidel_nbr_dist"))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn options(&mut self) -> Result<(), Diagnostic> {
+        while !self.at_section()? {
+            match parse_option(&mut self.s)? {
+                Some(o) => self.def.options.push(o),
+                None => {
+                    let (at, w) = self.s.peek_word()?;
+                    return Err(unknown_option(&self.s, at, w));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn splines(&mut self) -> Result<(), Diagnostic> {
+        while !self.at_section()? {
+            let (at, w) = self.s.word("`time_spline`")?;
+            if w == "function" && self.s.at_keyword("time_spline")? {
+                self.s.word("time_spline")?;
+            } else if w != "time_spline" {
+                return Err(self.s.error(at, format!("expected `function time_spline n count scale_arg scale_value …`, found `{w}`")));
+            }
+            let number = self.s.int("the spline number")?;
+            let count = self.s.int("the number of key points")?;
+            let sa = self.s.number("the argument scale")?;
+            let sv = self.s.number("the value scale")?;
+            if !(0..100).contains(&number) || count < 0 {
+                return Err(self
+                    .s
+                    .error(at, "spline number must be 0..99 and the count ≥ 0"));
+            }
+            let mut keys: Vec<(f64, f64)> = Vec::new();
+            for _ in 0..count {
+                let kat = self.s.peek_word()?.0;
+                let a = self.s.number("a key point argument")? * sa;
+                let v = self.s.number("a key point value")? * sv;
+                if keys.last().is_some_and(|k| k.0 >= a) {
+                    return Err(self.s.error(kat, "key point arguments must increase"));
+                }
+                keys.push((a, v));
+            }
+            let end = self.s.peek_word()?.0;
+            let t = [
+                self.s.number("the end marker 1e30")?,
+                self.s.number("the end marker 1e30")?,
+            ];
+            if t != [1e30, 1e30] {
+                return Err(self.s.error(
+                    end,
+                    format!("expected the end marker `1e30 1e30` after {count} key points"),
+                ));
+            }
+            if self.def.spline(number as u32).is_some() {
+                return Err(self
+                    .s
+                    .error(at, format!("spline {number} is defined twice")));
+            }
+            self.def.splines.push(Spline {
+                number: number as u32,
+                keys,
+            });
+            self.spline_numbers.push(number as u32);
+        }
+        Ok(())
+    }
+
+    fn constants(&mut self) -> Result<(), Diagnostic> {
+        while !self.at_section()? {
+            let (at, w) = self.s.word("a constant letter")?;
+            let c = w.as_bytes()[0];
+            let arity = (w.len() == 1).then(|| constant_arity(c)).flatten().ok_or_else(|| {
+                self.s.error(at, format!("`{w}` is not a Constants function: use a..s or A..D (2 coefficients) or E..S (3)"))
+            })?;
+            let v = self.s.numbers(arity, "a coefficient")?;
+            if v.len() != arity {
+                return Err(self.s.error(
+                    at,
+                    format!("`{w}` takes {arity} coefficients, found {}", v.len()),
+                ));
+            }
+            let mut k = [0.0; 3];
+            k[..arity].copy_from_slice(&v);
+            self.def.constants.set(c, k);
+        }
+        Ok(())
+    }
+
+    fn surfaces(&mut self) -> Result<(), Diagnostic> {
+        while !self.at_section()? {
+            let (at, w) = self.s.word("`fig_sm`")?;
+            if w != "fig_sm" {
+                return Err(self
+                    .s
+                    .error(at, format!("expected `fig_sm number file`, found `{w}`")));
+            }
+            let n = self.s.int("the surface number")?;
+            let f = self.s.word("the surface file name")?.1.to_string();
+            self.def.surfaces.push((n, f));
+        }
+        Ok(())
+    }
+
+    fn axiom(&mut self) -> Result<(), Diagnostic> {
+        let mut axiom = Vec::new();
+        while !self.at_section()? {
+            axiom.push(self.symbol()?);
+        }
+        self.def.axiom = axiom;
+        Ok(())
+    }
+
+    /// Compiles one `( )` group of this file.
+    fn compile(&mut self, text: &str, offset: usize) -> Result<Option<Expr>, Diagnostic> {
+        Compiler {
+            src: self.s.src,
+            code: &mut self.def.code,
+            constants: &self.def.constants,
+            splines: &self.spline_numbers,
+        }
+        .group(text, offset)
+    }
+
+    /// True when the next word is `kw` (checked only where a keyword can
+    /// start, so long runs of glued symbols stay linear).
+    fn at_kw(&mut self, first: u8, kw: &str) -> Result<bool, Diagnostic> {
+        self.s.skip_trivia()?;
+        Ok(self.s.peek() == Some(first) && self.s.at_keyword(kw)?)
+    }
+
+    /// A parametric symbol: a character and up to 7 `( )` groups (age, x,
+    /// y, z, f1, f2, f3); trailing empty groups may be omitted.
+    fn symbol(&mut self) -> Result<SymbolTemplate, Diagnostic> {
+        self.s.skip_trivia()?;
+        let offset = self.s.pos;
+        let ch = match self.s.peek() {
+            Some(c) if is_symbol_char(c) => c,
+            Some(b'(') => {
+                return Err(self.s.error(
+                    offset,
+                    "a `( )` group without a symbol, or more than 7 groups after a symbol",
+                ))
+            }
+            _ => {
+                let w: String = self.s.src.text[offset..].chars().take(1).collect();
+                return Err(self.s.error(offset, format!("`{w}` is not a symbol: symbols are letters, digits and [ ] {{ }} / ^ & $ + - ? .")));
+            }
+        };
+        self.s.bump();
+        let mut groups = Vec::with_capacity(7);
+        while groups.len() < 7 {
+            match self.s.group()? {
+                Some(g) => groups.push(g),
+                None => break,
+            }
+        }
+        let get = |k: usize| groups.get(k).copied();
+        let mut exprs: [Option<Expr>; 7] = [None; 7];
+        // `e` with par1 = 0 carries an automata command as text in its
+        // first growth group (appendix C.6), not an expression.
+        let text_growth = ch == b'e' && get(1).is_some_and(|g| g.text.trim() == "0");
+        for (k, g) in groups.iter().enumerate() {
+            if !(text_growth && k == 4) {
+                exprs[k] = self.compile(g.text, g.offset)?;
+            }
+        }
+        let growth = Growth {
+            f: [exprs[4], exprs[5], exprs[6]],
+            text: text_growth
+                .then(|| get(4).map(|g| g.text.trim().to_string()))
+                .flatten(),
+        };
+        let growth = if growth == Growth::default() {
+            0
+        } else {
+            self.def.growth.push(growth);
+            (self.def.growth.len() - 1) as u32
+        };
+        Ok(SymbolTemplate {
+            ch,
+            age: exprs[0],
+            par: [exprs[1], exprs[2], exprs[3]],
+            growth,
+            offset,
+        })
+    }
+
+    fn productions(&mut self) -> Result<(), Diagnostic> {
+        loop {
+            if self.s.at_end()? {
+                return Err(self.s.error(
+                    self.s.pos,
+                    "missing `EndProductions` at the end of the Productions section",
+                ));
+            }
+            if self.at_kw(b'E', "EndProductions")? {
+                self.s.word("EndProductions")?;
+                return Ok(());
+            }
+            let p = self.production()?;
+            self.def.productions.push(p);
+        }
+    }
+
+    fn context(&mut self) -> Result<Option<u8>, Diagnostic> {
+        let Some(g) = self.s.group()? else {
+            return Ok(None);
+        };
+        let t = g.text.trim();
+        match t.as_bytes() {
+            [] => Ok(None),
+            [c] if is_symbol_char(*c) => Ok(Some(*c)),
+            _ => Err(self.s.error(
+                g.offset,
+                format!("a context is one symbol, e.g. `(A)`, found `({t})`"),
+            )),
+        }
+    }
+
+    fn production(&mut self) -> Result<Production, Diagnostic> {
+        let offset = self.s.pos;
+        let lhs = match self.s.peek() {
+            Some(c) if is_symbol_char(c) => c,
+            _ => {
+                let (at, w) = self.s.peek_word()?;
+                return Err(self.s.error(at, format!("expected a production (a symbol and its `(max age)`) or `EndProductions`, found `{w}`")));
+            }
+        };
+        self.s.bump();
+        let Some(age) = self.s.group()? else {
+            return Err(self.s.error(
+                self.s.pos,
+                format!(
+                    "expected the maximal age `( )` after the left side `{}`",
+                    lhs as char
+                ),
+            ));
+        };
+        let max_age = self
+            .compile(age.text, age.offset)?
+            .unwrap_or(Expr::Const(0.0));
+        self.s.skip_trivia()?;
+        let condition = match self.s.peek() {
+            Some(b'[') => Some(self.condition()?),
+            Some(b'(') => {
+                let g = self.s.group()?.expect("peeked `(`");
+                if !g.text.trim().is_empty() {
+                    return Err(self.s.error(
+                        g.offset,
+                        "a condition is written `[(expr)pred]`, e.g. `[(x)>]`; `()` means none",
+                    ));
+                }
+                None
+            }
+            _ => None,
+        };
+        let left = self.context()?;
+        let right = self.context()?;
+        let mut parts = Vec::new();
+        loop {
+            if self.at_kw(b'E', "End")? {
+                self.s.word("End")?;
+                break;
+            }
+            let (at, w) = self.s.peek_word()?;
+            if w.is_empty() || w == "EndProductions" {
+                let _ = at;
+                return Err(self.s.error(offset, format!("missing `End` for this production of `{}`: close it after its last `EndProb`", lhs as char)));
+            }
+            let probability = self.s.number("a probability or `End`")?;
+            if probability < 0.0 {
+                return Err(self.s.error(at, "a probability must not be negative"));
+            }
+            let mut symbols = Vec::new();
+            loop {
+                self.s.skip_trivia()?;
+                if self.at_kw(b'E', "EndProb")? {
+                    self.s.word("EndProb")?;
+                    break;
+                }
+                let (at, w) = self.s.peek_word()?;
+                if w.is_empty() || w == "End" || w == "EndProductions" {
+                    return Err(self
+                        .s
+                        .error(at, "missing `EndProb` at the end of this right side"));
+                }
+                symbols.push(self.symbol()?);
+            }
+            parts.push(RightSide {
+                probability,
+                symbols,
+            });
+        }
+        let total: f64 = parts.iter().map(|p| p.probability).sum();
+        if parts.is_empty() || total <= 0.0 {
+            return Err(self.s.error(offset, "a production needs at least one right side `probability … EndProb` with a probability > 0"));
+        }
+        Ok(Production {
+            lhs,
+            max_age,
+            condition,
+            left,
+            right,
+            parts,
+            total,
+            offset,
+        })
+    }
+
+    /// A logical expression: `[(expr)pred]` atoms combined postfix by
+    /// `&`, `|` and `!` (definition 2.1.6).
+    fn condition(&mut self) -> Result<Expr, Diagnostic> {
+        let start = self.s.pos;
+        let mut c = Compiler {
+            src: self.s.src,
+            code: &mut self.def.code,
+            constants: &self.def.constants,
+            splines: &self.spline_numbers,
+        };
+        let mut em = c.begin();
+        let s = &mut self.s;
+        loop {
+            s.skip_trivia()?;
+            let at = s.pos;
+            match s.peek() {
+                Some(b'[') => {
+                    s.bump();
+                    let Some(g) = s.group()? else {
+                        return Err(s.error(
+                            s.pos,
+                            "expected `(expr)` after `[` in a condition, e.g. `[(x)>]`",
+                        ));
+                    };
+                    if g.text.trim().is_empty() {
+                        return Err(s.error(g.offset, "empty expression in a condition atom"));
+                    }
+                    let before = c.code.ops.len();
+                    c.tokens(&mut em, g.text, g.offset)?;
+                    if c.code.ops.len() == before {
+                        return Err(s.error(g.offset, "empty expression in a condition atom"));
+                    }
+                    s.skip_trivia()?;
+                    let pat = s.pos;
+                    let pred = match s.peek() {
+                        Some(b'<') => Op::Lt,
+                        Some(b'p') => Op::Le,
+                        Some(b'>') => Op::Gt,
+                        Some(b'g') => Op::Ge,
+                        Some(b'=') => Op::Eq,
+                        Some(b'!') => Op::Ne,
+                        _ => return Err(s.error(pat, "expected a predicate `<`, `p`, `>`, `g`, `=` or `!` after the expression")),
+                    };
+                    s.bump();
+                    c.push(&mut em, pred, pat)?;
+                    s.skip_trivia()?;
+                    if s.peek() != Some(b']') {
+                        return Err(s.error(s.pos, "expected `]` to close the condition atom"));
+                    }
+                    s.bump();
+                }
+                Some(b'&') => {
+                    s.bump();
+                    c.push(&mut em, Op::And, at)?;
+                }
+                Some(b'|') => {
+                    s.bump();
+                    c.push(&mut em, Op::Or, at)?;
+                }
+                Some(b'!') => {
+                    s.bump();
+                    c.push(&mut em, Op::Not, at)?;
+                }
+                _ => break,
+            }
+        }
+        c.finish(em, start)
+    }
+}

@@ -1,0 +1,202 @@
+//! A cursor over a definition file: words, numbers, `( )` groups and
+//! `/* */` comments, every read carrying its byte offset for diagnostics.
+
+use super::source::{Diagnostic, Source};
+
+pub struct Scanner<'a> {
+    pub src: &'a Source,
+    bytes: &'a [u8],
+    pub pos: usize,
+}
+
+/// The text between a `(` and its `)`, with the offset of its first byte.
+#[derive(Debug, Clone, Copy)]
+pub struct Group<'a> {
+    pub offset: usize,
+    pub text: &'a str,
+}
+
+impl<'a> Scanner<'a> {
+    pub fn new(src: &'a Source) -> Self {
+        Scanner {
+            src,
+            bytes: src.text.as_bytes(),
+            pos: 0,
+        }
+    }
+
+    pub fn error(&self, offset: usize, message: impl Into<String>) -> Diagnostic {
+        self.src.error(offset, message)
+    }
+
+    /// Skips whitespace and comments; comments do not nest (thesis 6.2).
+    pub fn skip_trivia(&mut self) -> Result<(), Diagnostic> {
+        loop {
+            while self.pos < self.bytes.len() && self.bytes[self.pos].is_ascii_whitespace() {
+                self.pos += 1;
+            }
+            if self.bytes[self.pos..].starts_with(b"/*") {
+                let start = self.pos;
+                match self.src.text[self.pos + 2..].find("*/") {
+                    Some(end) => self.pos += 2 + end + 2,
+                    None => {
+                        return Err(self.error(
+                            start,
+                            "unclosed comment: add `*/` to end it (comments do not nest)",
+                        ))
+                    }
+                }
+            } else {
+                return Ok(());
+            }
+        }
+    }
+
+    pub fn at_end(&mut self) -> Result<bool, Diagnostic> {
+        self.skip_trivia()?;
+        Ok(self.pos >= self.bytes.len())
+    }
+
+    pub fn peek(&self) -> Option<u8> {
+        self.bytes.get(self.pos).copied()
+    }
+
+    pub fn bump(&mut self) {
+        self.pos += 1;
+    }
+
+    fn word_end(&self, from: usize) -> usize {
+        let mut end = from;
+        while end < self.bytes.len()
+            && !self.bytes[end].is_ascii_whitespace()
+            && !self.bytes[end..].starts_with(b"/*")
+        {
+            end += 1;
+        }
+        end
+    }
+
+    /// The next whitespace-delimited word without consuming it.
+    pub fn peek_word(&mut self) -> Result<(usize, &'a str), Diagnostic> {
+        self.skip_trivia()?;
+        let end = self.word_end(self.pos);
+        Ok((self.pos, &self.src.text[self.pos..end]))
+    }
+
+    /// The next whitespace-delimited word.
+    pub fn word(&mut self, what: &str) -> Result<(usize, &'a str), Diagnostic> {
+        let (start, w) = self.peek_word()?;
+        if w.is_empty() {
+            return Err(self.error(start, format!("expected {what}, found the end of the file")));
+        }
+        self.pos = start + w.len();
+        Ok((start, w))
+    }
+
+    /// True when the next word is exactly `kw`.
+    pub fn at_keyword(&mut self, kw: &str) -> Result<bool, Diagnostic> {
+        Ok(self.peek_word()?.1 == kw)
+    }
+
+    /// True when the next word parses as a number.
+    pub fn at_number(&mut self) -> Result<bool, Diagnostic> {
+        Ok(parse_float(self.peek_word()?.1).is_some())
+    }
+
+    pub fn number(&mut self, what: &str) -> Result<f64, Diagnostic> {
+        let (start, w) = self.word(what)?;
+        parse_float(w)
+            .ok_or_else(|| self.error(start, format!("expected {what} (a number), found `{w}`")))
+    }
+
+    pub fn int(&mut self, what: &str) -> Result<i64, Diagnostic> {
+        let (start, w) = self.word(what)?;
+        w.parse::<i64>()
+            .map_err(|_| self.error(start, format!("expected {what} (an integer), found `{w}`")))
+    }
+
+    /// Reads up to `max` numbers while the next word is one.
+    pub fn numbers(&mut self, max: usize, what: &str) -> Result<Vec<f64>, Diagnostic> {
+        let mut v = Vec::new();
+        while v.len() < max && self.at_number()? {
+            v.push(self.number(what)?);
+        }
+        Ok(v)
+    }
+
+    /// Reads exactly N numbers.
+    pub fn floats<const N: usize>(&mut self, what: &str) -> Result<[f64; N], Diagnostic> {
+        let mut out = [0.0; N];
+        for v in &mut out {
+            *v = self.number(what)?;
+        }
+        Ok(out)
+    }
+
+    /// A `( … )` group if one comes next (after trivia).
+    pub fn group(&mut self) -> Result<Option<Group<'a>>, Diagnostic> {
+        self.skip_trivia()?;
+        if self.peek() != Some(b'(') {
+            return Ok(None);
+        }
+        let open = self.pos;
+        let mut i = open + 1;
+        while i < self.bytes.len() {
+            match self.bytes[i] {
+                b')' => {
+                    self.pos = i + 1;
+                    return Ok(Some(Group {
+                        offset: open + 1,
+                        text: &self.src.text[open + 1..i],
+                    }));
+                }
+                b'(' => {
+                    return Err(self.error(
+                        i,
+                        "`(` inside a group: expressions are postfix and need no parentheses; close the group before with `)`",
+                    ))
+                }
+                // A group never spans lines, so a missing `)` is reported
+                // where the group opened, not pages later.
+                b'\n' => break,
+                _ => i += 1,
+            }
+        }
+        Err(self.error(open, "unclosed group: add the matching `)`"))
+    }
+}
+
+/// Parses a decimal number as the file format writes it (`1`, `0.5`, `1e30`, `-2`).
+pub fn parse_float(w: &str) -> Option<f64> {
+    let b = w.as_bytes();
+    let first = *b.first()?;
+    if !(first.is_ascii_digit() || first == b'-' || first == b'+' || first == b'.') {
+        return None;
+    }
+    w.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_groups_words_and_comments() {
+        let src = Source::new("t", "  /* c */ abc (x2*) 1.5");
+        let mut s = Scanner::new(&src);
+        assert_eq!(s.word("a word").unwrap().1, "abc");
+        let g = s.group().unwrap().unwrap();
+        assert_eq!((g.offset, g.text), (15, "x2*"));
+        assert_eq!(s.number("n").unwrap(), 1.5);
+        assert!(s.at_end().unwrap());
+    }
+
+    #[test]
+    fn unclosed_group_points_at_open_paren() {
+        let src = Source::new("t", "F (x2*\nG");
+        let mut s = Scanner::new(&src);
+        s.word("w").unwrap();
+        let e = s.group().unwrap_err();
+        assert_eq!((e.line, e.column), (1, 3));
+    }
+}
