@@ -22,7 +22,10 @@ impl Source {
 
     /// A diagnostic at byte `offset` of the text.
     pub fn error(&self, offset: usize, message: impl Into<String>) -> Diagnostic {
-        let offset = offset.min(self.text.len());
+        let mut offset = offset.min(self.text.len());
+        while !self.text.is_char_boundary(offset) {
+            offset -= 1;
+        }
         let before = &self.text[..offset];
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
         let line = before.matches('\n').count() + 1;

@@ -1,0 +1,35 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use lmfilm::lsys::print::{self, Format};
+use lmfilm::lsys::{Animation, NoSensors, Source};
+
+pub fn example(name: &str) -> String {
+    format!("{}/scenes/examples/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn load(name: &str) -> Animation {
+    Animation::load(&[example(name)], &mut NoSensors).unwrap_or_else(|e| panic!("{e}"))
+}
+
+pub fn from_text(text: &str) -> Animation {
+    Animation::from_sources(&[Source::new("test.lm", text)], &mut NoSensors)
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The symbols of the first L-system's word.
+pub fn symbols(a: &mut Animation) -> String {
+    let (t, seed) = (a.time(), a.camera.seed);
+    print::word(&mut a.systems[0], Format::Symbols, t, seed, &mut NoSensors)
+}
+
+/// The full print of the first L-system's word.
+pub fn full(a: &mut Animation) -> String {
+    let (t, seed) = (a.time(), a.camera.seed);
+    print::word(&mut a.systems[0], Format::Full, t, seed, &mut NoSensors)
+}
+
+pub fn at_frame(a: &mut Animation, n: u64) -> String {
+    a.advance_to(n, &mut NoSensors);
+    symbols(a)
+}
