@@ -73,7 +73,7 @@ fn replacement_happens_on_the_exact_tick() {
              Productions\na ({max_age})\n1.0 b EndProb\nEnd\nEndProductions\n"
         );
         let mut a = from_text(&text);
-        let due = (max_age / dt as f64).round() as u64;
+        let due = (max_age / dt).round() as u64;
         assert_eq!(at_frame(&mut a, due - 1), "a", "dt {dt} age {max_age}");
         assert_eq!(at_frame(&mut a, due), "b", "dt {dt} age {max_age}");
     }

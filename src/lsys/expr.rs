@@ -133,10 +133,15 @@ impl<'a> Compiler<'a> {
     pub fn push(&mut self, em: &mut Emitter, op: Op, offset: usize) -> Result<(), Diagnostic> {
         let (pop, push) = op.effect();
         if em.depth < pop {
+            let hint = if op == Op::Sub && em.depth == 0 {
+                "; a negative number is written `2_`"
+            } else {
+                "; postfix puts operands first, e.g. `x 2 *`"
+            };
             return Err(self.src.error(
                 offset,
                 format!(
-                    "stack underflow: this operator needs {pop} value{}, the stack holds {}; postfix puts operands first, e.g. `x 2 *`",
+                    "stack underflow: this operator needs {pop} value{}, the stack holds {}{hint}",
                     if pop == 1 { "" } else { "s" },
                     em.depth
                 ),

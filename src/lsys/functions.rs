@@ -81,7 +81,7 @@ impl Spline {
             1 => return k[0].1,
             _ => {}
         }
-        if !(a > k[0].0) {
+        if a.is_nan() || a <= k[0].0 {
             return k[0].1;
         }
         let last = k.len() - 1;

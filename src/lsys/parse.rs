@@ -419,9 +419,10 @@ impl<'a> Parser<'a> {
             }
         };
         self.s.bump();
+        let after = self.s.pos;
         let Some(age) = self.s.group()? else {
             return Err(self.s.error(
-                self.s.pos,
+                after,
                 format!(
                     "expected the maximal age `( )` after the left side `{}`",
                     lhs as char
