@@ -61,7 +61,7 @@ fn code_6_2_1_parses_and_derives() {
 #[test]
 fn replacement_happens_on_the_exact_tick() {
     for (dt, max_age) in [
-        (0.04, 1.0),
+        (0.04f64, 1.0f64),
         (0.1, 0.3),
         (0.1, 0.7),
         (0.01, 2.2),
