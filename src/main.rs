@@ -36,7 +36,7 @@ enum Command {
         #[arg(long, conflicts_with = "time")]
         frame: Option<u64>,
         /// Time T in seconds: the frame nearest to T.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         time: Option<f64>,
         /// `symbols`: symbol characters only; `full`: X(age,x,y,z,f1,f2,f3).
         #[arg(long, value_enum, default_value_t = PrintFormat::Symbols)]

@@ -286,10 +286,12 @@ impl<'a> Machine<'a> {
                     f.who.lsys as u64,
                     self.repetition,
                 );
-                let p = |i: usize| {
-                    (random::unit(key, i as u64) - 0.5 * s.c(3, 2 * i + 1) + 1.0) * s.c(3, 2 * i)
-                };
-                let v = p(0) + p(1) * (p(2) * f.time + p(3)).to_radians().sin();
+                // Base Const[3][2i] varied by ±half its spread Const[3][2i+1]
+                // (the printed parentheses are garbled); slot 7 holds the
+                // result, so the phase p3 is r3 · Const[3][6].
+                let r = |i: u64| random::unit(key, i);
+                let p = |i: usize| ((r(i as u64) - 0.5) * s.c(3, 2 * i + 1) + 1.0) * s.c(3, 2 * i);
+                let v = p(0) + p(1) * (p(2) * f.time + r(3) * s.c(3, 6)).to_radians().sin();
                 s.set_c(3, 7, v);
                 v
             }

@@ -350,9 +350,13 @@ impl<'a> Parser<'a> {
         let mut exprs: [Option<Expr>; 7] = [None; 7];
         // `e` with par1 = 0 carries an automata command as text in its
         // first growth group (appendix C.6), not an expression.
-        let text_growth = ch == b'e' && get(1).is_some_and(|g| g.text.trim() == "0");
+        // par1 is compiled first to know; an empty par1 is 0 too.
+        if let Some(g) = get(1) {
+            exprs[1] = self.compile(g.text, g.offset)?;
+        }
+        let text_growth = ch == b'e' && matches!(exprs[1], None | Some(Expr::Const(0.0)));
         for (k, g) in groups.iter().enumerate() {
-            if !(text_growth && k == 4) {
+            if k != 1 && !(text_growth && k == 4) {
                 exprs[k] = self.compile(g.text, g.offset)?;
             }
         }

@@ -6,6 +6,7 @@
 use super::context::{left_matches, right_matches};
 use super::definition::{Definition, Production, RightSide, SymbolTemplate};
 use super::eval::{Frame, Machine, State};
+use super::expr::Expr;
 use super::random::{self, Stream};
 use super::sensors::{Sensors, Who};
 use super::word::{branch_end, Symbol};
@@ -216,7 +217,7 @@ impl LSystem {
                 if let Some(p) = self.applicable(&old, i, lo, count, time, step, seed, sensors) {
                     let prod = &self.def.productions[p as usize];
                     let part = choose(prod, seed, s.id, p);
-                    let frame = self.frame(&s, time, random::key(seed, Stream::Parameter, s.id, 0));
+                    let frame = self.frame(&s, time, 0);
                     let symbols =
                         std::mem::take(&mut self.def.productions[p as usize].parts[part].symbols);
                     let cut = self.instantiate(&symbols, &frame, seed, sensors);
@@ -270,10 +271,16 @@ impl LSystem {
         let next_age = s.birth + f64::from(s.ticks + 1) * self.dt;
         // Ages are compared with a tolerance far below Δt (DESIGN §3).
         let eps = self.dt * 1e-6;
-        let frame = self.frame(s, time, random::key(seed, Stream::Condition, s.id, step));
+        let mut frame = self.frame(s, time, 0);
         let mut m = Machine::new(&self.def, &mut self.state, sensors, seed);
         for &p in &self.order[lo as usize..(lo + count) as usize] {
             let prod: &Production = &m.def.productions[p as usize];
+            // The random key costs a few hashes: only programs need it.
+            if frame.key == 0
+                && (prod.condition.is_some() || matches!(prod.max_age, Expr::Prog { .. }))
+            {
+                frame.key = random::key(seed, Stream::Condition, s.id, step);
+            }
             if next_age < m.eval(prod.max_age, &frame) - eps {
                 continue;
             }
@@ -308,10 +315,16 @@ impl LSystem {
         let mut cut = None;
         let mut m = Machine::new(&self.def, &mut self.state, sensors, seed);
         for (j, t) in templates.iter().enumerate() {
-            let f = Frame {
-                key: random::key(seed, Stream::Parameter, frame.who.symbol, j as u64),
-                ..*frame
+            let programs = [t.age, t.par[0], t.par[1], t.par[2]];
+            let key = if programs
+                .iter()
+                .any(|e| matches!(e, Some(Expr::Prog { .. })))
+            {
+                random::key(seed, Stream::Parameter, frame.who.symbol, j as u64)
+            } else {
+                0
             };
+            let f = Frame { key, ..*frame };
             let birth = m.eval_or(t.age, &f, 0.0);
             let par = [
                 m.eval_or(t.par[0], &f, 0.0),
