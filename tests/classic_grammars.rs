@@ -211,6 +211,11 @@ fn ephemeral_symbols_never_enter_the_word() {
     let ev = &a.systems[0].events()[0];
     let text = a.systems[0].def.growth[ev.growth as usize].text.clone();
     assert_eq!(text.as_deref(), Some("goal 1 2 3"));
+    // An empty par1 is 0 too.
+    let a = from_text("Axiom\ne () () () () (reset_goal) A\n");
+    let ev = &a.systems[0].events()[0];
+    let text = a.systems[0].def.growth[ev.growth as usize].text.clone();
+    assert_eq!(text.as_deref(), Some("reset_goal"));
 }
 
 #[test]
