@@ -164,22 +164,19 @@ fn text(s: &mut Scanner, what: &str) -> Result<String, Diagnostic> {
 /// Parses one option; `None` when the next word is not an option keyword.
 pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
     let (at, kw) = s.peek_word()?;
+    if !KEYWORDS.split(", ").any(|k| k == kw) {
+        return Ok(None);
+    }
+    s.word(kw)?;
     let item = match kw {
-        "MaxPart" => {
-            s.word(kw)?;
-            OptionItem::MaxPart(s.int("the maximal number of particles")?)
-        }
-        "command_file" => {
-            s.word(kw)?;
-            OptionItem::CommandFile {
-                number: s.int("the script number")?,
-                script: text(s, "the script name")?,
-                arg1: text(s, "the first script argument")?,
-                arg2: text(s, "the second script argument")?,
-            }
-        }
+        "MaxPart" => OptionItem::MaxPart(s.int("the maximal number of particles")?),
+        "command_file" => OptionItem::CommandFile {
+            number: s.int("the script number")?,
+            script: text(s, "the script name")?,
+            arg1: text(s, "the first script argument")?,
+            arg2: text(s, "the second script argument")?,
+        },
         "fConst" => {
-            s.word(kw)?;
             let index = s.int("the fConst array number")?;
             if !(0..1000).contains(&index) {
                 return Err(s.error(at, "fConst array number must be between 0 and 999"));
@@ -196,7 +193,6 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             OptionItem::FConst { index, values }
         }
         "VLNETdeclare" => {
-            s.word(kw)?;
             let mut exported = Vec::new();
             let mut imported = Vec::new();
             let mut objects = Vec::new();
@@ -227,27 +223,17 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
                 objects,
             }
         }
-        "AUDIOport_host" => {
-            s.word(kw)?;
-            OptionItem::AudioPortHost {
-                port: s.int("the port number")?,
-                host: text(s, "the host name")?,
-            }
-        }
-        "NBR_actors" => {
-            s.word(kw)?;
-            OptionItem::NbrActors(s.int("the number of actors")?)
-        }
-        "iVisionWinSize" => {
-            s.word(kw)?;
-            OptionItem::VisionWinSize {
-                actor: s.int("the actor number")?,
-                edge: s.int("the window edge length")?,
-                max_colors: s.int("the maximal number of colours")?,
-            }
-        }
+        "AUDIOport_host" => OptionItem::AudioPortHost {
+            port: s.int("the port number")?,
+            host: text(s, "the host name")?,
+        },
+        "NBR_actors" => OptionItem::NbrActors(s.int("the number of actors")?),
+        "iVisionWinSize" => OptionItem::VisionWinSize {
+            actor: s.int("the actor number")?,
+            edge: s.int("the window edge length")?,
+            max_colors: s.int("the maximal number of colours")?,
+        },
         "actorNbr_automata" => {
-            s.word(kw)?;
             // The BNF repeats the actor number (`int Automata`, Automata =
             // `int int …`); both the two- and three-number forms are read.
             let mut ids = Vec::new();
@@ -266,22 +252,15 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
                 commands: commands(s, AUTOMATA)?,
             }
         }
-        "Sound_event_file" => {
-            s.word(kw)?;
-            OptionItem::SoundEventFile {
-                file: text(s, "the sound event file name")?,
-                items: commands(s, SOUND)?,
-            }
-        }
-        "rs_file_path_name" => {
-            s.word(kw)?;
-            OptionItem::RsFilePathName {
-                path: text(s, "the file path")?,
-                name: text(s, "the file name")?,
-            }
-        }
+        "Sound_event_file" => OptionItem::SoundEventFile {
+            file: text(s, "the sound event file name")?,
+            items: commands(s, SOUND)?,
+        },
+        "rs_file_path_name" => OptionItem::RsFilePathName {
+            path: text(s, "the file path")?,
+            name: text(s, "the file name")?,
+        },
         "rs_switch" => {
-            s.word(kw)?;
             let v = s.numbers(6, "a frame number")?;
             if v.len() < 2 {
                 return Err(s.error(at, "`rs_switch` needs frame intervals (first last …)"));
@@ -289,7 +268,6 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             OptionItem::RsSwitch(v.iter().map(|x| *x as i64).collect())
         }
         "NbrChannels_listOfNames" => {
-            s.word(kw)?;
             let n = s.int("the number of channels")?;
             let mut names = Vec::new();
             for _ in 0..n.max(0) {
@@ -298,7 +276,6 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             OptionItem::Channels(names)
         }
         "trace_actor" | "import_trace" => {
-            s.word(kw)?;
             let actor = s.int("the actor number")?;
             let file = text(s, "the trace file name")?;
             if kw == "trace_actor" {
@@ -307,7 +284,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
                 OptionItem::ImportTrace { actor, file }
             }
         }
-        _ => return Ok(None),
+        _ => unreachable!("every keyword of KEYWORDS has an arm"),
     };
     Ok(Some(item))
 }
@@ -318,4 +295,68 @@ pub fn unknown_option(s: &Scanner, at: usize, w: &str) -> Diagnostic {
         at,
         format!("unknown option `{w}`; the Options section knows {KEYWORDS}"),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lsys::source::Source;
+
+    #[test]
+    fn every_option_keyword_is_parsed_and_kept() {
+        let text = "MaxPart 100\n\
+            command_file 0 cmd0.sh a b\n\
+            fConst 5 1 2 3 4 5 6 7 8\n\
+            VLNETdeclare Nbr_exported_actors 1 10 11 0 Nbr_imported_actors 2 1 2 Nbr_objects 1 7\n\
+            AUDIOport_host 5000 localhost\n\
+            NBR_actors 2\n\
+            iVisionWinSize 0 64 20\n\
+            actorNbr_automata 0 3 goal 1 2 3 local_goal 1 4 5 6 vis_mem_on speed 1.5 KEYFRAMEdef 2 walk.track\n\
+            Sound_event_file film.events INIT_mic 0 0 0 0 0 0 1 INIT_source 1 1 2 3 0 0 1 PLAY 1 ball.aiff TIME 0.04 SP 1 4 5 6\n\
+            rs_file_path_name /tmp frame\n\
+            rs_switch 0 10 20 30 40 50\n\
+            NbrChannels_listOfNames 2 a.chan b.chan\n\
+            trace_actor 0 out.trace\n\
+            import_trace 1 in.trace\n";
+        let src = Source::new("o.lm", text);
+        let mut s = Scanner::new(&src);
+        let mut items = Vec::new();
+        while let Some(o) = parse_option(&mut s).unwrap() {
+            items.push(o);
+        }
+        assert!(s.at_end().unwrap());
+        assert_eq!(items.len(), 14);
+        assert_eq!(
+            items[2],
+            OptionItem::FConst {
+                index: 5,
+                values: [1., 2., 3., 4., 5., 6., 7., 8.]
+            }
+        );
+        let OptionItem::ActorAutomata {
+            actor,
+            automata,
+            commands,
+        } = &items[7]
+        else {
+            panic!()
+        };
+        assert_eq!((*actor, *automata, commands.len()), (0, 3, 5));
+        assert_eq!(commands[1].numbers, [1., 4., 5., 6.]);
+        assert_eq!(commands[4].word.as_deref(), Some("walk.track"));
+        let OptionItem::SoundEventFile { items: sound, .. } = &items[8] else {
+            panic!()
+        };
+        assert_eq!(
+            sound.iter().map(|c| c.name.as_str()).collect::<Vec<_>>(),
+            ["INIT_mic", "INIT_source", "PLAY", "TIME", "SP"]
+        );
+        assert_eq!(
+            items[13],
+            OptionItem::ImportTrace {
+                actor: 1,
+                file: "in.trace".into()
+            }
+        );
+    }
 }

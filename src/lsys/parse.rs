@@ -51,6 +51,12 @@ pub fn parse(src: &Source) -> Result<Definition, Diagnostic> {
     Ok(p.def)
 }
 
+/// True at the end of the file or at the next section's name.
+fn at_section(s: &mut Scanner) -> Result<bool, Diagnostic> {
+    let w = s.peek_word()?.1;
+    Ok(w.is_empty() || SECTIONS.contains(&w))
+}
+
 struct Parser<'a> {
     s: Scanner<'a>,
     def: Definition,
@@ -96,10 +102,8 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    /// True at the end of the file or at the next section's name.
     fn at_section(&mut self) -> Result<bool, Diagnostic> {
-        let w = self.s.peek_word()?.1;
-        Ok(w.is_empty() || SECTIONS.contains(&w))
+        at_section(&mut self.s)
     }
 
     fn unknown(&self, at: usize, w: &str, section: &str, known: &str) -> Diagnostic {
@@ -113,11 +117,7 @@ impl<'a> Parser<'a> {
         self.def.has_camera = true;
         let c = &mut self.def.camera;
         let s = &mut self.s;
-        loop {
-            let w = s.peek_word()?.1;
-            if w.is_empty() || SECTIONS.contains(&w) {
-                break;
-            }
+        while !at_section(s)? {
             let (at, w) = s.word("a keyword")?;
             match w {
                 "pref_pos_x1_x2_y1_y2" | "prefpos_x1_x2_y1_y2" => {
@@ -160,11 +160,7 @@ impl<'a> Parser<'a> {
     fn repetition(&mut self) -> Result<(), Diagnostic> {
         let r = &mut self.def.repetition;
         let s = &mut self.s;
-        loop {
-            let w = s.peek_word()?.1;
-            if w.is_empty() || SECTIONS.contains(&w) {
-                break;
-            }
+        while !at_section(s)? {
             let (at, w) = s.word("a keyword")?;
             match w {
                 "rotate" => r.rotate = s.floats("a rotation angle")?,
