@@ -287,3 +287,17 @@ fn memory_constants_and_splines() {
     // At T = 1, t = 1: spline 0 at 1 is 1·2 = 2, E = 1 + T² = 2, a = 1 + 2T.
     assert_eq!(full(&mut a), "A(1,7,7,1,2,2,1)");
 }
+
+#[test]
+fn long_glued_words_parse_in_linear_time() {
+    // 300,000 glued symbols: a quadratic keyword lookahead would take
+    // minutes here; the linear one takes milliseconds.
+    let text = format!(
+        "Axiom\n{}\nProductions\nA (1)\n1 {} EndProb\nEnd\nEndProductions\n",
+        "A".repeat(300_000),
+        "B".repeat(1000)
+    );
+    let a = from_text(&text);
+    assert_eq!(a.systems[0].word().len(), 300_000);
+    assert_eq!(a.systems[0].def.productions[0].parts[0].symbols.len(), 1000);
+}

@@ -53,8 +53,15 @@ pub fn parse(src: &Source) -> Result<Definition, Diagnostic> {
 
 /// True at the end of the file or at the next section's name.
 fn at_section(s: &mut Scanner) -> Result<bool, Diagnostic> {
-    let w = s.peek_word()?.1;
-    Ok(w.is_empty() || SECTIONS.contains(&w))
+    if s.at_end()? {
+        return Ok(true);
+    }
+    for k in SECTIONS {
+        if s.at_keyword(k)? {
+            return Ok(true);
+        }
+    }
+    Ok(false)
 }
 
 struct Parser<'a> {
@@ -309,13 +316,6 @@ impl<'a> Parser<'a> {
         .group(text, offset)
     }
 
-    /// True when the next word is `kw` (checked only where a keyword can
-    /// start, so long runs of glued symbols stay linear).
-    fn at_kw(&mut self, first: u8, kw: &str) -> Result<bool, Diagnostic> {
-        self.s.skip_trivia()?;
-        Ok(self.s.peek() == Some(first) && self.s.at_keyword(kw)?)
-    }
-
     /// A parametric symbol: a character and up to 7 `( )` groups (age, x,
     /// y, z, f1, f2, f3); trailing empty groups may be omitted.
     fn symbol(&mut self) -> Result<SymbolTemplate, Diagnostic> {
@@ -385,7 +385,7 @@ impl<'a> Parser<'a> {
                     "missing `EndProductions` at the end of the Productions section",
                 ));
             }
-            if self.at_kw(b'E', "EndProductions")? {
+            if self.s.at_keyword("EndProductions")? {
                 self.s.word("EndProductions")?;
                 return Ok(());
             }
@@ -451,7 +451,7 @@ impl<'a> Parser<'a> {
         let right = self.context()?;
         let mut parts = Vec::new();
         loop {
-            if self.at_kw(b'E', "End")? {
+            if self.s.at_keyword("End")? {
                 self.s.word("End")?;
                 break;
             }
@@ -467,15 +467,18 @@ impl<'a> Parser<'a> {
             let mut symbols = Vec::new();
             loop {
                 self.s.skip_trivia()?;
-                if self.at_kw(b'E', "EndProb")? {
+                if self.s.at_keyword("EndProb")? {
                     self.s.word("EndProb")?;
                     break;
                 }
-                let (at, w) = self.s.peek_word()?;
-                if w.is_empty() || w == "End" || w == "EndProductions" {
-                    return Err(self
-                        .s
-                        .error(at, "missing `EndProb` at the end of this right side"));
+                if self.s.at_end()?
+                    || self.s.at_keyword("End")?
+                    || self.s.at_keyword("EndProductions")?
+                {
+                    return Err(self.s.error(
+                        self.s.pos,
+                        "missing `EndProb` at the end of this right side",
+                    ));
                 }
                 symbols.push(self.symbol()?);
             }

@@ -93,9 +93,13 @@ impl<'a> Scanner<'a> {
         Ok((start, w))
     }
 
-    /// True when the next word is exactly `kw`.
+    /// True when the next word is exactly `kw`; costs O(|kw|), so long
+    /// runs of glued symbols stay linear to parse.
     pub fn at_keyword(&mut self, kw: &str) -> Result<bool, Diagnostic> {
-        Ok(self.peek_word()?.1 == kw)
+        self.skip_trivia()?;
+        let rest = &self.bytes[self.pos..];
+        Ok(rest.starts_with(kw.as_bytes())
+            && self.word_end(self.pos + kw.len()) == self.pos + kw.len())
     }
 
     /// True when the next word parses as a number.
