@@ -64,8 +64,7 @@ pub struct LSystem {
     by_char: Vec<(u32, u32)>,
     order: Vec<u32>,
     events: Vec<Ephemeral>,
-    scratch: Vec<Symbol>,
-    scratch_events: Vec<Ephemeral>,
+    scratch: Scratch,
     marks: Vec<Mark>,
     /// Id counter to resume from after a cut rolled the output back.
     pending_ids: Option<u64>,
@@ -107,8 +106,7 @@ impl LSystem {
             by_char,
             order,
             events: Vec::new(),
-            scratch: Vec::new(),
-            scratch_events: Vec::new(),
+            scratch: Scratch::default(),
             marks: Vec::new(),
             pending_ids: None,
         };
@@ -124,10 +122,9 @@ impl LSystem {
             },
             growth: 0,
         };
-        let axiom = std::mem::take(&mut ls.def.axiom);
-        ls.instantiate(&axiom, &frame, seed, sensors);
-        ls.def.axiom = axiom;
+        let mut m = Machine::new(&ls.def, &mut ls.state, sensors, seed);
         // A cut in the axiom has no branch to act on: it is dropped.
+        ls.scratch.fill(&mut m, &ls.def.axiom, &frame);
         ls.word.clear();
         ls.append_scratch(ids);
         std::mem::swap(&mut ls.word, &mut ls.next);
@@ -218,10 +215,9 @@ impl LSystem {
                     let prod = &self.def.productions[p as usize];
                     let part = choose(prod, seed, s.id, p);
                     let frame = self.frame(&s, time, 0);
-                    let symbols =
-                        std::mem::take(&mut self.def.productions[p as usize].parts[part].symbols);
-                    let cut = self.instantiate(&symbols, &frame, seed, sensors);
-                    self.def.productions[p as usize].parts[part].symbols = symbols;
+                    let templates = &self.def.productions[p as usize].parts[part].symbols;
+                    let mut m = Machine::new(&self.def, &mut self.state, sensors, seed);
+                    let cut = self.scratch.fill(&mut m, templates, &frame);
                     i = match cut {
                         None => i + 1,
                         Some(Cut::Branch) => match self.marks.pop() {
@@ -300,27 +296,68 @@ impl LSystem {
         None
     }
 
-    /// Evaluates templates into `scratch` (ids not yet assigned); returns
-    /// the first cut met. Parameter expressions refer to `frame`, the
-    /// replaced symbol; `!` in them is keyed by the template's position.
-    fn instantiate(
+    fn rollback(&mut self, out: usize, ids_at: u64, events: usize) {
+        self.next.truncate(out);
+        self.events.truncate(events);
+        // Identifiers handed out in the removed part are handed out again.
+        self.pending_ids = Some(ids_at);
+    }
+
+    /// Moves `scratch` to the end of the next word, numbering symbols and
+    /// `e` events left to right.
+    fn append_scratch(&mut self, ids: &mut u64) {
+        if let Some(at) = self.pending_ids.take() {
+            *ids = at;
+        }
+        let base = self.next.len();
+        let mut ev = self.scratch.events.drain(..).peekable();
+        for (k, mut s) in self.scratch.symbols.drain(..).enumerate() {
+            while let Some(mut e) = ev.next_if(|e| e.position == k) {
+                e.id = *ids;
+                *ids += 1;
+                e.position += base;
+                self.events.push(e);
+            }
+            s.id = *ids;
+            *ids += 1;
+            self.next.push(s);
+        }
+        for mut e in ev {
+            e.id = *ids;
+            *ids += 1;
+            e.position += base;
+            self.events.push(e);
+        }
+    }
+}
+
+/// Symbols and events of one applied right side, before they get ids.
+#[derive(Default)]
+struct Scratch {
+    symbols: Vec<Symbol>,
+    events: Vec<Ephemeral>,
+}
+
+impl Scratch {
+    /// Evaluates templates (ids not yet assigned); returns the first cut
+    /// met. Parameter expressions refer to `frame`, the replaced symbol;
+    /// `!` in them is keyed by the template's position.
+    fn fill(
         &mut self,
+        m: &mut Machine,
         templates: &[SymbolTemplate],
         frame: &Frame,
-        seed: u64,
-        sensors: &mut dyn Sensors,
     ) -> Option<Cut> {
-        self.scratch.clear();
-        self.scratch_events.clear();
+        self.symbols.clear();
+        self.events.clear();
         let mut cut = None;
-        let mut m = Machine::new(&self.def, &mut self.state, sensors, seed);
         for (j, t) in templates.iter().enumerate() {
             let programs = [t.age, t.par[0], t.par[1], t.par[2]];
             let key = if programs
                 .iter()
                 .any(|e| matches!(e, Some(Expr::Prog { .. })))
             {
-                random::key(seed, Stream::Parameter, frame.who.symbol, j as u64)
+                random::key(m.seed, Stream::Parameter, frame.who.symbol, j as u64)
             } else {
                 0
             };
@@ -338,13 +375,13 @@ impl LSystem {
                 b']' if par[0] == 100.0 => {
                     cut = cut.or(Some(Cut::Rest));
                 }
-                b'e' => self.scratch_events.push(Ephemeral {
-                    position: self.scratch.len(),
+                b'e' => self.events.push(Ephemeral {
+                    position: self.symbols.len(),
                     id: 0,
                     par,
                     growth: t.growth,
                 }),
-                ch => self.scratch.push(Symbol {
+                ch => self.symbols.push(Symbol {
                     id: 0,
                     birth,
                     par,
@@ -355,40 +392,6 @@ impl LSystem {
             }
         }
         cut
-    }
-
-    fn rollback(&mut self, out: usize, ids_at: u64, events: usize) {
-        self.next.truncate(out);
-        self.events.truncate(events);
-        // Identifiers handed out in the removed part are handed out again.
-        self.pending_ids = Some(ids_at);
-    }
-
-    /// Moves `scratch` to the end of the next word, numbering symbols and
-    /// `e` events left to right.
-    fn append_scratch(&mut self, ids: &mut u64) {
-        if let Some(at) = self.pending_ids.take() {
-            *ids = at;
-        }
-        let base = self.next.len();
-        let mut ev = self.scratch_events.drain(..).peekable();
-        for (k, mut s) in self.scratch.drain(..).enumerate() {
-            while let Some(mut e) = ev.next_if(|e| e.position == k) {
-                e.id = *ids;
-                *ids += 1;
-                e.position += base;
-                self.events.push(e);
-            }
-            s.id = *ids;
-            *ids += 1;
-            self.next.push(s);
-        }
-        for mut e in ev {
-            e.id = *ids;
-            *ids += 1;
-            e.position += base;
-            self.events.push(e);
-        }
     }
 }
 
