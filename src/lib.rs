@@ -1,1 +1,2 @@
 pub mod lsys;
+pub mod scene;

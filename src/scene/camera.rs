@@ -1,0 +1,40 @@
+//! The camera and lights of a frame (`Camera_AnimationParameters`, `l`).
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// A pinhole camera as Iris GL's `lookat` and `perspective` define it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub look_at: Vec3,
+    /// Rotation about the viewing axis, degrees.
+    pub twist: f32,
+    /// Vertical field of view, degrees.
+    pub fov_y: f32,
+    pub aspect: f32,
+    pub near: f32,
+    pub far: f32,
+    /// Default image size in pixels (from the window position).
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Camera {
+    /// Orthonormal (right, up, forward) of the view, twist applied.
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        let f = (self.look_at - self.eye).normalize_or(Vec3::NEG_Z);
+        let world_up = if f.cross(Vec3::Y).length_squared() < 1e-12 { Vec3::Z } else { Vec3::Y };
+        let r = f.cross(world_up).normalize();
+        let u = r.cross(f);
+        let (s, c) = self.twist.to_radians().sin_cos();
+        (r * c + u * s, u * c - r * s, f)
+    }
+}
+
+/// A point light.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Light {
+    pub position: Vec3,
+    pub color: Vec3,
+}

@@ -1,0 +1,71 @@
+//! The world of one frame (DESIGN §1 step 1): primitives grouped in shared
+//! geometries, instances placing them, materials, camera and lights.
+//!
+//! Plain data, built by the turtle, read by the renderer and by actor
+//! vision, and shipped between machines as a snapshot.
+
+pub mod camera;
+pub mod material;
+pub mod mesh;
+pub mod obj;
+pub mod shape;
+pub mod snapshot;
+
+use glam::{Affine3A, Vec3};
+use serde::{Deserialize, Serialize};
+
+pub use camera::{Camera, Light};
+pub use material::Material;
+pub use shape::{Shape, ShapeKind, Triangle};
+
+/// Shapes drawn in one coordinate frame; placed in the world by instances.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Geometry {
+    pub name: String,
+    /// Analytic shapes, each a unit shape under an affine transform.
+    pub shapes: Vec<Shape>,
+    /// Polygons, pyramids, planes and imported meshes.
+    pub triangles: Vec<Triangle>,
+    /// Tessellation resolution (`n`, minimum 3) of the shapes, for exports.
+    pub resolution: u32,
+}
+
+impl Geometry {
+    pub fn is_empty(&self) -> bool {
+        self.shapes.is_empty() && self.triangles.is_empty()
+    }
+}
+
+/// One placement of a geometry.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Instance {
+    pub geometry: u32,
+    pub transform: Affine3A,
+    /// Object id of the instance (for id layers and vision).
+    pub object: u32,
+}
+
+/// Everything the renderer needs for one frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    pub frame: u64,
+    /// Global time T of the frame.
+    pub time: f64,
+    pub camera: Camera,
+    pub lights: Vec<Light>,
+    pub materials: Vec<Material>,
+    pub geometries: Vec<Geometry>,
+    pub instances: Vec<Instance>,
+    /// Sky colour seen where no object is hit (`D` par1 = 15 sets a sky).
+    pub background: Vec3,
+}
+
+impl Scene {
+    /// Number of analytic shapes and triangles once instances are expanded.
+    pub fn expanded_counts(&self) -> (usize, usize) {
+        self.instances.iter().fold((0, 0), |(s, t), i| {
+            let g = &self.geometries[i.geometry as usize];
+            (s + g.shapes.len(), t + g.triangles.len())
+        })
+    }
+}
