@@ -1,2 +1,3 @@
 pub mod lsys;
 pub mod scene;
+pub mod turtle;

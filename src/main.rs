@@ -1,13 +1,15 @@
 //! The `lmfilm` command line: parses arguments and calls the library.
 
 use std::io::{IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::{Parser, Subcommand, ValueEnum};
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::lsys::{Animation, NoSensors};
+use lmfilm::scene::obj;
+use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.
 ///
@@ -41,6 +43,29 @@ enum Command {
         /// `symbols`: symbol characters only; `full`: X(age,x,y,z,f1,f2,f3).
         #[arg(long, value_enum, default_value_t = PrintFormat::Symbols)]
         format: PrintFormat,
+    },
+    /// Export a frame's whole geometry as a mesh (the thesis's SM option).
+    ///
+    /// Writes OUT.obj and OUT.mtl: every shape tessellated at its `n`
+    /// resolution, instances expanded, in world coordinates. Example:
+    ///
+    ///     lmfilm export scenes/examples/cours_tree3.lm --time 3 -o renders/tree.obj
+    Export {
+        /// Definition files of the animation.
+        #[arg(required = true, value_name = "SCENE.lm")]
+        scenes: Vec<PathBuf>,
+        /// Frame number N (default 0).
+        #[arg(long, conflicts_with = "time")]
+        frame: Option<u64>,
+        /// Time T in seconds: the frame nearest to T.
+        #[arg(long, allow_negative_numbers = true)]
+        time: Option<f64>,
+        /// The OBJ file to write (its .mtl is written beside it).
+        #[arg(short, long, value_name = "OUT.obj")]
+        output: PathBuf,
+        /// Diameter of the thin cylinders drawn for segments `R S`.
+        #[arg(long, default_value_t = 0.05)]
+        segment_width: f64,
     },
 }
 
@@ -78,14 +103,14 @@ impl Progress {
     }
 }
 
-fn print_words(
+/// Loads the animation and derives it to the frame `--frame`/`--time` name.
+fn derive_to(
     scenes: &[PathBuf],
     frame: Option<u64>,
     time: Option<f64>,
-    format: PrintFormat,
-) -> Result<(), (u8, String)> {
-    let mut sensors = NoSensors;
-    let mut anim = Animation::load(scenes, &mut sensors).map_err(|e| (2, e.to_string()))?;
+    sensors: &mut NoSensors,
+) -> Result<Animation, (u8, String)> {
+    let mut anim = Animation::load(scenes, sensors).map_err(|e| (2, e.to_string()))?;
     let target = match (frame, time) {
         (_, Some(t)) if !t.is_finite() || t < 0.0 => {
             return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
@@ -96,10 +121,62 @@ fn print_words(
     };
     let mut progress = Progress::new();
     while anim.frame < target {
-        anim.step(&mut sensors);
+        anim.step(sensors);
         progress.tick(anim.frame, target);
     }
     progress.done();
+    Ok(anim)
+}
+
+fn export(
+    scenes: &[PathBuf],
+    frame: Option<u64>,
+    time: Option<f64>,
+    output: &Path,
+    segment_width: f64,
+) -> Result<(), (u8, String)> {
+    if !(segment_width.is_finite() && segment_width > 0.0) {
+        return Err((
+            2,
+            format!("--segment-width must be > 0, got {segment_width}"),
+        ));
+    }
+    let mut sensors = NoSensors;
+    let mut anim = derive_to(scenes, frame, time, &mut sensors)?;
+    let surfaces = Surfaces::load(&anim).map_err(|e| (2, e))?;
+    let mut tables = Vec::new();
+    let opts = Options { segment_width };
+    let (scene, messages) = build_scene(
+        &mut anim,
+        &surfaces,
+        &mut tables,
+        &mut sensors,
+        &mut NoWorld,
+        opts,
+    );
+    for m in messages {
+        eprintln!("{m}");
+    }
+    if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            (
+                1,
+                format!("{}: cannot create the folder: {e}", dir.display()),
+            )
+        })?;
+    }
+    obj::write_obj(&scene, output)
+        .map_err(|e| (1, format!("{}: cannot write: {e}", output.display())))
+}
+
+fn print_words(
+    scenes: &[PathBuf],
+    frame: Option<u64>,
+    time: Option<f64>,
+    format: PrintFormat,
+) -> Result<(), (u8, String)> {
+    let mut sensors = NoSensors;
+    let mut anim = derive_to(scenes, frame, time, &mut sensors)?;
     let format = match format {
         PrintFormat::Symbols => Format::Symbols,
         PrintFormat::Full => Format::Full,
@@ -128,6 +205,13 @@ fn main() -> ExitCode {
             time,
             format,
         } => print_words(&scenes, frame, time, format),
+        Command::Export {
+            scenes,
+            frame,
+            time,
+            output,
+            segment_width,
+        } => export(&scenes, frame, time, &output, segment_width),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

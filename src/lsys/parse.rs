@@ -284,10 +284,13 @@ impl<'a> Parser<'a> {
     fn surfaces(&mut self) -> Result<(), Diagnostic> {
         while !self.at_section()? {
             let (at, w) = self.s.word("`fig_sm`")?;
-            if w != "fig_sm" {
-                return Err(self
-                    .s
-                    .error(at, format!("expected `fig_sm number file`, found `{w}`")));
+            // `fig_sm` names the thesis's SM files, long gone; both it and
+            // `fig_obj` point to Wavefront OBJ files now.
+            if w != "fig_sm" && w != "fig_obj" {
+                return Err(self.s.error(
+                    at,
+                    format!("expected `fig_obj number file.obj` (or `fig_sm`), found `{w}`"),
+                ));
             }
             let n = self.s.int("the surface number")?;
             let f = self.s.word("the surface file name")?.1.to_string();

@@ -24,7 +24,11 @@ impl Camera {
     /// Orthonormal (right, up, forward) of the view, twist applied.
     pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
         let f = (self.look_at - self.eye).normalize_or(Vec3::NEG_Z);
-        let world_up = if f.cross(Vec3::Y).length_squared() < 1e-12 { Vec3::Z } else { Vec3::Y };
+        let world_up = if f.cross(Vec3::Y).length_squared() < 1e-12 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
         let r = f.cross(world_up).normalize();
         let u = r.cross(f);
         let (s, c) = self.twist.to_radians().sin_cos();

@@ -1,1 +1,295 @@
-//! (being written)
+//! Wavefront OBJ export of a frame (for modelling tools) and import of OBJ
+//! meshes into geometries.
+//!
+//! Export writes the expanded, tessellated frame ([`mesh::expand`]) with a
+//! sibling `.mtl`. Numbers use a fixed `{:.6}` format and vertices are
+//! numbered in order of first use, so the same scene gives the same bytes.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::fmt::Write as _;
+use std::fs;
+use std::io::{self, Write as _};
+use std::panic::{self, AssertUnwindSafe};
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use glam::Vec3;
+
+use super::material::{self, Material};
+use super::{mesh, Scene, Triangle};
+
+/// Writes the frame's triangles to `obj_path` and its materials to the
+/// same path with extension `.mtl` (named by `mtllib`). One `usemtl` per
+/// run of triangles with the same material; one flat normal per face.
+/// Both files are written atomically (temporary file, then rename), the
+/// MTL first so an OBJ never appears without its materials. Triangles
+/// naming a material the scene lacks get a grey `missing_N` entry.
+pub fn write_obj(scene: &Scene, obj_path: &Path) -> io::Result<()> {
+    let invalid = || {
+        io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("cannot write OBJ {}: not a file name", obj_path.display()),
+        )
+    };
+    obj_path.file_name().ok_or_else(invalid)?;
+    let mtl_path = obj_path.with_extension("mtl");
+    let mtl_name = mtl_path.file_name().ok_or_else(invalid)?.to_string_lossy();
+
+    let tris = mesh::expand(scene);
+    let names = material_names(scene, &tris);
+    write_atomic(&mtl_path, mtl_text(scene, &names).as_bytes())?;
+    write_atomic(
+        obj_path,
+        obj_text(scene, &tris, &names, &mtl_name).as_bytes(),
+    )
+}
+
+/// Loads the triangles and materials of an OBJ file (and of the MTL files
+/// it names, looked up next to it) with `tobj`, polygons triangulated.
+///
+/// Materials are returned in MTL order; a triangle's material is
+/// `material_base` + its index in the returned list. Faces without a usable
+/// material (no `usemtl`, an unknown name, or a missing MTL file) get the
+/// project's default grey, appended once at the end of the list — so a
+/// file without any materials gives `material_base + 0` and one material.
+/// Reflection is not part of MTL and comes back as 0. Errors name the file
+/// and the problem; malformed input never panics (a panic inside `tobj`
+/// is caught and reported, though its message still reaches stderr).
+pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<Material>), String> {
+    let fail = |what: String| format!("cannot read OBJ {}: {what}", path.display());
+    let bytes = fs::read(path).map_err(|e| fail(e.to_string()))?;
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let loaded = panic::catch_unwind(AssertUnwindSafe(|| {
+        tobj::load_obj_buf(&mut &bytes[..], &options, |mtl| {
+            tobj::load_mtl(dir.join(mtl))
+        })
+    }))
+    .map_err(|_| fail("malformed file (the OBJ/MTL parser gave up)".into()))?;
+    let (models, mtl) = loaded.map_err(|e| fail(e.to_string()))?;
+    let mut materials: Vec<Material> = match mtl {
+        Ok(m) => m.iter().map(convert_material).collect(),
+        // A missing MTL leaves the faces grey rather than failing the import.
+        Err(tobj::LoadError::OpenFileFailed) => Vec::new(),
+        Err(e) => return Err(fail(format!("material library: {e}"))),
+    };
+    let known = materials.len();
+    let base = |i: usize| material_base.saturating_add(u32::try_from(i).unwrap_or(u32::MAX));
+
+    let mut tris = Vec::new();
+    let mut needs_grey = false;
+    for model in &models {
+        let m = &model.mesh;
+        let id = match m.material_id {
+            Some(i) if i < known => i,
+            _ => {
+                needs_grey = true;
+                known
+            }
+        };
+        let vertex = |i: u32| -> Result<Vec3, String> {
+            let i = i as usize * 3;
+            let p = m
+                .positions
+                .get(i..i + 3)
+                .ok_or_else(|| fail(format!("object {}: vertex index out of range", model.name)))?;
+            let v = Vec3::new(p[0], p[1], p[2]);
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(fail(format!(
+                    "object {}: non-finite vertex {v}",
+                    model.name
+                )))
+            }
+        };
+        for f in m.indices.chunks_exact(3) {
+            tris.push(Triangle {
+                v: [vertex(f[0])?, vertex(f[1])?, vertex(f[2])?],
+                material: base(id),
+                symbol: 0,
+            });
+        }
+    }
+    if needs_grey {
+        materials.push(material::table().swap_remove(0));
+    }
+    Ok((tris, materials))
+}
+
+/// One MTL material as a scene material; absent fields take neutral values.
+fn convert_material(m: &tobj::Material) -> Material {
+    let rgb = |c: Option<[f32; 3]>, default: f32| c.map_or(Vec3::splat(default), Vec3::from);
+    let diffuse = rgb(m.diffuse, 0.75);
+    Material {
+        name: m.name.clone(),
+        ambient: m.ambient.map_or(diffuse * 0.2, Vec3::from),
+        diffuse,
+        specular: rgb(m.specular, 0.0),
+        shininess: m.shininess.unwrap_or(1.0),
+        reflect: 0.0,
+        transmit: (1.0 - m.dissolve.unwrap_or(1.0)).clamp(0.0, 1.0),
+        ior: m.optical_density.unwrap_or(1.0),
+        vision: diffuse,
+        texture: None,
+    }
+}
+
+/// Unique MTL names by material number: index i of `scene.materials`
+/// keeps its name with whitespace and control characters replaced by `_`
+/// (MTL names are one word); empty or repeated names get `_i` appended.
+/// Numbers used by triangles but absent from the scene are named
+/// `missing_i` (a map, so a stray huge number costs one entry).
+fn material_names(scene: &Scene, tris: &[Triangle]) -> BTreeMap<u32, String> {
+    let mut wanted: BTreeMap<u32, String> = (0..)
+        .zip(&scene.materials)
+        .map(|(i, m)| (i, m.name.clone()))
+        .collect();
+    for t in tris {
+        wanted
+            .entry(t.material)
+            .or_insert_with(|| format!("missing_{}", t.material));
+    }
+    let mut used = HashSet::new();
+    for (i, name) in wanted.iter_mut() {
+        let clean: String = name
+            .chars()
+            .map(|c| {
+                if c.is_whitespace() || c.is_control() {
+                    '_'
+                } else {
+                    c
+                }
+            })
+            .collect();
+        *name = if clean.is_empty() {
+            format!("material_{i}")
+        } else {
+            clean
+        };
+        if !used.insert(name.clone()) {
+            name.push_str(&format!("_{i}"));
+            used.insert(name.clone());
+        }
+    }
+    wanted
+}
+
+/// The MTL file: Ka Kd Ks Ns d Ni and an illumination model chosen from
+/// the material's mirroring and transparency.
+fn mtl_text(scene: &Scene, names: &BTreeMap<u32, String>) -> String {
+    let grey = material::table().swap_remove(0);
+    let mut s = String::from("# lmfilm materials\n");
+    for (&i, name) in names {
+        let m = scene.materials.get(i as usize).unwrap_or(&grey);
+        let illum = match (m.reflect > 0.0, m.transmit > 0.0) {
+            (_, true) if m.ior != 1.0 => 7,
+            (_, true) => 4,
+            (true, false) => 3,
+            (false, false) => 2,
+        };
+        let _ = writeln!(s, "\nnewmtl {name}");
+        let _ = writeln!(s, "Ka {}", vec3(m.ambient));
+        let _ = writeln!(s, "Kd {}", vec3(m.diffuse));
+        let _ = writeln!(s, "Ks {}", vec3(m.specular));
+        let _ = writeln!(s, "Ns {}", num(m.shininess));
+        let _ = writeln!(s, "d {}", num((1.0 - m.transmit).clamp(0.0, 1.0)));
+        let _ = writeln!(s, "Ni {}", num(m.ior));
+        let _ = writeln!(s, "illum {illum}");
+    }
+    s
+}
+
+/// The OBJ file: shared vertices and normals numbered in order of first
+/// use, then the faces.
+fn obj_text(
+    scene: &Scene,
+    tris: &[Triangle],
+    names: &BTreeMap<u32, String>,
+    mtllib: &str,
+) -> String {
+    let mut positions: Vec<Vec3> = Vec::new();
+    let mut normals: Vec<Vec3> = Vec::new();
+    let mut index: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut nindex: HashMap<[u32; 3], usize> = HashMap::new();
+    let faces: Vec<([usize; 3], usize, u32)> = tris
+        .iter()
+        .map(|t| {
+            let v = t.v.map(|p| id(&mut index, &mut positions, p));
+            let n = id(&mut nindex, &mut normals, t.normal());
+            (v, n, t.material)
+        })
+        .collect();
+
+    let mut s = format!("# lmfilm frame {} time {}\n", scene.frame, scene.time);
+    let _ = writeln!(s, "mtllib {mtllib}");
+    let _ = writeln!(s, "o frame_{}", scene.frame);
+    for p in &positions {
+        let _ = writeln!(s, "v {}", vec3(*p));
+    }
+    for n in &normals {
+        let _ = writeln!(s, "vn {}", vec3(*n));
+    }
+    let mut current = None;
+    for (v, n, m) in faces {
+        if current != Some(m) {
+            current = Some(m);
+            let name = names.get(&m).map_or("default", String::as_str);
+            let _ = writeln!(s, "usemtl {name}");
+        }
+        let _ = writeln!(s, "f {}//{n} {}//{n} {}//{n}", v[0], v[1], v[2]);
+    }
+    s
+}
+
+/// 1-based OBJ number of `v` in `list`, added on first use. Keys are the
+/// bits after +0.0, which folds −0 into 0 so equal points share a number.
+fn id(map: &mut HashMap<[u32; 3], usize>, list: &mut Vec<Vec3>, v: Vec3) -> usize {
+    let key = (v + Vec3::ZERO).to_array().map(f32::to_bits);
+    *map.entry(key).or_insert_with(|| {
+        list.push(v);
+        list.len()
+    })
+}
+
+/// Fixed-precision number; a negative zero prints as zero.
+fn num(x: f32) -> String {
+    let s = format!("{x:.6}");
+    if s == "-0.000000" {
+        "0.000000".into()
+    } else {
+        s
+    }
+}
+
+fn vec3(v: Vec3) -> String {
+    format!("{} {} {}", num(v.x), num(v.y), num(v.z))
+}
+
+static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes `bytes` to a temporary file next to `path` and renames it over
+/// `path`, so a killed run never leaves a half-written file. The pid and a
+/// counter keep concurrent writers apart. Errors name the file.
+fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let mut tmp_name = path.file_name().unwrap_or_default().to_os_string();
+    tmp_name.push(format!(
+        ".{}.{}.tmp",
+        std::process::id(),
+        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let tmp = path.with_file_name(tmp_name);
+    let result = fs::File::create(&tmp)
+        .and_then(|mut f| f.write_all(bytes))
+        .and_then(|()| fs::rename(&tmp, path));
+    result.map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
+    })
+}

@@ -45,6 +45,8 @@ pub struct Triangle {
 
 impl Triangle {
     pub fn normal(&self) -> Vec3 {
-        (self.v[1] - self.v[0]).cross(self.v[2] - self.v[0]).normalize_or_zero()
+        (self.v[1] - self.v[0])
+            .cross(self.v[2] - self.v[0])
+            .normalize_or_zero()
     }
 }

@@ -1,0 +1,633 @@
+//! Interpretation of one word by the turtle (2.1.5–2.3.2, appendix C)
+//! into shapes of its L-system's geometry.
+
+use std::collections::BTreeMap;
+
+use glam::{Affine3A, DVec3, Vec3};
+
+use super::polygon::{newell, triangulate, PolygonStack};
+use super::special;
+use super::state::{bend, Turtle};
+use super::{Builder, TurtleWorld};
+use crate::lsys::{LSystem, Sensors, Symbol, Who};
+use crate::scene::material;
+use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
+
+/// Settings of the interpretation that the thesis leaves to the renderer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Diameter of the thin cylinders drawn for segments `R S`.
+    pub segment_width: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            segment_width: 0.05,
+        }
+    }
+}
+
+/// Turtle positions and states saved by `[` with par1 = i; they persist
+/// from one frame to the next (5.10.2).
+#[derive(Debug, Clone, Default)]
+pub struct Tables {
+    pub position: BTreeMap<i64, DVec3>,
+    pub state: BTreeMap<i64, Turtle>,
+}
+
+/// A placement of a shared geometry inside an L-system's frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Placed {
+    /// An imported surface of the Surfaces section, by number.
+    Surface(i64),
+    /// A named object (`D` par1 = 6/13 … 1), by name number.
+    Named(i64),
+}
+
+/// What one word draws, in its L-system's own frame.
+#[derive(Debug, Default)]
+pub struct Structure {
+    pub geometry: Geometry,
+    pub placements: Vec<(Placed, Affine3A)>,
+    /// Named objects defined by this word.
+    pub named: Vec<(i64, Geometry)>,
+}
+
+/// The active tropism (2.3.2): the most recent `v` met.
+#[derive(Debug, Clone, Copy)]
+struct Tropism {
+    /// The `v` symbol whose growth functions give the field.
+    field: Option<Symbol>,
+    elasticity: f64,
+    mass: f64,
+    on: bool,
+}
+
+/// What the turtle stack saves: the turtle and the drawing state.
+#[derive(Debug, Clone, Copy)]
+struct Saved {
+    turtle: Turtle,
+    material: u32,
+    segment: Option<u32>,
+}
+
+fn v3(d: DVec3) -> Vec3 {
+    d.as_vec3()
+}
+
+/// Local → geometry transform of a unit shape at the turtle, scaled along
+/// H, L and U.
+fn placed(t: &Turtle, sh: f64, sl: f64, su: f64) -> Affine3A {
+    Affine3A::from_cols(
+        v3(t.h * sh).into(),
+        v3(t.l * sl).into(),
+        v3(t.u * su).into(),
+        v3(t.pos).into(),
+    )
+}
+
+pub(super) struct Interpreter<'a> {
+    ls: &'a mut LSystem,
+    b: &'a mut Builder,
+    world: &'a mut dyn TurtleWorld,
+    sensors: &'a mut dyn Sensors,
+    time: f64,
+    seed: u64,
+    opts: Options,
+    t: Turtle,
+    stack: Vec<Saved>,
+    material: u32,
+    segment: Option<u32>,
+    tropism: Tropism,
+    polygons: PolygonStack,
+    out: Structure,
+    /// Index of the geometry being drawn: None = the main one.
+    named: Option<(i64, Turtle)>,
+    named_geometry: Geometry,
+}
+
+/// Interprets the word of `ls` at time `time`.
+#[allow(clippy::too_many_arguments)]
+pub fn interpret(
+    ls: &mut LSystem,
+    time: f64,
+    seed: u64,
+    b: &mut Builder,
+    tables: &mut Tables,
+    sensors: &mut dyn Sensors,
+    world: &mut dyn TurtleWorld,
+    opts: Options,
+) -> Structure {
+    let mut it = Interpreter {
+        ls,
+        b,
+        world,
+        sensors,
+        time,
+        seed,
+        opts,
+        t: Turtle::default(),
+        stack: Vec::new(),
+        material: 0,
+        segment: None,
+        tropism: Tropism {
+            field: None,
+            elasticity: 1.0,
+            mass: 1.0,
+            on: false,
+        },
+        polygons: PolygonStack::default(),
+        out: Structure::default(),
+        named: None,
+        named_geometry: Geometry::default(),
+    };
+    it.out.geometry.resolution = 10;
+    let n = it.ls.word().len();
+    for i in 0..n {
+        it.symbol(i, tables);
+    }
+    it.end_named();
+    it.out.geometry.name = it.ls.def.name.clone();
+    it.out
+}
+
+impl Interpreter<'_> {
+    fn growth(&mut self, s: &Symbol) -> [f64; 3] {
+        self.ls.growth(s, self.time, self.seed, self.sensors)
+    }
+
+    fn who(&self, s: &Symbol) -> Who {
+        Who {
+            lsys: self.ls.index,
+            symbol: s.id,
+        }
+    }
+
+    fn geometry(&mut self) -> &mut Geometry {
+        if self.named.is_some() {
+            &mut self.named_geometry
+        } else {
+            &mut self.out.geometry
+        }
+    }
+
+    /// A shape whose sizes are all finite and > 0; others are skipped with
+    /// one warning per symbol kind.
+    fn shape(
+        &mut self,
+        s: &Symbol,
+        kind: ShapeKind,
+        sizes: &[f64],
+        transform: Affine3A,
+        material: u32,
+    ) {
+        if sizes.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+            self.b.warn(
+                s.ch,
+                format!(
+                    "`{}` with a size ≤ 0 or not a number is skipped",
+                    s.ch as char
+                ),
+            );
+            return;
+        }
+        let symbol = s.id;
+        self.geometry().shapes.push(Shape {
+            kind,
+            transform,
+            material,
+            symbol,
+        });
+    }
+
+    fn triangle(&mut self, v: [DVec3; 3], material: u32, symbol: u64) {
+        if !v.iter().all(|p| p.is_finite()) {
+            return;
+        }
+        self.geometry().triangles.push(Triangle {
+            v: v.map(v3),
+            material,
+            symbol,
+        });
+    }
+
+    /// Bends the turtle toward the tropism force at its position.
+    fn tropism(&mut self) {
+        if !self.tropism.on {
+            return;
+        }
+        let mut f = self.world.force(self.t.pos);
+        if let Some(v) = self.tropism.field {
+            // The field's x, y, z are the turtle position (C.4).
+            let at = Symbol {
+                par: self.t.pos.to_array(),
+                ..v
+            };
+            f += DVec3::from_array(self.growth(&at));
+        }
+        bend(&mut self.t, f * self.tropism.mass, self.tropism.elasticity);
+    }
+
+    fn forward(&mut self, d: f64) {
+        if d.is_finite() {
+            self.t.pos += d * self.t.h;
+        }
+    }
+
+    fn symbol(&mut self, i: usize, tables: &mut Tables) {
+        let s = self.ls.word()[i];
+        let [x, y, z] = s.par;
+        match s.ch {
+            b'+' | b'-' | b'&' | b'^' | b'/' => {
+                let a = self.growth(&s)[0];
+                match s.ch {
+                    b'+' => self.t.turn(a),
+                    b'-' => self.t.turn(-a),
+                    b'&' => self.t.pitch(a),
+                    b'^' => self.t.pitch(-a),
+                    _ => self.t.roll(-a),
+                }
+            }
+            b'$' => match y as i64 {
+                1 => self.t.level(),
+                2 => self.t.hang(),
+                3 => self.t.reset_orientation(),
+                4 => {
+                    if let Some(v) = self.world.particle_velocity(self.who(&s)) {
+                        self.t.align(v);
+                    }
+                }
+                5 => {
+                    if let Some((p, dir)) = self.world.trace(z as i64) {
+                        self.t.pos = p;
+                        self.t.align(DVec3::new(dir.x, 0.0, dir.z));
+                        self.t.horizontal();
+                    }
+                }
+                6 => self.t.horizontal(),
+                _ => {
+                    let a = self.growth(&s)[0];
+                    self.t.roll(a);
+                }
+            },
+            b'f' => {
+                let g = DVec3::from_array(self.growth(&s));
+                match z as i64 {
+                    1 => self.t.pos += g,
+                    2 => self.t.pos = g,
+                    3 => self.t.pos += g.x * self.t.h + g.y * self.t.l + g.z * self.t.u,
+                    _ => self.forward(g.x),
+                }
+            }
+            b'[' => {
+                let k = x as i64;
+                if x == 0.0 {
+                    self.stack.push(Saved {
+                        turtle: self.t,
+                        material: self.material,
+                        segment: self.segment,
+                    });
+                } else if y == 0.0 {
+                    tables.position.insert(k, self.t.pos);
+                } else {
+                    tables.state.insert(k, self.t);
+                }
+            }
+            b']' => {
+                let k = x as i64;
+                if x == 0.0 {
+                    if let Some(sv) = self.stack.pop() {
+                        self.t = sv.turtle;
+                        self.material = sv.material;
+                        self.segment = sv.segment;
+                    }
+                } else if y == 0.0 {
+                    if let Some(p) = tables.position.get(&k) {
+                        self.t.pos = *p;
+                        self.polygons.vertex(*p);
+                    }
+                } else if let Some(st) = tables.state.get(&k) {
+                    self.t = *st;
+                }
+            }
+            b'?' => {
+                // The query symbol learns the turtle position (C.6).
+                self.ls.word_mut()[i].par = self.t.pos.to_array();
+            }
+            b'm' => {
+                if z == 1.0 {
+                    let rgb = Vec3::from_array(self.growth(&s).map(|v| v as f32));
+                    self.material = self.b.animated(self.material, rgb);
+                } else if z != 2.0 {
+                    self.material = material::by_number(x) as u32;
+                }
+            }
+            b'r' => {
+                let rgb = self.growth(&s);
+                self.segment = Some(self.b.segment(rgb, self.material));
+            }
+            b'n' => {
+                let r = (x.round() as i64).clamp(3, 1024) as u32;
+                let g = self.geometry();
+                g.resolution = g.resolution.max(r);
+            }
+            b'v' => match x as i64 {
+                0 => {
+                    self.tropism.field = Some(s);
+                    self.tropism.on = true;
+                }
+                1 => {
+                    let g = self.growth(&s);
+                    self.tropism.elasticity = g[0];
+                    self.tropism.mass = if g[1] == 0.0 { 1.0 } else { g[1] };
+                    self.tropism.on = true;
+                }
+                2 => self.tropism.on = false,
+                _ => {}
+            },
+            b'l' => {
+                let g = DVec3::from_array(self.growth(&s));
+                self.b
+                    .camera_symbol(z as i64, y as i64, g, self.who(&s), self.world);
+            }
+            b'R' | b'S' => {
+                self.tropism();
+                let len = self.growth(&s)[0];
+                let r = self.opts.segment_width / 2.0;
+                let m = self.segment.unwrap_or(self.material);
+                self.shape(
+                    &s,
+                    ShapeKind::Cylinder,
+                    &[len, r],
+                    placed(&self.t, len, r, r),
+                    m,
+                );
+                self.forward(len);
+            }
+            b'c' | b'd' => {
+                let g = self.growth(&s);
+                self.shape(
+                    &s,
+                    ShapeKind::Box,
+                    &g,
+                    placed(&self.t, g[0], g[1], g[2]),
+                    self.material,
+                );
+                self.forward(g[0]);
+                self.tropism();
+            }
+            b'O' | b'N' => {
+                self.tropism();
+                let g = self.growth(&s);
+                // Unit-radius capsule scaled by (k, par5, par6), k the mean
+                // radius, so equal radii give exact half spheres.
+                let k = (g[1] * g[2]).sqrt();
+                let kind = ShapeKind::Capsule {
+                    length: (g[0] / k) as f32,
+                };
+                self.shape(&s, kind, &g, placed(&self.t, k, g[1], g[2]), self.material);
+                self.forward(g[0]);
+            }
+            b'o' => {
+                self.tropism();
+                let g = self.growth(&s);
+                self.shape(
+                    &s,
+                    ShapeKind::Cylinder,
+                    &g,
+                    placed(&self.t, g[0], g[1], g[2]),
+                    self.material,
+                );
+                self.forward(g[0]);
+            }
+            b'P' | b'Q' => {
+                let g = self.growth(&s);
+                let kind = ShapeKind::Trunk {
+                    length: g[0] as f32,
+                    r0: g[1] as f32,
+                    r1: g[2] as f32,
+                };
+                self.shape(&s, kind, &g, placed(&self.t, 1.0, 1.0, 1.0), self.material);
+                self.forward(g[0]);
+                self.tropism();
+            }
+            b'a' => {
+                let r = self.growth(&s)[0] / 2.0;
+                self.shape(
+                    &s,
+                    ShapeKind::Sphere,
+                    &[r],
+                    placed(&self.t, r, r, r),
+                    self.material,
+                );
+            }
+            b's' => {
+                let g = self.growth(&s).map(|v| v / 2.0);
+                self.shape(
+                    &s,
+                    ShapeKind::Sphere,
+                    &g,
+                    placed(&self.t, g[0], g[1], g[2]),
+                    self.material,
+                );
+                self.tropism();
+            }
+            b'p' | b'q' => {
+                let g = self.growth(&s);
+                self.pyramid(&s, g);
+                self.tropism();
+            }
+            b'{' => self.polygons.open(),
+            b'.' => self.polygons.vertex(self.t.pos),
+            b'}' => {
+                let poly = self.polygons.close();
+                let g = self.growth(&s);
+                self.polygon(&s, &poly, [x, y, z], g[0]);
+            }
+            b'D' => special::d_symbol(self, &s, tables),
+            b'B' => {
+                let g = self.growth(&s);
+                if g.iter().all(|v| v.is_finite() && *v != 0.0) {
+                    let m = placed(&self.t, g[0], g[1], g[2]);
+                    self.out.placements.push((Placed::Surface(x as i64), m));
+                } else {
+                    self.b.warn(
+                        b'B',
+                        "`B` with a zero or non-finite scale is skipped".into(),
+                    );
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn pyramid(&mut self, s: &Symbol, g: [f64; 3]) {
+        if g.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+            self.b.warn(
+                s.ch,
+                format!(
+                    "`{}` with a size ≤ 0 or not a number is skipped",
+                    s.ch as char
+                ),
+            );
+            return;
+        }
+        let t = self.t;
+        let apex = t.pos + g[0] * t.h;
+        let c = |a: f64, b: f64| t.pos + a * g[1] / 2.0 * t.l + b * g[2] / 2.0 * t.u;
+        let base = [c(1.0, 1.0), c(-1.0, 1.0), c(-1.0, -1.0), c(1.0, -1.0)];
+        for k in 0..4 {
+            // Sides face outward: (b_k, b_{k+1}, apex) winds around +H.
+            self.triangle([base[k], base[(k + 1) % 4], apex], self.material, s.id);
+        }
+        self.triangle([base[0], base[2], base[1]], self.material, s.id);
+        self.triangle([base[0], base[3], base[2]], self.material, s.id);
+    }
+
+    /// `}` with its variants: par1 = 1 inverts the normal; par2 = 1 adds a
+    /// parallel copy at distance par4 along the normal; par3 = 1 closes the
+    /// slab with side faces, par3 = 3 with thin cylinders along the edges.
+    fn polygon(&mut self, s: &Symbol, poly: &[DVec3], flags: [f64; 3], depth: f64) {
+        let tris = triangulate(poly);
+        if tris.is_empty() {
+            self.b.warn(
+                b'}',
+                "a polygon with fewer than 3 distinct vertices or no area is skipped".into(),
+            );
+            return;
+        }
+        let invert = flags[0] == 1.0;
+        let m = self.material;
+        for t in &tris {
+            let v = [poly[t[0]], poly[t[1]], poly[t[2]]];
+            self.triangle(if invert { [v[0], v[2], v[1]] } else { v }, m, s.id);
+        }
+        if flags[1] != 1.0 || !depth.is_finite() {
+            return;
+        }
+        let mut n = newell(poly).normalize();
+        if invert {
+            n = -n;
+        }
+        let off: Vec<DVec3> = poly.iter().map(|p| *p + depth * n).collect();
+        for t in &tris {
+            let v = [off[t[0]], off[t[1]], off[t[2]]];
+            self.triangle(if invert { v } else { [v[0], v[2], v[1]] }, m, s.id);
+        }
+        let k = poly.len();
+        match flags[2] as i64 {
+            1 => {
+                for a in 0..k {
+                    let b = (a + 1) % k;
+                    let (p, q, pp, qq) = (poly[a], poly[b], off[a], off[b]);
+                    let quad = if invert ^ (depth < 0.0) {
+                        [[p, q, qq], [p, qq, pp]]
+                    } else {
+                        [[p, qq, q], [p, pp, qq]]
+                    };
+                    for tri in quad {
+                        self.triangle(tri, m, s.id);
+                    }
+                }
+            }
+            3 => {
+                let r = self.opts.segment_width / 2.0;
+                for a in 0..k {
+                    for (p, q) in [(poly[a], poly[(a + 1) % k]), (off[a], off[(a + 1) % k])] {
+                        let mut t = Turtle::at(p);
+                        t.align(q - p);
+                        let len = (q - p).length();
+                        self.shape(s, ShapeKind::Cylinder, &[len, r], placed(&t, len, r, r), m);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Starts recording a named object (`D` par1 = 6 or 13).
+    pub(super) fn begin_named(&mut self, name: i64) {
+        self.end_named();
+        self.named = Some((name, self.t));
+    }
+
+    /// Ends the named object being recorded (`D` par1 = 1).
+    pub(super) fn end_named(&mut self) {
+        if let Some((name, _)) = self.named.take() {
+            let mut g = std::mem::take(&mut self.named_geometry);
+            g.name = format!("obj{name}");
+            g.resolution = g.resolution.max(self.out.geometry.resolution);
+            self.out.named.push((name, g));
+        }
+    }
+
+    /// Places named object `name` at the turtle, relative to where the
+    /// turtle stood when it was defined (`D` par1 = 7).
+    pub(super) fn place_named(&mut self, name: i64) {
+        let defined = self.out.named.iter().any(|(n, _)| *n == name);
+        if !defined {
+            self.b.warn(
+                b'D',
+                format!("`D` places object {name}, which no `D` par1 = 6 or 13 defined before"),
+            );
+            return;
+        }
+        let now = placed(&self.t, 1.0, 1.0, 1.0);
+        self.out.placements.push((Placed::Named(name), now));
+    }
+
+    pub(super) fn turtle(&self) -> Turtle {
+        self.t
+    }
+
+    pub(super) fn builder(&mut self) -> &mut Builder {
+        self.b
+    }
+
+    pub(super) fn material(&self) -> u32 {
+        self.material
+    }
+
+    pub(super) fn set_material(&mut self, m: u32) {
+        self.material = m;
+    }
+
+    pub(super) fn push_triangle(&mut self, v: [DVec3; 3], material: u32, symbol: u64) {
+        self.triangle(v, material, symbol);
+    }
+
+    pub(super) fn push_shape(
+        &mut self,
+        s: &Symbol,
+        kind: ShapeKind,
+        sizes: &[f64],
+        t: &Turtle,
+        scale: [f64; 3],
+        material: u32,
+    ) {
+        self.shape(
+            s,
+            kind,
+            sizes,
+            placed(t, scale[0], scale[1], scale[2]),
+            material,
+        );
+    }
+
+    pub(super) fn growth_of(&mut self, s: &Symbol) -> [f64; 3] {
+        self.growth(s)
+    }
+
+    /// How many shapes and triangles the main geometry holds so far.
+    pub(super) fn geometry_bounds(&self) -> (usize, usize) {
+        (
+            self.out.geometry.shapes.len(),
+            self.out.geometry.triangles.len(),
+        )
+    }
+
+    pub(super) fn geometry_ref(&self) -> &Geometry {
+        &self.out.geometry
+    }
+}

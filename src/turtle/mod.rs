@@ -1,0 +1,371 @@
+//! Interpretation of the derived words into the [`Scene`] of a frame
+//! (DESIGN §1 step 1; thesis 2.1.5–2.3.2, appendix C).
+//!
+//! Each L-system's word is drawn once in its own frame into a shared
+//! geometry; its repetitions (table B1) and imported surfaces are
+//! instances of it, so a forest costs one tree plus transforms.
+
+pub mod interpret;
+pub mod polygon;
+pub mod repetition;
+pub mod special;
+pub mod state;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+use glam::{DVec3, Vec3};
+
+use crate::lsys::{Animation, Sensors, Who};
+use crate::scene::material::{self, Texture};
+use crate::scene::{obj, Camera, Geometry, Instance, Light, Material, Scene};
+pub use interpret::{interpret, Options, Placed, Structure, Tables};
+pub use state::Turtle;
+
+/// What the turtle may ask of higher layers (particles, trajectories,
+/// the sound log); the defaults answer for a world without them.
+pub trait TurtleWorld {
+    /// Force of the particle fields at `p`, added to the tropism force.
+    fn force(&mut self, _p: DVec3) -> DVec3 {
+        DVec3::ZERO
+    }
+    /// Velocity of the particle mapped to symbol `who` (`$` par2 = 4).
+    fn particle_velocity(&mut self, _who: Who) -> Option<DVec3> {
+        None
+    }
+    /// Position of the particle mapped to symbol `who` (`l` par3 = 4).
+    fn particle_position(&mut self, _who: Who) -> Option<DVec3> {
+        None
+    }
+    /// Position and direction of imported trajectory `n` (`$` par2 = 5).
+    fn trace(&mut self, _n: i64) -> Option<(DVec3, DVec3)> {
+        None
+    }
+    /// Microphone `mic` placed at `p` (`l` par3 = 8, 10).
+    fn microphone(&mut self, _mic: i64, _p: DVec3) {}
+}
+
+/// A world with no particles, trajectories or sound log.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct NoWorld;
+
+impl TurtleWorld for NoWorld {}
+
+/// Imported surfaces (`fig_obj`/`fig_sm`), loaded once per animation.
+#[derive(Debug, Default, Clone)]
+pub struct Surfaces {
+    /// (L-system index, surface number, geometry index in `geometries`).
+    pub index: Vec<(usize, i64, usize)>,
+    pub geometries: Vec<Geometry>,
+    pub materials: Vec<Material>,
+}
+
+impl Surfaces {
+    /// Reads every surface of every L-system; paths are relative to the
+    /// definition file's folder.
+    pub fn load(anim: &Animation) -> Result<Surfaces, String> {
+        let mut s = Surfaces::default();
+        for ls in &anim.systems {
+            let dir = Path::new(&ls.def.name).parent().unwrap_or(Path::new("."));
+            for (n, file) in &ls.def.surfaces {
+                let base = (material::COUNT + s.materials.len()) as u32;
+                let (tris, mats) = obj::read_obj(&dir.join(file), base)
+                    .map_err(|e| format!("{}: surface {n}: {e}", ls.def.name))?;
+                s.materials.extend(mats);
+                s.index.push((ls.index, *n, s.geometries.len()));
+                s.geometries.push(Geometry {
+                    name: file.clone(),
+                    shapes: Vec::new(),
+                    triangles: tris,
+                    resolution: 10,
+                });
+            }
+        }
+        Ok(s)
+    }
+}
+
+/// Scene-wide state built while the words are interpreted.
+pub struct Builder {
+    pub materials: Vec<Material>,
+    derived: BTreeMap<(u32, [u32; 3], u8), u32>,
+    pub camera: Camera,
+    light3: Option<Vec3>,
+    extra_lights: Vec<Light>,
+    pub background: Vec3,
+    /// Set by `D` par1 = 40, looked at by `l` par3 = 10.
+    pub lookat_global: Option<DVec3>,
+    warned: BTreeSet<u8>,
+    /// Warnings and `D` par1 = 30 prints, in order, for the user.
+    pub messages: Vec<String>,
+    /// Bounding boxes of `D` par1 = 20 … 21 (min, max).
+    pub bounding_boxes: Vec<(Vec3, Vec3)>,
+    bbox_start: Vec<(usize, usize)>,
+}
+
+impl Builder {
+    fn new(camera: Camera, surface_materials: &[Material]) -> Self {
+        let mut materials = material::table();
+        materials.extend_from_slice(surface_materials);
+        Builder {
+            materials,
+            derived: BTreeMap::new(),
+            camera,
+            light3: None,
+            extra_lights: Vec::new(),
+            background: Vec3::new(0.0, 0.0, 0.0),
+            lookat_global: None,
+            warned: BTreeSet::new(),
+            messages: Vec::new(),
+            bounding_boxes: Vec::new(),
+            bbox_start: Vec::new(),
+        }
+    }
+
+    /// Records a warning once per symbol kind.
+    pub fn warn(&mut self, kind: u8, msg: String) {
+        if self.warned.insert(kind) {
+            self.messages.push(format!("warning: {msg}"));
+        }
+    }
+
+    pub fn print(&mut self, msg: String) {
+        self.messages.push(msg);
+    }
+
+    /// A material derived from `base`, created once per distinct variant.
+    fn derive(
+        &mut self,
+        base: u32,
+        key: [f32; 3],
+        tag: u8,
+        make: impl FnOnce(&Material) -> Material,
+    ) -> u32 {
+        let k = (base, key.map(f32::to_bits), tag);
+        if let Some(&m) = self.derived.get(&k) {
+            return m;
+        }
+        let m = make(&self.materials[base as usize]);
+        self.materials.push(m);
+        let i = (self.materials.len() - 1) as u32;
+        self.derived.insert(k, i);
+        i
+    }
+
+    /// `m` par3 = 1: the current material with diffuse `rgb`.
+    pub fn animated(&mut self, base: u32, rgb: Vec3) -> u32 {
+        self.derive(base, rgb.to_array(), 0, |m| m.with_diffuse(rgb))
+    }
+
+    /// `r`: a segment colour (0..255), seen by vision as `base` is.
+    pub fn segment(&mut self, rgb: [f64; 3], base: u32) -> u32 {
+        let key = rgb.map(|v| v as f32);
+        self.derive(base, key, 1, |m| material::segment_colour(rgb, m.vision))
+    }
+
+    /// `D` par1 = 10, 11: the current material with a texture.
+    pub fn textured(&mut self, base: u32, t: Texture) -> u32 {
+        let tag = if t == Texture::Marble { 2 } else { 3 };
+        self.derive(base, [0.0; 3], tag, |m| Material {
+            texture: Some(t),
+            ..m.clone()
+        })
+    }
+
+    /// A fixed material of the built-in objects (court, clouds).
+    pub fn court_material(&mut self, rgb: Vec3, name: &str) -> u32 {
+        if let Some(i) = self.materials.iter().position(|m| m.name == name) {
+            return i as u32;
+        }
+        let vision = self.materials[0].vision;
+        let mut m = material::segment_colour((rgb * 255.0).as_dvec3().to_array(), vision);
+        m.name = name.to_string();
+        self.materials.push(m);
+        (self.materials.len() - 1) as u32
+    }
+
+    /// `D` par1 = 15: a sky blue background.
+    pub fn sky(&mut self) {
+        self.background = Vec3::new(0.45, 0.62, 0.9);
+    }
+
+    /// `D` par1 = 18: a light at the observer.
+    pub fn observer_light(&mut self) {
+        self.extra_lights.push(Light {
+            position: self.camera.eye,
+            color: Vec3::splat(0.5),
+        });
+    }
+
+    pub fn bbox_begin(&mut self, n: (usize, usize)) {
+        self.bbox_start.push(n);
+    }
+
+    /// Bounds of what was drawn since the matching begin, shapes taken at
+    /// a coarse tessellation.
+    pub fn bbox_end(&mut self, g: &Geometry, end: (usize, usize)) {
+        let Some((s0, t0)) = self.bbox_start.pop() else {
+            self.warn(
+                b'D',
+                "`D` par1 = 21 without a `D` par1 = 20 before it".into(),
+            );
+            return;
+        };
+        let mut tris: Vec<_> = g.triangles[t0.min(end.1)..end.1].to_vec();
+        for sh in &g.shapes[s0.min(end.0)..end.0] {
+            crate::scene::mesh::tessellate(sh, 8, &mut tris);
+        }
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for v in tris.iter().flat_map(|t| t.v) {
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        if lo.x <= hi.x {
+            self.bounding_boxes.push((lo, hi));
+            self.messages.push(format!(
+                "bounding box {:.6} {:.6} {:.6} {:.6} {:.6} {:.6}",
+                lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+            ));
+        }
+    }
+
+    /// `l`: camera (par3 = 0, 1, 2, 4, 5, 8, 10) and light 3 (par3 = 3).
+    pub fn camera_symbol(
+        &mut self,
+        mode: i64,
+        mic: i64,
+        g: DVec3,
+        who: Who,
+        world: &mut dyn TurtleWorld,
+    ) {
+        let c = &mut self.camera;
+        match mode {
+            0 => c.eye = g.as_vec3(),
+            1 => c.look_at = g.as_vec3(),
+            2 => {
+                c.fov_y = (g.x / 10.0) as f32;
+                c.aspect = g.y as f32;
+                c.twist = g.z as f32;
+            }
+            3 => self.light3 = Some(g.as_vec3()),
+            4 => {
+                if let Some(p) = world.particle_position(who) {
+                    c.eye = p.as_vec3();
+                }
+            }
+            5 => {
+                if let (Some(p), Some(v)) =
+                    (world.particle_position(who), world.particle_velocity(who))
+                {
+                    c.look_at = (p + v.normalize_or_zero() * g.x).as_vec3();
+                }
+            }
+            8 => {
+                c.eye = g.as_vec3();
+                world.microphone(mic, g);
+            }
+            10 => {
+                c.eye = g.as_vec3();
+                if let Some(l) = self.lookat_global {
+                    c.look_at = l.as_vec3();
+                }
+                world.microphone(mic, g);
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Builds the scene of the animation's current frame. `tables` keeps the
+/// turtle state tables of each L-system from frame to frame.
+pub fn build_scene(
+    anim: &mut Animation,
+    surfaces: &Surfaces,
+    tables: &mut Vec<Tables>,
+    sensors: &mut dyn Sensors,
+    world: &mut dyn TurtleWorld,
+    opts: Options,
+) -> (Scene, Vec<String>) {
+    let cam = &anim.camera;
+    let [x1, x2, y1, y2] = cam.pref_pos;
+    let camera = Camera {
+        eye: DVec3::from_array(cam.observer).as_vec3(),
+        look_at: DVec3::from_array(cam.look_at).as_vec3(),
+        twist: (cam.twist / 10.0) as f32,
+        fov_y: (cam.view_angle / 10.0) as f32,
+        aspect: cam.aspect_ratio as f32,
+        near: cam.near as f32,
+        far: cam.far as f32,
+        width: (x2 - x1).unsigned_abs().clamp(1, 16384) as u32,
+        height: (y2 - y1).unsigned_abs().clamp(1, 16384) as u32,
+    };
+    let mut b = Builder::new(camera, &surfaces.materials);
+    let (time, seed, frame) = (anim.time(), anim.camera.seed, anim.frame);
+    tables.resize(anim.systems.len(), Tables::default());
+    let mut geometries: Vec<Geometry> = surfaces.geometries.clone();
+    let mut instances = Vec::new();
+    for (k, ls) in anim.systems.iter_mut().enumerate() {
+        let st = interpret(ls, time, seed, &mut b, &mut tables[k], sensors, world, opts);
+        let copies = repetition::transforms(&ls.def.repetition, seed, k);
+        let main = geometries.len() as u32;
+        geometries.push(st.geometry);
+        let mut named = BTreeMap::new();
+        for (name, g) in st.named {
+            named.insert(name, geometries.len() as u32);
+            geometries.push(g);
+        }
+        for r in &copies {
+            let object = instances.len() as u32;
+            instances.push(Instance {
+                geometry: main,
+                transform: *r,
+                object,
+            });
+            for (what, m) in &st.placements {
+                let g = match what {
+                    Placed::Named(n) => named.get(n).copied(),
+                    Placed::Surface(n) => surfaces
+                        .index
+                        .iter()
+                        .find(|(l, sn, _)| *l == k && sn == n)
+                        .map(|(_, _, gi)| *gi as u32),
+                };
+                match g {
+                    Some(g) => {
+                        let object = instances.len() as u32;
+                        instances.push(Instance { geometry: g, transform: *r * *m, object });
+                    }
+                    None => b.warn(b'B', format!("`B` draws surface {what:?}, which the Surfaces section does not declare")),
+                }
+            }
+        }
+    }
+    let mut lights: Vec<Light> = b
+        .light3
+        .map(|p| Light {
+            position: p,
+            color: Vec3::ONE,
+        })
+        .into_iter()
+        .collect();
+    lights.extend(b.extra_lights.iter().copied());
+    if lights.is_empty() {
+        // Every scene is visible: a white light at the observer.
+        lights.push(Light {
+            position: b.camera.eye,
+            color: Vec3::ONE,
+        });
+    }
+    let scene = Scene {
+        frame,
+        time,
+        camera: b.camera,
+        lights,
+        materials: b.materials,
+        geometries,
+        instances,
+        background: b.background,
+    };
+    (scene, b.messages)
+}

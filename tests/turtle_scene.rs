@@ -1,0 +1,266 @@
+//! The turtle's interpretation of words into scenes (issue 3).
+
+mod common;
+use common::*;
+use glam::{Vec3, Vec3A};
+use lmfilm::lsys::{Animation, NoSensors};
+use lmfilm::scene::{mesh, snapshot, Scene, ShapeKind};
+use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces, Tables};
+
+fn scene(a: &mut Animation) -> (Scene, Vec<String>) {
+    let surfaces = Surfaces::load(a).unwrap();
+    let mut tables: Vec<Tables> = Vec::new();
+    build_scene(
+        a,
+        &surfaces,
+        &mut tables,
+        &mut NoSensors,
+        &mut NoWorld,
+        Options::default(),
+    )
+}
+
+/// (start, end) of every cylinder-like shape along its local x axis.
+fn segments(s: &Scene) -> Vec<(Vec3A, Vec3A)> {
+    s.geometries
+        .iter()
+        .flat_map(|g| g.shapes.iter())
+        .map(|sh| {
+            let t = sh.transform;
+            let len = match sh.kind {
+                ShapeKind::Capsule { length } => length,
+                ShapeKind::Trunk { length, .. } => length,
+                _ => 1.0,
+            };
+            (t.translation, t.translation + t.matrix3.x_axis * len)
+        })
+        .collect()
+}
+
+fn near(a: Vec3A, b: Vec3) -> bool {
+    (a - Vec3A::from(b)).length() < 1e-5
+}
+
+#[test]
+fn growing_tree_tips_where_the_thesis_draws_them() {
+    let mut a = load("growing_tree_drawn.lm");
+    a.advance_to(a.frame_at(1.5), &mut NoSensors);
+    let (s, _) = scene(&mut a);
+    let seg = segments(&s);
+    assert_eq!(seg.len(), 3);
+    assert!(
+        near(seg[0].0, Vec3::ZERO) && near(seg[0].1, Vec3::new(0.0, 6.5, 0.0)),
+        "{seg:?}"
+    );
+    assert!(
+        near(seg[1].0, Vec3::new(0.0, 6.5, 0.0)) && near(seg[1].1, Vec3::new(-1.5, 6.5, 0.0)),
+        "{seg:?}"
+    );
+    assert!(near(seg[2].1, Vec3::new(1.5, 6.5, 0.0)), "{seg:?}");
+}
+
+#[test]
+fn rotations_move_the_heading() {
+    // From H = +x: + turns toward L (+y), & pitches toward −U (−z),
+    // / rolls, and f moves along the new heading.
+    for (turn, end) in [
+        ("+", Vec3::new(0.0, 1.0, 0.0)),
+        ("-", Vec3::new(0.0, -1.0, 0.0)),
+        ("&", Vec3::new(0.0, 0.0, -1.0)),
+        ("^", Vec3::new(0.0, 0.0, 1.0)),
+        ("/", Vec3::new(1.0, 0.0, 0.0)),
+    ] {
+        let mut a = from_text(&format!(
+            "Axiom\n{turn} () () () () (90) f () () () () (1) ? \n"
+        ));
+        scene(&mut a);
+        let q = a.systems[0].word()[2];
+        assert!(
+            (Vec3::from_array(q.par.map(|v| v as f32)) - end).length() < 1e-6,
+            "{turn}: {:?}",
+            q.par
+        );
+    }
+    // f par3 = 1, 2, 3: absolute vector, absolute position, turtle frame.
+    let mut a = from_text(
+        "Axiom\n+()()()()(90) f()()()(1)(1)(2)(3) ? f()()()(2)(5)(5)(5) f()()()(3)(1)(2)(0) ?\n",
+    );
+    scene(&mut a);
+    let w = a.systems[0].word();
+    assert_eq!(w[2].par, [1.0, 2.0, 3.0]);
+    // At (5,5,5) with H = +y, L = −x: 1·H + 2·L = (−2, 1, 0).
+    let p = w[5].par;
+    assert!(
+        (p[0] - 3.0).abs() < 1e-9 && (p[1] - 6.0).abs() < 1e-9 && (p[2] - 5.0).abs() < 1e-9,
+        "{p:?}"
+    );
+}
+
+/// Mean of the shape end points: where the crown is.
+fn crown(s: &Scene) -> Vec3A {
+    let seg = segments(s);
+    seg.iter().map(|p| p.1).sum::<Vec3A>() / seg.len() as f32
+}
+
+#[test]
+fn code_6_2_1_bends_toward_the_force_and_follows_the_wind() {
+    let text = std::fs::read_to_string(example("cours_tree3.lm")).unwrap();
+    let at = |text: &str| {
+        let mut a = from_text(text);
+        a.advance_to(a.frame_at(3.0), &mut NoSensors);
+        crown(&scene(&mut a).0)
+    };
+    let still = at(&text.replace("v () (1) () () (2.5) (1) ()", "v () (2)"));
+    let windy = at(&text);
+    let force = Vec3A::new(-0.31, 0.3, 0.19);
+    let shift = windy - still;
+    assert!(shift.length() > 0.5, "the tree bends: {shift:?}");
+    assert!(shift.dot(force) > 0.0, "toward the force: {shift:?}");
+    let other = at(&text.replace("(0.31_) (0.3) (0.19)", "(0.31) (0.3) (0.19)"));
+    let other_shift = other - still;
+    assert!(
+        shift.x < 0.0 && other_shift.x > 0.0,
+        "the tip's side follows the wind: {shift:?} {other_shift:?}"
+    );
+    let stiff = at(&text.replace("(2.5) (1) ()", "(25) (1) ()"));
+    assert!(
+        (stiff - still).length() < shift.length(),
+        "a stiffer tree bends less"
+    );
+}
+
+#[test]
+fn query_symbol_and_state_tables_persist_across_frames() {
+    // [(1) saves the state at the end of each frame; ](1) starts the next
+    // frame from it, so the walker advances 1 per frame.
+    let mut a = from_text(
+        "Camera_AnimationParameters\nt_final_interval 10 1\nAxiom\n[ ] () (1) (1) f () () () () (1) [ () (1) (1) ? ]\n",
+    );
+    let surfaces = Surfaces::load(&a).unwrap();
+    let mut tables = Vec::new();
+    for frame in 1..=3 {
+        build_scene(
+            &mut a,
+            &surfaces,
+            &mut tables,
+            &mut NoSensors,
+            &mut NoWorld,
+            Options::default(),
+        );
+        let q = a.systems[0].word()[4];
+        assert_eq!(q.par, [frame as f64, 0.0, 0.0]);
+        a.step(&mut NoSensors);
+    }
+}
+
+#[test]
+fn shapes_have_their_analytic_sizes() {
+    let text = "Axiom\nc () () () () (2) (3) (4)\nO () () () () (5) (0.5) (0.5)\no () () () () (2) (1) (1)\nP () () () () (3) (1) (0.5)\na () () () () (2)\ns () () () () (2) (4) (6)\np () () () () (3) (2) (2)\nR () () () () (4)\n";
+    let mut a = from_text(text);
+    let (s, messages) = scene(&mut a);
+    assert!(messages.is_empty(), "{messages:?}");
+    let g = &s.geometries[0];
+    assert_eq!(g.shapes.len(), 7);
+    assert_eq!(g.triangles.len(), 6, "the pyramid is exact as triangles");
+    let size = |k: usize| {
+        let mut tris = Vec::new();
+        mesh::tessellate(&g.shapes[k], 64, &mut tris);
+        let (lo, hi) = tris
+            .iter()
+            .flat_map(|t| t.v)
+            .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        hi - lo
+    };
+    let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 0.01 * b.max_element();
+    // Along the heading (+x): the cube 2 long, 3 × 4 across.
+    assert!(close(size(0), Vec3::new(2.0, 3.0, 4.0)), "{:?}", size(0));
+    // Capsule: length 5 plus two caps of radius 0.5.
+    assert!(close(size(1), Vec3::new(6.0, 1.0, 1.0)), "{:?}", size(1));
+    assert!(close(size(2), Vec3::new(2.0, 2.0, 2.0)), "{:?}", size(2));
+    // Trunk: length 3, sphere of radius 1 at the base, 0.5 at the end.
+    assert!(close(size(3), Vec3::new(4.5, 2.0, 2.0)), "{:?}", size(3));
+    // Sphere of diameter 2; ellipsoid of diameters 2, 4, 6.
+    assert!(close(size(4), Vec3::new(2.0, 2.0, 2.0)), "{:?}", size(4));
+    assert!(close(size(5), Vec3::new(2.0, 4.0, 6.0)), "{:?}", size(5));
+    // The segment is a thin cylinder 4 long.
+    assert!(close(size(6), Vec3::new(4.0, 0.05, 0.05)), "{:?}", size(6));
+}
+
+#[test]
+fn degenerate_shapes_are_skipped_with_one_warning_per_kind() {
+    let mut a = from_text(
+        "Axiom\nc () () () () (0) (1) (1) c () () () () (1_) (1) (1) a () () () () (0) O\n",
+    );
+    let (s, messages) = scene(&mut a);
+    assert_eq!(s.geometries[0].shapes.len(), 0);
+    assert_eq!(messages.len(), 3, "{messages:?}");
+    assert!(messages[0].contains("`c`"));
+}
+
+#[test]
+fn camera_lights_and_materials() {
+    let mut a = load("cours_tree3.lm");
+    let (s, _) = scene(&mut a);
+    assert_eq!(s.camera.eye, Vec3::new(0.0, 15.0, 130.0));
+    assert_eq!(s.camera.fov_y, 50.0);
+    assert_eq!((s.camera.width, s.camera.height), (721, 576));
+    assert_eq!(s.lights.len(), 1, "a default light at the observer");
+    assert_eq!(s.lights[0].position, s.camera.eye);
+    // m () (6) selects material 6, gray, for every shape.
+    assert!(s.geometries[0]
+        .shapes
+        .iter()
+        .all(|sh| s.materials[sh.material as usize].name == "gray"));
+    let mut a = from_text("Axiom\nl () () () (0) (1) (2) (3) l () () () (3) (4) (5) (6) l () () () (2) (300) (2) (0) m () (4) () (1) (0.5) (0.25) (1) a () () () () (1)\n");
+    let (s, _) = scene(&mut a);
+    assert_eq!(s.camera.eye, Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(s.camera.fov_y, 30.0);
+    assert_eq!(s.lights[0].position, Vec3::new(4.0, 5.0, 6.0));
+    let m = &s.materials[s.geometries[0].shapes[0].material as usize];
+    assert_eq!(m.diffuse, Vec3::new(0.5, 0.25, 1.0), "diffuse animation");
+}
+
+#[test]
+fn repetition_shares_one_geometry() {
+    let text = "RepetitionParameters\nrotate_max 0 360 0\nstartp_sidel_nbr_dist -20 40 25 0.1\nAxiom\n+()()()()(90) N () () () () (3) (0.2) (0.2) a () () () () (2)\n";
+    let mut a = from_text(text);
+    let (s, _) = scene(&mut a);
+    assert_eq!(s.geometries.len(), 1);
+    assert_eq!(s.instances.len(), 25);
+    assert!(s.instances.iter().all(|i| i.geometry == 0));
+    for i in &s.instances {
+        let p = i.transform.translation;
+        assert!((-20.0..=20.0).contains(&p.x) && (-20.0..=20.0).contains(&p.z));
+    }
+    assert_eq!(s.expanded_counts(), (50, 0));
+}
+
+#[test]
+fn snapshot_round_trip_is_bit_exact() {
+    let mut a = load("cours_tree3.lm");
+    a.advance_to(60, &mut NoSensors);
+    let (s, _) = scene(&mut a);
+    let bytes = snapshot::encode(&s);
+    let back = snapshot::decode(&bytes).unwrap();
+    assert_eq!(back, s);
+    assert_eq!(snapshot::encode(&back), bytes);
+}
+
+#[test]
+fn polygons_and_special_symbols() {
+    // A concave L-shaped leaf, a slab polygon, the ground and the court.
+    let leaf = "{ . f()()()(2)(2)(0)(0) . f()()()(2)(2)(1)(0) . f()()()(2)(1)(1)(0) . f()()()(2)(1)(2)(0) . f()()()(2)(0)(2)(0) . }";
+    let text = format!("Axiom\n{leaf} {{ . f()()()(1)(1)(0)(0) . f()()()(1)(1)(0)(1) . }} () (0) (1) (1) (0.5) D () (2) () () (0) D () (41) (1)\n");
+    let mut a = from_text(&text);
+    let (s, messages) = scene(&mut a);
+    assert!(messages.is_empty(), "{messages:?}");
+    let g = &s.geometries[0];
+    let area: f32 = g.triangles[..4]
+        .iter()
+        .map(|t| (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]).length() / 2.0)
+        .sum();
+    assert!((area - 3.0).abs() < 1e-5, "leaf area {area}");
+    // The slab: 1 + 1 faces and 3 sides of 2 triangles.
+    assert_eq!(g.triangles.len(), 4 + 8 + 2);
+    assert!(g.shapes.len() >= 10, "court surface, lines and net");
+}
