@@ -219,6 +219,9 @@ fn volumes_match_analytic_ones() {
             "{:?}: mesh {got}, analytic {want}",
             s.kind
         );
+        // Vertices lie on the surface and every kink of a union outline is
+        // a vertex, so the mesh is inscribed and never bigger.
+        assert!(got <= want * 1.0001, "{:?}: mesh {got} > {want}", s.kind);
     }
 }
 
@@ -441,5 +444,32 @@ fn read_obj_reports_bad_files() {
     .unwrap();
     let err = read_obj(&bad, 0).unwrap_err();
     assert!(err.contains("bad.obj"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn mtl_names_are_one_unique_word() {
+    let mut scene = small_scene();
+    scene.materials[0].name = "a b".into();
+    scene.materials[1].name = "a_b".into();
+    scene.materials[2].name = String::new();
+    // A triangle naming a material the scene lacks.
+    scene.geometries[1].shapes[0].material = 7;
+    let dir = temp_dir("names");
+    let path = dir.join("f.obj");
+    write_obj(&scene, &path).unwrap();
+    let mtl = std::fs::read_to_string(dir.join("f.mtl")).unwrap();
+    let names: Vec<&str> = mtl
+        .lines()
+        .filter_map(|l| l.strip_prefix("newmtl "))
+        .collect();
+    assert_eq!(names, ["a_b", "a_b_1", "material_2", "missing_7"]);
+    assert!(mtl.contains("illum 7"), "glass is transparent: {mtl}");
+    let (tris, materials) = read_obj(&path, 0).unwrap();
+    assert_eq!(tris.len(), expand(&scene).len());
+    assert_eq!(materials.len(), 4);
+
+    // An OBJ named *.mtl would be overwritten by its own materials.
+    assert!(write_obj(&scene, &dir.join("g.mtl")).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -264,3 +264,31 @@ fn polygons_and_special_symbols() {
     assert_eq!(g.triangles.len(), 4 + 8 + 2);
     assert!(g.shapes.len() >= 10, "court surface, lines and net");
 }
+
+#[test]
+fn a_forest_costs_one_tree_plus_transforms() {
+    // Code 6.2.1 at T = 8 (tens of thousands of shapes), once and as a
+    // forest of 1,000 copies: the snapshot grows by the transforms only.
+    let text = std::fs::read_to_string(example("cours_tree3.lm")).unwrap();
+    let forest = text.replace(
+        "RepetitionParameters\n/* in this file the repetition section is empty */",
+        "RepetitionParameters\nrotate_max 0 360 0\nscale 0.8\nscale_max 1.2\nstartp_sidel_nbr_dist -500 1000 1000 0.01",
+    );
+    assert_ne!(forest, text);
+    let size = |t: &str| {
+        let mut a = from_text(t);
+        a.advance_to(200, &mut NoSensors);
+        let (s, _) = scene(&mut a);
+        (
+            s.geometries[0].shapes.len(),
+            s.instances.len(),
+            snapshot::encode(&s).len(),
+        )
+    };
+    let (shapes, one, bytes_one) = size(&text);
+    let (shapes_f, many, bytes_many) = size(&forest);
+    assert!(shapes > 10_000, "{shapes}");
+    assert_eq!((shapes_f, one, many), (shapes, 1, 1000));
+    let per_copy = (bytes_many - bytes_one) as f64 / 999.0;
+    assert!(per_copy < 64.0, "{per_copy} bytes per copy");
+}

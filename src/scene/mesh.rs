@@ -207,10 +207,13 @@ fn union_profile(length: f64, r0: f64, r1: f64, bands: usize) -> Vec<(f64, f64)>
     }
     if len > 0.0 {
         // Sphere/frustum crossings: a sphere of radius r meets the line
-        // r − t·u (u = distance from its centre) at u = 2rt / (1 + t²).
+        // r − t·u (u = distance from its centre) at u = 2rt / (1 + t²);
+        // the frustum narrows by t = (r0 − r1)/length away from x = 0 and
+        // by −t away from x = length.
         let t = (r0 - r1) / len;
-        xs.push(2.0 * r0 * -t / (1.0 + t * t));
-        xs.push(len - 2.0 * r1 * t / (1.0 + t * t));
+        let u = 2.0 * t / (1.0 + t * t);
+        xs.push(r0 * u);
+        xs.push(len + r1 * u);
         // Sphere/sphere crossing.
         xs.push((r0 * r0 - r1 * r1 + len * len) / (2.0 * len));
     }
@@ -302,6 +305,26 @@ mod tests {
         assert_eq!(p.len(), 10);
         assert_eq!(p[4], (0.0, 1.0));
         assert_eq!(p[5], (2.0, 1.0));
+    }
+
+    #[test]
+    fn tapered_trunk_outline_has_its_kinks() {
+        // Sphere r0 = 1 leaves the frustum (1 → 0.5 over 2) at x = 0.47.
+        let t: f64 = 0.25;
+        let x = 2.0 * t / (1.0 + t * t);
+        let p = union_profile(2.0, 1.0, 0.5, 8);
+        assert!(p.iter().any(|q| (q.0 - x).abs() < 1e-12), "{p:?}");
+        // Outline points all lie on the union's boundary, never outside.
+        for &(x, r) in &p[1..p.len() - 1] {
+            let s0 = (1.0 - x * x).max(0.0).sqrt();
+            let s1 = (0.25 - (x - 2.0) * (x - 2.0)).max(0.0).sqrt();
+            let f = if (0.0..=2.0).contains(&x) {
+                1.0 - 0.25 * x
+            } else {
+                0.0
+            };
+            assert!((r - s0.max(s1).max(f)).abs() < 1e-12);
+        }
     }
 
     #[test]

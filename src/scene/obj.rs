@@ -28,11 +28,17 @@ pub fn write_obj(scene: &Scene, obj_path: &Path) -> io::Result<()> {
     let invalid = || {
         io::Error::new(
             io::ErrorKind::InvalidInput,
-            format!("cannot write OBJ {}: not a file name", obj_path.display()),
+            format!(
+                "cannot write OBJ {}: needs a file name other than *.mtl",
+                obj_path.display()
+            ),
         )
     };
-    obj_path.file_name().ok_or_else(invalid)?;
     let mtl_path = obj_path.with_extension("mtl");
+    // Without a file name, or named `.mtl`, the two files cannot coexist.
+    if obj_path.file_name().is_none() || mtl_path == obj_path {
+        return Err(invalid());
+    }
     let mtl_name = mtl_path.file_name().ok_or_else(invalid)?.to_string_lossy();
 
     let tris = mesh::expand(scene);
@@ -58,6 +64,8 @@ pub fn write_obj(scene: &Scene, obj_path: &Path) -> io::Result<()> {
 pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<Material>), String> {
     let fail = |what: String| format!("cannot read OBJ {}: {what}", path.display());
     let bytes = fs::read(path).map_err(|e| fail(e.to_string()))?;
+    // Other tobj features add options; keep them at their defaults.
+    #[allow(clippy::needless_update)]
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -173,9 +181,8 @@ fn material_names(scene: &Scene, tris: &[Triangle]) -> BTreeMap<u32, String> {
         } else {
             clean
         };
-        if !used.insert(name.clone()) {
+        while !used.insert(name.clone()) {
             name.push_str(&format!("_{i}"));
-            used.insert(name.clone());
         }
     }
     wanted
