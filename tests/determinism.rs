@@ -51,3 +51,27 @@ fn several_files_print_one_line_each() {
     // The first file's Δt (0.1) drives both: frame 40 is T = 4.
     assert_eq!(String::from_utf8(out.stdout).unwrap(), "b\nS[+B]S\n");
 }
+
+#[test]
+fn export_is_identical_for_any_thread_count() {
+    let dir = std::env::temp_dir().join(format!("lmfilm-det-{}", std::process::id()));
+    let scene = format!(
+        "{}/scenes/examples/cours_tree3.lm",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut outputs = Vec::new();
+    for threads in ["1", "2"] {
+        let out = dir.join(format!("t{threads}.obj"));
+        let st = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .env("RAYON_NUM_THREADS", threads)
+            .args(["export", &scene, "--time", "2", "-o", out.to_str().unwrap()])
+            .status()
+            .unwrap();
+        assert!(st.success());
+        let obj = std::fs::read_to_string(&out).unwrap();
+        outputs.push(obj.replace(&format!("t{threads}.mtl"), "t.mtl"));
+    }
+    assert!(outputs[0].len() > 1000);
+    assert_eq!(outputs[0], outputs[1]);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -292,3 +292,23 @@ fn a_forest_costs_one_tree_plus_transforms() {
     let per_copy = (bytes_many - bytes_one) as f64 / 999.0;
     assert!(per_copy < 64.0, "{per_copy} bytes per copy");
 }
+
+#[test]
+fn imported_surfaces_are_instances_in_the_turtle_frame() {
+    let mut a = load("leaves.lm");
+    a.advance_to(a.frame_at(4.0), &mut NoSensors);
+    let (s, messages) = scene(&mut a);
+    assert!(messages.is_empty(), "{messages:?}");
+    // Geometry 0 is the leaf, 1 the stem; 4 leaves placed as instances.
+    assert_eq!(s.geometries[0].triangles.len(), 2);
+    assert_eq!(s.instances.iter().filter(|i| i.geometry == 0).count(), 4);
+    let leaf_mat = &s.materials[s.geometries[0].triangles[0].material as usize];
+    assert_eq!(leaf_mat.name, "leaf_green");
+    // The first leaf hangs from the stem's first node, at height 0.5.
+    let first = s.instances.iter().find(|i| i.geometry == 0).unwrap();
+    assert!(
+        (first.transform.translation.y - 0.5).abs() < 1e-5,
+        "{:?}",
+        first.transform
+    );
+}
