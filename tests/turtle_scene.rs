@@ -312,3 +312,30 @@ fn imported_surfaces_are_instances_in_the_turtle_frame() {
         first.transform
     );
 }
+
+#[test]
+fn named_objects_become_instances_with_rayshade_transforms() {
+    // D 6 names object 1, D 1 ends it, D 7 places it twice; D 8 moves the
+    // second placement by (0, 5, 0).
+    // Defined 2 along x: placements are relative to where it was defined.
+    let text = "Axiom\nf () () () () (2) D () (6) () () (1) a () () () () (1) D () (1) f () () () () (8) D () (7) () () (1) f () () () () (10) D () (7) () () (1) D () (8) () () (0) (5) (0)\n";
+    let mut a = from_text(text);
+    let (s, messages) = scene(&mut a);
+    assert!(messages.is_empty(), "{messages:?}");
+    assert_eq!(s.geometries.len(), 2);
+    assert!(s.geometries[0].is_empty());
+    assert_eq!(s.geometries[1].name, "obj1");
+    // Where the sphere ends up: its centre through the instance transform.
+    let centre = s.geometries[1].shapes[0].transform.translation;
+    let placed: Vec<Vec3A> = s
+        .instances
+        .iter()
+        .filter(|i| i.geometry == 1)
+        .map(|i| i.transform.transform_point3a(centre))
+        .collect();
+    assert_eq!(placed.len(), 2);
+    assert!(
+        near(placed[0], Vec3::new(10.0, 0.0, 0.0)) && near(placed[1], Vec3::new(20.0, 5.0, 0.0)),
+        "{placed:?}"
+    );
+}

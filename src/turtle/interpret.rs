@@ -105,6 +105,8 @@ pub(super) struct Interpreter<'a> {
     /// Index of the geometry being drawn: None = the main one.
     named: Option<(i64, Turtle)>,
     named_geometry: Geometry,
+    /// Inverse of the turtle frame where each named object was defined.
+    named_frames: BTreeMap<i64, Affine3A>,
 }
 
 /// Interprets the word of `ls` at time `time`.
@@ -141,6 +143,7 @@ pub fn interpret(
         out: Structure::default(),
         named: None,
         named_geometry: Geometry::default(),
+        named_frames: BTreeMap::new(),
     };
     it.out.geometry.resolution = 10;
     let n = it.ls.word().len();
@@ -554,7 +557,9 @@ impl Interpreter<'_> {
 
     /// Ends the named object being recorded (`D` par1 = 1).
     pub(super) fn end_named(&mut self) {
-        if let Some((name, _)) = self.named.take() {
+        if let Some((name, at)) = self.named.take() {
+            self.named_frames
+                .insert(name, placed(&at, 1.0, 1.0, 1.0).inverse());
             let mut g = std::mem::take(&mut self.named_geometry);
             g.name = format!("obj{name}");
             g.resolution = g.resolution.max(self.out.geometry.resolution);
@@ -565,16 +570,28 @@ impl Interpreter<'_> {
     /// Places named object `name` at the turtle, relative to where the
     /// turtle stood when it was defined (`D` par1 = 7).
     pub(super) fn place_named(&mut self, name: i64) {
-        let defined = self.out.named.iter().any(|(n, _)| *n == name);
-        if !defined {
+        let Some(def) = self.named_frames.get(&name).copied() else {
             self.b.warn(
                 b'D',
                 format!("`D` places object {name}, which no `D` par1 = 6 or 13 defined before"),
             );
             return;
-        }
-        let now = placed(&self.t, 1.0, 1.0, 1.0);
+        };
+        let now = placed(&self.t, 1.0, 1.0, 1.0) * def;
         self.out.placements.push((Placed::Named(name), now));
+    }
+
+    /// Applies `m` after the last placement (Rayshade transforms follow
+    /// the object they modify).
+    pub(super) fn transform_last_placement(&mut self, m: Affine3A) {
+        match self.out.placements.last_mut() {
+            Some((_, t)) => *t = m * *t,
+            None => self.b.warn(
+                b'D',
+                "`D` par1 = 4, 8 or 9 transforms the object placed last, but none was placed"
+                    .into(),
+            ),
+        }
     }
 
     pub(super) fn turtle(&self) -> Turtle {

@@ -2,7 +2,7 @@
 //! and clouds, bounding boxes, and the Rayshade directives mapped to what
 //! this renderer has (named objects become instances).
 
-use glam::{DVec3, Vec3};
+use glam::{Affine3A, DVec3, EulerRot, Quat, Vec3};
 
 use super::interpret::{Interpreter, Tables};
 use super::state::Turtle;
@@ -60,9 +60,24 @@ pub(super) fn d_symbol(it: &mut Interpreter, s: &Symbol, tables: &mut Tables) {
         )),
         40 => it.builder().lookat_global = Some(pos),
         41 => tennis_court(it, s, y == 1.0),
-        // grid, scale, window, translate, rotate, list, include: Rayshade
-        // layout directives with no equivalent here; the BVH replaces grid.
-        0 | 4 | 5 | 8 | 9 | 12 | 14 => {}
+        // Rayshade's `scale`, `rotate`, `translate` transform the object
+        // just placed: here the last instance placed by `D` par1 = 7.
+        4 | 8 | 9 => {
+            let m = match x as i64 {
+                4 => Affine3A::from_scale(DVec3::from_array(g).as_vec3()),
+                8 => Affine3A::from_translation(DVec3::from_array(g).as_vec3()),
+                _ => Affine3A::from_quat(Quat::from_euler(
+                    EulerRot::ZYX,
+                    g[2].to_radians() as f32,
+                    g[1].to_radians() as f32,
+                    g[0].to_radians() as f32,
+                )),
+            };
+            it.transform_last_placement(m);
+        }
+        // grid, window, list: layout directives with no equivalent here
+        // (the BVH replaces the grid; the image size comes from the camera).
+        0 | 5 | 12 | 14 => {}
         17 => it.builder().warn(
             b'D',
             "`D` par1 = 17 includes the thesis's plane.ray, which is not available; skipped".into(),
