@@ -173,11 +173,14 @@ impl Builder {
     }
 
     /// A fixed material of the built-in objects (court, clouds).
-    pub fn court_material(&mut self, rgb: Vec3, name: &str) -> u32 {
+    ///
+    /// Vision sees it as table material `like` (the court as green, its
+    /// lines as white), so vision colours stay apart (3.1.2).
+    pub fn court_material(&mut self, rgb: Vec3, name: &str, like: usize) -> u32 {
         if let Some(i) = self.materials.iter().position(|m| m.name == name) {
             return i as u32;
         }
-        let vision = self.materials[0].vision;
+        let vision = self.materials[like.min(material::COUNT - 1)].vision;
         let mut m = material::segment_colour((rgb * 255.0).as_dvec3().to_array(), vision);
         m.name = name.to_string();
         self.materials.push(m);
