@@ -339,3 +339,39 @@ fn named_objects_become_instances_with_rayshade_transforms() {
         "{placed:?}"
     );
 }
+
+#[test]
+fn tennis_court_at_real_dimensions() {
+    let mut a = from_text("Axiom\nD () (41)\n");
+    let (s, _) = scene(&mut a);
+    let bounds = |name: &str| {
+        let mut tris = Vec::new();
+        for sh in &s.geometries[0].shapes {
+            if s.materials[sh.material as usize].name == name {
+                mesh::tessellate(sh, 8, &mut tris);
+            }
+        }
+        tris.iter()
+            .flat_map(|t| t.v)
+            .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)))
+    };
+    let (lo, hi) = bounds("court_line");
+    assert!(
+        (hi.x - 11.885).abs() < 1e-3 && (lo.x + 11.885).abs() < 1e-3,
+        "length 23.77: {lo} {hi}"
+    );
+    assert!(
+        (hi.z - 5.485).abs() < 1e-3 && (lo.z + 5.485).abs() < 1e-3,
+        "doubles width 10.97: {lo} {hi}"
+    );
+    let (lo, hi) = bounds("court_net");
+    assert!(
+        (hi.y - 0.91).abs() < 1e-4 && lo.y.abs() < 1e-6,
+        "net height: {lo} {hi}"
+    );
+    assert!(lo.x > -0.02 && hi.x < 0.02, "net in the y–z plane at x = 0");
+    assert!(
+        (hi.z - 6.399).abs() < 1e-2,
+        "net posts 0.914 m outside: {hi}"
+    );
+}
