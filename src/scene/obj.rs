@@ -8,10 +8,9 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write as _;
 use std::fs;
-use std::io::{self, Write as _};
+use std::io;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec3;
 
@@ -43,8 +42,8 @@ pub fn write_obj(scene: &Scene, obj_path: &Path) -> io::Result<()> {
 
     let tris = mesh::expand(scene);
     let names = material_names(scene, &tris);
-    write_atomic(&mtl_path, mtl_text(scene, &names).as_bytes())?;
-    write_atomic(
+    super::atomic::write_atomic(&mtl_path, mtl_text(scene, &names).as_bytes())?;
+    super::atomic::write_atomic(
         obj_path,
         obj_text(scene, &tris, &names, &mtl_name).as_bytes(),
     )
@@ -277,26 +276,4 @@ fn num(x: f32) -> String {
 
 fn vec3(v: Vec3) -> String {
     format!("{} {} {}", num(v.x), num(v.y), num(v.z))
-}
-
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Writes `bytes` to a temporary file next to `path` and renames it over
-/// `path`, so a killed run never leaves a half-written file. The pid and a
-/// counter keep concurrent writers apart. Errors name the file.
-fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let mut tmp_name = path.file_name().unwrap_or_default().to_os_string();
-    tmp_name.push(format!(
-        ".{}.{}.tmp",
-        std::process::id(),
-        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let tmp = path.with_file_name(tmp_name);
-    let result = fs::File::create(&tmp)
-        .and_then(|mut f| f.write_all(bytes))
-        .and_then(|()| fs::rename(&tmp, path));
-    result.map_err(|e| {
-        let _ = fs::remove_file(&tmp);
-        io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
-    })
 }

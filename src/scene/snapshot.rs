@@ -20,9 +20,8 @@
 
 use std::fmt;
 use std::fs;
-use std::io::{self, Write};
+use std::io;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::Scene;
 
@@ -215,43 +214,11 @@ pub fn decode(bytes: &[u8]) -> Result<Scene, SnapshotError> {
     Ok(scene)
 }
 
-/// Distinguishes temporary files of concurrent writes within one process.
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Writes the snapshot of `scene` to `path` atomically: to a temporary file
-/// in the same directory, then renamed over `path`, so a killed run never
-/// leaves a half-written snapshot that a `render` process could pick up.
-/// Errors name the file.
+/// Writes the snapshot of `scene` to `path` atomically, so a killed run
+/// never leaves a half-written snapshot that a `render` process could pick
+/// up. Errors name the file.
 pub fn write(scene: &Scene, path: &Path) -> io::Result<()> {
-    let bytes = encode(scene);
-    let name = path.file_name().ok_or_else(|| {
-        io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!(
-                "cannot write scene snapshot to {}: not a file path",
-                path.display()
-            ),
-        )
-    })?;
-    // Same directory (a rename across file systems is not atomic); the pid
-    // and counter keep concurrent writers of one path from sharing a file.
-    let mut tmp_name = name.to_os_string();
-    tmp_name.push(format!(
-        ".{}.{}.tmp",
-        std::process::id(),
-        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let tmp = path.with_file_name(tmp_name);
-    let result = fs::File::create(&tmp)
-        .and_then(|mut f| f.write_all(&bytes))
-        .and_then(|()| fs::rename(&tmp, path));
-    result.map_err(|e| {
-        let _ = fs::remove_file(&tmp);
-        io::Error::new(
-            e.kind(),
-            format!("cannot write scene snapshot {}: {e}", path.display()),
-        )
-    })
+    super::atomic::write_atomic(path, &encode(scene))
 }
 
 /// Reads the snapshot at `path`; every error names the file.
