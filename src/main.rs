@@ -31,15 +31,8 @@ enum Command {
     ///
     ///     lmfilm print scenes/examples/growing_tree.lm --time 1.5 --format full
     Print {
-        /// Definition files derived together as one animation.
-        #[arg(required = true, value_name = "SCENE.lm")]
-        scenes: Vec<PathBuf>,
-        /// Frame number N: the word after N steps of Δt (default 0).
-        #[arg(long, conflicts_with = "time")]
-        frame: Option<u64>,
-        /// Time T in seconds: the frame nearest to T.
-        #[arg(long, allow_negative_numbers = true)]
-        time: Option<f64>,
+        #[command(flatten)]
+        at: FrameArgs,
         /// `symbols`: symbol characters only; `full`: X(age,x,y,z,f1,f2,f3).
         #[arg(long, value_enum, default_value_t = PrintFormat::Symbols)]
         format: PrintFormat,
@@ -51,15 +44,8 @@ enum Command {
     ///
     ///     lmfilm export scenes/examples/cours_tree3.lm --time 3 -o renders/tree.obj
     Export {
-        /// Definition files of the animation.
-        #[arg(required = true, value_name = "SCENE.lm")]
-        scenes: Vec<PathBuf>,
-        /// Frame number N (default 0).
-        #[arg(long, conflicts_with = "time")]
-        frame: Option<u64>,
-        /// Time T in seconds: the frame nearest to T.
-        #[arg(long, allow_negative_numbers = true)]
-        time: Option<f64>,
+        #[command(flatten)]
+        at: FrameArgs,
         /// The OBJ file to write (its .mtl is written beside it).
         #[arg(short, long, value_name = "OUT.obj")]
         output: PathBuf,
@@ -67,6 +53,20 @@ enum Command {
         #[arg(long, default_value_t = 0.05)]
         segment_width: f64,
     },
+}
+
+/// The scene files and the frame a command works on.
+#[derive(clap::Args)]
+struct FrameArgs {
+    /// Definition files derived together as one animation.
+    #[arg(required = true, value_name = "SCENE.lm")]
+    scenes: Vec<PathBuf>,
+    /// Frame number N: the words after N steps of Δt (default 0).
+    #[arg(long, conflicts_with = "time")]
+    frame: Option<u64>,
+    /// Time T in seconds: the frame nearest to T.
+    #[arg(long, allow_negative_numbers = true)]
+    time: Option<f64>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -104,14 +104,9 @@ impl Progress {
 }
 
 /// Loads the animation and derives it to the frame `--frame`/`--time` name.
-fn derive_to(
-    scenes: &[PathBuf],
-    frame: Option<u64>,
-    time: Option<f64>,
-    sensors: &mut NoSensors,
-) -> Result<Animation, (u8, String)> {
-    let mut anim = Animation::load(scenes, sensors).map_err(|e| (2, e.to_string()))?;
-    let target = match (frame, time) {
+fn derive_to(at: &FrameArgs, sensors: &mut NoSensors) -> Result<Animation, (u8, String)> {
+    let mut anim = Animation::load(&at.scenes, sensors).map_err(|e| (2, e.to_string()))?;
+    let target = match (at.frame, at.time) {
         (_, Some(t)) if !t.is_finite() || t < 0.0 => {
             return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
         }
@@ -128,13 +123,7 @@ fn derive_to(
     Ok(anim)
 }
 
-fn export(
-    scenes: &[PathBuf],
-    frame: Option<u64>,
-    time: Option<f64>,
-    output: &Path,
-    segment_width: f64,
-) -> Result<(), (u8, String)> {
+fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, String)> {
     if !(segment_width.is_finite() && segment_width > 0.0) {
         return Err((
             2,
@@ -142,7 +131,7 @@ fn export(
         ));
     }
     let mut sensors = NoSensors;
-    let mut anim = derive_to(scenes, frame, time, &mut sensors)?;
+    let mut anim = derive_to(at, &mut sensors)?;
     let surfaces = Surfaces::load(&anim).map_err(|e| (2, e))?;
     let mut tables = Vec::new();
     let opts = Options { segment_width };
@@ -169,14 +158,9 @@ fn export(
         .map_err(|e| (1, format!("{}: cannot write: {e}", output.display())))
 }
 
-fn print_words(
-    scenes: &[PathBuf],
-    frame: Option<u64>,
-    time: Option<f64>,
-    format: PrintFormat,
-) -> Result<(), (u8, String)> {
+fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {
     let mut sensors = NoSensors;
-    let mut anim = derive_to(scenes, frame, time, &mut sensors)?;
+    let mut anim = derive_to(at, &mut sensors)?;
     let format = match format {
         PrintFormat::Symbols => Format::Symbols,
         PrintFormat::Full => Format::Full,
@@ -199,19 +183,12 @@ fn print_words(
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Print {
-            scenes,
-            frame,
-            time,
-            format,
-        } => print_words(&scenes, frame, time, format),
+        Command::Print { at, format } => print_words(&at, format),
         Command::Export {
-            scenes,
-            frame,
-            time,
+            at,
             output,
             segment_width,
-        } => export(&scenes, frame, time, &output, segment_width),
+        } => export(&at, &output, segment_width),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
