@@ -307,3 +307,39 @@ fn fuzzing_reaches_the_deriver() {
     }
     assert!(ok > 25, "only {ok} of 500 generated files parse");
 }
+
+#[test]
+fn export_reports_bad_options_and_missing_surfaces() {
+    let dir = std::env::temp_dir().join(format!("lmfilm-exp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("s.lm");
+    std::fs::write(
+        &file,
+        "Surfaces\nfig_obj 1 nowhere.obj\nAxiom\nB () (1) () () (1) (1) (1)\n",
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .arg("export")
+            .arg(&file)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let out = run(&[
+        "-o",
+        dir.join("x.obj").to_str().unwrap(),
+        "--segment-width",
+        "0",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--segment-width must be > 0"));
+    let out = run(&["-o", dir.join("x.obj").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("s.lm: surface 1") && err.contains("nowhere.obj"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
