@@ -375,3 +375,25 @@ fn tennis_court_at_real_dimensions() {
         "net posts 0.914 m outside: {hi}"
     );
 }
+
+#[test]
+fn bounding_box_print_textures_and_observer_light() {
+    let text = "Axiom\nD () (20) c () () () () (2) (2) (2) D () (21) f () () () () (3) D () (30) D () (10) a () () () () (1) D () (18) D () (15)\n";
+    let mut a = from_text(text);
+    let (s, messages) = scene(&mut a);
+    assert_eq!(
+        messages,
+        [
+            "bounding box 0.000000 -1.000000 -1.000000 2.000000 1.000000 1.000000",
+            "turtle position 5.000000 0.000000 0.000000"
+        ]
+    );
+    let sphere = s.geometries[0].shapes[1];
+    assert_eq!(
+        s.materials[sphere.material as usize].texture,
+        Some(lmfilm::scene::material::Texture::Marble)
+    );
+    assert_eq!(s.lights.len(), 1);
+    assert_eq!(s.lights[0].position, s.camera.eye);
+    assert_ne!(s.background, Vec3::ZERO, "D 15 gives a sky");
+}
