@@ -9,7 +9,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::lsys::{Animation, NoSensors};
 use lmfilm::scene::obj;
-use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
+use lmfilm::scene::Scene;
+use lmfilm::turtle::{advance, build_scene, NoWorld, Options, Surfaces, Tables};
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.
 ///
@@ -103,24 +104,61 @@ impl Progress {
     }
 }
 
-/// Loads the animation and derives it to the frame `--frame`/`--time` name.
-fn derive_to(at: &FrameArgs, sensors: &mut NoSensors) -> Result<Animation, (u8, String)> {
-    let mut anim = Animation::load(&at.scenes, sensors).map_err(|e| (2, e.to_string()))?;
-    let target = match (at.frame, at.time) {
-        (_, Some(t)) if !t.is_finite() || t < 0.0 => {
-            return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
-        }
-        (_, Some(t)) => anim.frame_at(t),
-        (Some(n), None) => n,
-        (None, None) => 0,
-    };
-    let mut progress = Progress::new();
-    while anim.frame < target {
-        anim.step(sensors);
-        progress.tick(anim.frame, target);
+/// An animation derived to the frame `--frame`/`--time` names, every frame
+/// interpreted on the way, with what its scene needs.
+struct Derived {
+    anim: Animation,
+    surfaces: Surfaces,
+    tables: Vec<Tables>,
+}
+
+impl Derived {
+    fn new(at: &FrameArgs, opts: Options, sensors: &mut NoSensors) -> Result<Self, (u8, String)> {
+        let mut anim = Animation::load(&at.scenes, sensors).map_err(|e| (2, e.to_string()))?;
+        let target = match (at.frame, at.time) {
+            (_, Some(t)) if !t.is_finite() || t < 0.0 => {
+                return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
+            }
+            (_, Some(t)) => anim.frame_at(t),
+            (Some(n), None) => n,
+            (None, None) => 0,
+        };
+        let surfaces = Surfaces::load(&anim).map_err(|e| (2, e))?;
+        let mut tables = Vec::new();
+        let mut progress = Progress::new();
+        advance(
+            &mut anim,
+            target,
+            &surfaces,
+            &mut tables,
+            sensors,
+            &mut NoWorld,
+            opts,
+            |k, n| progress.tick(k, n),
+        );
+        progress.done();
+        Ok(Derived {
+            anim,
+            surfaces,
+            tables,
+        })
     }
-    progress.done();
-    Ok(anim)
+
+    /// The scene of the current frame; warnings go to stderr.
+    fn scene(&mut self, opts: Options, sensors: &mut NoSensors) -> Scene {
+        let (scene, messages) = build_scene(
+            &mut self.anim,
+            &self.surfaces,
+            &mut self.tables,
+            sensors,
+            &mut NoWorld,
+            opts,
+        );
+        for m in messages {
+            eprintln!("{m}");
+        }
+        scene
+    }
 }
 
 fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, String)> {
@@ -131,21 +169,8 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
         ));
     }
     let mut sensors = NoSensors;
-    let mut anim = derive_to(at, &mut sensors)?;
-    let surfaces = Surfaces::load(&anim).map_err(|e| (2, e))?;
-    let mut tables = Vec::new();
     let opts = Options { segment_width };
-    let (scene, messages) = build_scene(
-        &mut anim,
-        &surfaces,
-        &mut tables,
-        &mut sensors,
-        &mut NoWorld,
-        opts,
-    );
-    for m in messages {
-        eprintln!("{m}");
-    }
+    let scene = Derived::new(at, opts, &mut sensors)?.scene(opts, &mut sensors);
     if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| {
             (
@@ -160,7 +185,10 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
 
 fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {
     let mut sensors = NoSensors;
-    let mut anim = derive_to(at, &mut sensors)?;
+    let mut derived = Derived::new(at, Options::default(), &mut sensors)?;
+    // The turtle runs on the printed frame too, so `?` shows its position.
+    derived.scene(Options::default(), &mut sensors);
+    let anim = &mut derived.anim;
     let format = match format {
         PrintFormat::Symbols => Format::Symbols,
         PrintFormat::Full => Format::Full,

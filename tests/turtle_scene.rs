@@ -397,3 +397,26 @@ fn bounding_box_print_textures_and_observer_light() {
     assert_eq!(s.lights[0].position, s.camera.eye);
     assert_ne!(s.background, Vec3::ZERO, "D 15 gives a sky");
 }
+
+#[test]
+fn not_a_number_never_reaches_the_scene() {
+    let text = "Axiom\nf () () () (1) (0 0/) c () () () () (1) (1) (1) + () () () () (0 0/) c () () () () (1) (1) (1) f () () () () (1 0 /) a () () () () (1)\n";
+    let mut a = from_text(text);
+    let (s, messages) = scene(&mut a);
+    assert!(messages.iter().any(|m| m.contains("`f`")), "{messages:?}");
+    let g = &s.geometries[0];
+    assert!(g.shapes.iter().all(|sh| sh.transform.is_finite()));
+    assert_eq!(
+        g.shapes.len(),
+        3,
+        "bad moves and turns are skipped, the shapes stand"
+    );
+}
+
+#[test]
+fn low_resolution_n_is_kept() {
+    let mut a = from_text("Axiom\nn () (4) a () () () () (1)\n");
+    assert_eq!(scene(&mut a).0.geometries[0].resolution, 4);
+    let mut a = from_text("Axiom\na () () () () (1)\n");
+    assert_eq!(scene(&mut a).0.geometries[0].resolution, 10);
+}

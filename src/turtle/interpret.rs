@@ -145,13 +145,19 @@ pub fn interpret(
         named_geometry: Geometry::default(),
         named_frames: BTreeMap::new(),
     };
-    it.out.geometry.resolution = 10;
     let n = it.ls.word().len();
     for i in 0..n {
         it.symbol(i, tables);
     }
     it.end_named();
     it.out.geometry.name = it.ls.def.name.clone();
+    // The resolution is the largest `n` met, 10 where none is (C.3).
+    for g in std::iter::once(&mut it.out.geometry).chain(it.out.named.iter_mut().map(|n| &mut n.1))
+    {
+        if g.resolution == 0 {
+            g.resolution = 10;
+        }
+    }
     it.out
 }
 
@@ -185,14 +191,11 @@ impl Interpreter<'_> {
         transform: Affine3A,
         material: u32,
     ) {
-        if sizes.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-            self.b.warn(
-                s.ch,
-                format!(
-                    "`{}` with a size ≤ 0 or not a number is skipped",
-                    s.ch as char
-                ),
-            );
+        if sizes.iter().any(|v| !(v.is_finite() && *v > 0.0)) || !transform.is_finite() {
+            self.b.warn(format!(
+                "`{}` with a size ≤ 0 or not a number is skipped",
+                s.ch as char
+            ));
             return;
         }
         let symbol = s.id;
@@ -276,6 +279,11 @@ impl Interpreter<'_> {
             },
             b'f' => {
                 let g = DVec3::from_array(self.growth(&s));
+                if !g.is_finite() {
+                    self.b
+                        .warn("`f` by a vector that is not a number is skipped".into());
+                    return;
+                }
                 match z as i64 {
                     1 => self.t.pos += g,
                     2 => self.t.pos = g,
@@ -455,10 +463,8 @@ impl Interpreter<'_> {
                     let m = placed(&self.t, g[0], g[1], g[2]);
                     self.out.placements.push((Placed::Surface(x as i64), m));
                 } else {
-                    self.b.warn(
-                        b'B',
-                        "`B` with a zero or non-finite scale is skipped".into(),
-                    );
+                    self.b
+                        .warn("`B` with a zero or non-finite scale is skipped".into());
                 }
             }
             _ => {}
@@ -467,13 +473,10 @@ impl Interpreter<'_> {
 
     fn pyramid(&mut self, s: &Symbol, g: [f64; 3]) {
         if g.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-            self.b.warn(
-                s.ch,
-                format!(
-                    "`{}` with a size ≤ 0 or not a number is skipped",
-                    s.ch as char
-                ),
-            );
+            self.b.warn(format!(
+                "`{}` with a size ≤ 0 or not a number is skipped",
+                s.ch as char
+            ));
             return;
         }
         let t = self.t;
@@ -494,10 +497,8 @@ impl Interpreter<'_> {
     fn polygon(&mut self, s: &Symbol, poly: &[DVec3], flags: [f64; 3], depth: f64) {
         let tris = triangulate(poly);
         if tris.is_empty() {
-            self.b.warn(
-                b'}',
-                "a polygon with fewer than 3 distinct vertices or no area is skipped".into(),
-            );
+            self.b
+                .warn("a polygon with fewer than 3 distinct vertices or no area is skipped".into());
             return;
         }
         let invert = flags[0] == 1.0;
@@ -562,7 +563,6 @@ impl Interpreter<'_> {
                 .insert(name, placed(&at, 1.0, 1.0, 1.0).inverse());
             let mut g = std::mem::take(&mut self.named_geometry);
             g.name = format!("obj{name}");
-            g.resolution = g.resolution.max(self.out.geometry.resolution);
             self.out.named.push((name, g));
         }
     }
@@ -571,10 +571,9 @@ impl Interpreter<'_> {
     /// turtle stood when it was defined (`D` par1 = 7).
     pub(super) fn place_named(&mut self, name: i64) {
         let Some(def) = self.named_frames.get(&name).copied() else {
-            self.b.warn(
-                b'D',
-                format!("`D` places object {name}, which no `D` par1 = 6 or 13 defined before"),
-            );
+            self.b.warn(format!(
+                "`D` places object {name}, which no `D` par1 = 6 or 13 defined before"
+            ));
             return;
         };
         let now = placed(&self.t, 1.0, 1.0, 1.0) * def;
@@ -587,7 +586,6 @@ impl Interpreter<'_> {
         match self.out.placements.last_mut() {
             Some((_, t)) => *t = m * *t,
             None => self.b.warn(
-                b'D',
                 "`D` par1 = 4, 8 or 9 transforms the object placed last, but none was placed"
                     .into(),
             ),

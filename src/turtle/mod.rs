@@ -95,7 +95,7 @@ pub struct Builder {
     pub background: Vec3,
     /// Set by `D` par1 = 40, looked at by `l` par3 = 10.
     pub lookat_global: Option<DVec3>,
-    warned: BTreeSet<u8>,
+    warned: BTreeSet<String>,
     /// Warnings and `D` par1 = 30 prints, in order, for the user.
     pub messages: Vec<String>,
     /// Bounding boxes of `D` par1 = 20 … 21 (min, max).
@@ -122,9 +122,10 @@ impl Builder {
         }
     }
 
-    /// Records a warning once per symbol kind.
-    pub fn warn(&mut self, kind: u8, msg: String) {
-        if self.warned.insert(kind) {
+    /// Records a warning once per frame: each names its symbol, so there
+    /// is one per symbol kind and problem, never one per symbol.
+    pub fn warn(&mut self, msg: String) {
+        if self.warned.insert(msg.clone()) {
             self.messages.push(format!("warning: {msg}"));
         }
     }
@@ -208,10 +209,7 @@ impl Builder {
     /// a coarse tessellation.
     pub fn bbox_end(&mut self, g: &Geometry, end: (usize, usize)) {
         let Some((s0, t0)) = self.bbox_start.pop() else {
-            self.warn(
-                b'D',
-                "`D` par1 = 21 without a `D` par1 = 20 before it".into(),
-            );
+            self.warn("`D` par1 = 21 without a `D` par1 = 20 before it".into());
             return;
         };
         let mut tris: Vec<_> = g.triangles[t0.min(end.1)..end.1].to_vec();
@@ -249,7 +247,7 @@ impl Builder {
             2 => {
                 c.fov_y = (g.x / 10.0) as f32;
                 c.aspect = g.y as f32;
-                c.twist = g.z as f32;
+                c.twist = (g.z / 10.0) as f32;
             }
             3 => self.light3 = Some(g.as_vec3()),
             4 => {
@@ -337,9 +335,15 @@ pub fn build_scene(
                 match g {
                     Some(g) => {
                         let object = instances.len() as u32;
-                        instances.push(Instance { geometry: g, transform: *r * *m, object });
+                        instances.push(Instance {
+                            geometry: g,
+                            transform: *r * *m,
+                            object,
+                        });
                     }
-                    None => b.warn(b'B', format!("`B` draws surface {what:?}, which the Surfaces section does not declare")),
+                    None => b.warn(format!(
+                        "`B` draws surface {what:?}, which the Surfaces section does not declare"
+                    )),
                 }
             }
         }
@@ -371,4 +375,25 @@ pub fn build_scene(
         background: b.background,
     };
     (scene, b.messages)
+}
+
+/// Derives `anim` up to frame `target`, interpreting every frame on the
+/// way as the animation loop does (code 2.1.1): the query symbol `?` and
+/// the state tables feed turtle positions back into the derivation.
+#[allow(clippy::too_many_arguments)]
+pub fn advance(
+    anim: &mut Animation,
+    target: u64,
+    surfaces: &Surfaces,
+    tables: &mut Vec<Tables>,
+    sensors: &mut dyn Sensors,
+    world: &mut dyn TurtleWorld,
+    opts: Options,
+    mut progress: impl FnMut(u64, u64),
+) {
+    while anim.frame < target {
+        build_scene(anim, surfaces, tables, sensors, world, opts);
+        anim.step(sensors);
+        progress(anim.frame, target);
+    }
 }

@@ -79,7 +79,6 @@ pub(super) fn d_symbol(it: &mut Interpreter, s: &Symbol, tables: &mut Tables) {
         // (the BVH replaces the grid; the image size comes from the camera).
         0 | 5 | 12 | 14 => {}
         17 => it.builder().warn(
-            b'D',
             "`D` par1 = 17 includes the thesis's plane.ray, which is not available; skipped".into(),
         ),
         _ => {}

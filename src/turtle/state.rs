@@ -26,6 +26,8 @@ impl Default for Turtle {
     }
 }
 
+/// Rotations by a non-finite angle are ignored: a NaN never enters the
+/// turtle.
 impl Turtle {
     /// The default orientation at `pos`.
     pub fn at(pos: DVec3) -> Self {
@@ -38,6 +40,9 @@ impl Turtle {
     /// `+` (a > 0) and `-` (a < 0): R_U(a) of eq. 2.1.1 applied to the
     /// rows, H' = cos·H + sin·L.
     pub fn turn(&mut self, deg: f64) {
+        if !deg.is_finite() {
+            return;
+        }
         let (s, c) = deg.to_radians().sin_cos();
         let (h, l) = (self.h, self.l);
         self.h = c * h + s * l;
@@ -46,6 +51,9 @@ impl Turtle {
 
     /// `&` (a > 0) and `^` (a < 0): R_L(a) of eq. 2.1.2, H' = cos·H − sin·U.
     pub fn pitch(&mut self, deg: f64) {
+        if !deg.is_finite() {
+            return;
+        }
         let (s, c) = deg.to_radians().sin_cos();
         let (h, u) = (self.h, self.u);
         self.h = c * h - s * u;
@@ -54,6 +62,9 @@ impl Turtle {
 
     /// `$` (a > 0) and `/` (a < 0): R_H(a) of eq. 2.1.3, L' = cos·L + sin·U.
     pub fn roll(&mut self, deg: f64) {
+        if !deg.is_finite() {
+            return;
+        }
         let (s, c) = deg.to_radians().sin_cos();
         let (l, u) = (self.l, self.u);
         self.l = c * l + s * u;
