@@ -3,13 +3,14 @@ CARGO ?= cargo
 SCENE ?= scenes/examples/cours_tree3.lm
 TIME ?= 3
 
-.PHONY: film test check lint bench help
+.PHONY: film test check lint bench bench-render help
 
 help:
 	@echo "make film   derive the default scene and print its word (SCENE=…, TIME=…)"
 	@echo "make test   build and run the whole test suite"
 	@echo "make lint   cargo fmt --check and cargo clippy --all-targets"
-	@echo "make bench  criterion benchmarks of the step function"
+	@echo "make bench  criterion benchmarks of the step function and the turtle"
+	@echo "make bench-render  the forest against Embree and Mitsuba 3 (../shared/anchors)"
 
 film:
 	$(CARGO) run --release -- print $(SCENE) --time $(TIME)
@@ -25,3 +26,7 @@ check: lint test
 
 bench:
 	$(CARGO) bench --bench step
+	$(CARGO) bench --bench scene
+
+bench-render:
+	sh scripts/bench_render.sh

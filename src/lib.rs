@@ -1,3 +1,4 @@
 pub mod lsys;
+pub mod render;
 pub mod scene;
 pub mod turtle;

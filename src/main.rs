@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use clap::{Parser, Subcommand, ValueEnum};
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::lsys::{Animation, NoSensors};
+use lmfilm::render::{self, Filter, Settings};
 use lmfilm::scene::obj;
 use lmfilm::scene::Scene;
 use lmfilm::turtle::{advance, build_scene, NoWorld, Options, Surfaces, Tables};
@@ -54,6 +55,49 @@ enum Command {
         #[arg(long, default_value_t = 0.05)]
         segment_width: f64,
     },
+    /// Ray-trace one frame into OUT.png or OUT.exr (the thesis's snapshots).
+    ///
+    /// The extension chooses the format: PNG is 8-bit sRGB; EXR holds the
+    /// layers RGBA, Z (depth), N (normal) and object id. Example:
+    ///
+    ///     lmfilm still scenes/examples/cours_tree3.lm --time 5 -o renders/tree.png --preset preview
+    Still {
+        #[command(flatten)]
+        at: FrameArgs,
+        /// The image to write: .png or .exr.
+        #[arg(short, long, value_name = "OUT.png|OUT.exr")]
+        output: PathBuf,
+        /// Width in pixels (default: the scene's window).
+        #[arg(long)]
+        width: Option<u32>,
+        /// Height in pixels (default: the scene's window).
+        #[arg(long)]
+        height: Option<u32>,
+        /// Samples per pixel (default: 1 for preview, 16 for final).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// `preview`: 1 sample, no shadows or reflections; `final`: all.
+        #[arg(long, value_enum, default_value_t = Preset::Final)]
+        preset: Preset,
+        /// Pixel filter.
+        #[arg(long, value_enum, default_value_t = FilterArg::Box)]
+        filter: FilterArg,
+        /// Diameter of the thin cylinders drawn for segments `R S`.
+        #[arg(long, default_value_t = 0.05)]
+        segment_width: f64,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Preset {
+    Preview,
+    Final,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FilterArg {
+    Box,
+    Gaussian,
 }
 
 /// The scene files and the frame a command works on.
@@ -183,6 +227,71 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
         .map_err(|e| (1, format!("{}: cannot write: {e}", output.display())))
 }
 
+#[allow(clippy::too_many_arguments)]
+fn still(
+    at: &FrameArgs,
+    output: &Path,
+    size: (Option<u32>, Option<u32>),
+    spp: Option<u32>,
+    preset: Preset,
+    filter: FilterArg,
+    segment_width: f64,
+) -> Result<(), (u8, String)> {
+    let ext = output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
+        return Err((
+            2,
+            format!("{}: the output must end in .png or .exr", output.display()),
+        ));
+    }
+    if !(segment_width.is_finite() && segment_width > 0.0) {
+        return Err((
+            2,
+            format!("--segment-width must be > 0, got {segment_width}"),
+        ));
+    }
+    let mut sensors = NoSensors;
+    let opts = Options { segment_width };
+    let mut derived = Derived::new(at, opts, &mut sensors)?;
+    let scene = derived.scene(opts, &mut sensors);
+    let w = size.0.unwrap_or(scene.camera.width);
+    let h = size.1.unwrap_or(scene.camera.height);
+    if !(1..=32768).contains(&w) || !(1..=32768).contains(&h) {
+        return Err((
+            2,
+            format!("the image size must be 1..32768 pixels a side, got {w}×{h}"),
+        ));
+    }
+    let mut settings = match preset {
+        Preset::Preview => Settings::preview(w, h),
+        Preset::Final => Settings::final_quality(w, h),
+    };
+    if let Some(n) = spp {
+        if n == 0 || n > 65536 {
+            return Err((2, format!("--spp must be 1..65536, got {n}")));
+        }
+        settings.spp = n;
+    }
+    settings.filter = match filter {
+        FilterArg::Box => Filter::Box,
+        FilterArg::Gaussian => Filter::Gaussian,
+    };
+    settings.frame = derived.anim.frame;
+    let img = render::render(&scene, &settings);
+    if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            (
+                1,
+                format!("{}: cannot create the folder: {e}", dir.display()),
+            )
+        })?;
+    }
+    render::output::write(&img, output).map_err(|e| (1, format!("{}: {e}", output.display())))
+}
+
 fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {
     let mut sensors = NoSensors;
     let mut derived = Derived::new(at, Options::default(), &mut sensors)?;
@@ -217,6 +326,24 @@ fn main() -> ExitCode {
             output,
             segment_width,
         } => export(&at, &output, segment_width),
+        Command::Still {
+            at,
+            output,
+            width,
+            height,
+            spp,
+            preset,
+            filter,
+            segment_width,
+        } => still(
+            &at,
+            &output,
+            (width, height),
+            spp,
+            preset,
+            filter,
+            segment_width,
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -16,6 +16,8 @@ pub enum Stream {
     Growth = 4,
     /// `?21`: per L-structure and repetition.
     Repetition = 5,
+    /// Sample positions of a pixel, keyed by (frame, pixel).
+    Pixel = 6,
 }
 
 /// SplitMix64 finaliser: a bijective, well-mixed 64-bit hash step.

@@ -1,0 +1,318 @@
+//! Frame output (DESIGN §4–5): one multi-layer OpenEXR per frame (linear
+//! RGBA, Z depth, normal, object id) and an sRGB PNG, both with bytes that
+//! depend only on the pixels, written atomically.
+//!
+//! Conventions:
+//! - `Image::rgba` is linear colour as seen (the renderer composites the
+//!   background in) with A = coverage by geometry. The EXR stores all four
+//!   channels as given; the PNG is the picture as seen: sRGB RGB, no alpha.
+//! - An image with zero width or height is rejected with `InvalidInput` by
+//!   every writer: neither format can hold an empty image, and an error is
+//!   more honest than a made-up 1×1 frame.
+//! - EXR channels: `R G B A` (f32), `Z` (f32 depth), `N.X N.Y N.Z` (f32
+//!   normal), `id` (u32 object id); one part, no layer name, scan lines,
+//!   ZIP (16-line blocks, lossless), increasing line order, written by the
+//!   exr crate's sequential writer so the chunk order and hence the bytes
+//!   never depend on thread scheduling.
+
+use std::io::{self, Cursor};
+use std::path::Path;
+
+use exr::prelude::Blocks;
+use exr::prelude::{
+    AnyChannel, AnyChannels, Compression, Encoding, FlatSamples, Image as ExrImage, Layer,
+    LayerAttributes, LineOrder, ReadChannels, ReadLayers, SmallVec, Vec2, WritableImage,
+};
+use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+use image::{ExtendedColorType, ImageEncoder};
+
+use crate::scene::atomic::write_atomic;
+
+/// EXR channel holding the object id (u32).
+pub const ID_CHANNEL: &str = "id";
+/// EXR channel holding the depth (f32), the name compositors expect.
+pub const DEPTH_CHANNEL: &str = "Z";
+/// EXR channels holding the world-space normal (f32).
+pub const NORMAL_CHANNELS: [&str; 3] = ["N.X", "N.Y", "N.Z"];
+
+/// A rendered frame: linear RGBA plus the AOV layers.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Linear RGBA, row-major, top row first; A is coverage by geometry.
+    pub rgba: Vec<[f32; 4]>,
+    /// Distance along the primary ray of the nearest hit, `f32::INFINITY` for none.
+    pub depth: Vec<f32>,
+    /// World-space shading normal at the nearest hit, 0 for none.
+    pub normal: Vec<[f32; 3]>,
+    /// Object id of the nearest hit, `u32::MAX` for none.
+    pub object: Vec<u32>,
+}
+
+impl Image {
+    /// A frame where nothing was hit: transparent black, infinite depth,
+    /// zero normal, no object. Any size is accepted (0×0 included); writers
+    /// reject the empty ones.
+    pub fn new(width: u32, height: u32) -> Image {
+        let n = (width as usize).saturating_mul(height as usize);
+        Image {
+            width,
+            height,
+            rgba: vec![[0.0; 4]; n],
+            depth: vec![f32::INFINITY; n],
+            normal: vec![[0.0; 3]; n],
+            object: vec![u32::MAX; n],
+        }
+    }
+
+    /// Number of pixels, `width × height`.
+    pub fn len(&self) -> usize {
+        (self.width as usize).saturating_mul(self.height as usize)
+    }
+
+    /// Whether the image has no pixels.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+fn invalid_input(msg: impl std::fmt::Display) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, msg.to_string())
+}
+
+/// Prefixes an encoding error with the file it was meant for.
+fn naming(path: &Path, e: io::Error) -> io::Error {
+    io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
+}
+
+/// Checks what both writers need: a non-empty image whose buffers match its
+/// size, so a bad frame becomes an error instead of a panic or a corrupt file.
+fn validate(img: &Image) -> io::Result<()> {
+    if img.is_empty() {
+        return Err(invalid_input(format!(
+            "image is {}x{}, empty images cannot be written",
+            img.width, img.height
+        )));
+    }
+    // OpenEXR stores the data window in i32.
+    if img.width > i32::MAX as u32 || img.height > i32::MAX as u32 {
+        return Err(invalid_input("image is too large"));
+    }
+    let n = img.len();
+    let lens = [
+        ("rgba", img.rgba.len()),
+        ("depth", img.depth.len()),
+        ("normal", img.normal.len()),
+        ("object", img.object.len()),
+    ];
+    for (name, len) in lens {
+        if len != n {
+            return Err(invalid_input(format!(
+                "{name} has {len} pixels, {}x{} needs {n}",
+                img.width, img.height
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Turns an exr writing error into an io error.
+fn exr_encode_error(e: exr::error::Error) -> io::Error {
+    match e {
+        exr::error::Error::Io(e) => e,
+        other => io::Error::new(io::ErrorKind::InvalidInput, format!("{other}")),
+    }
+}
+
+/// Turns an exr reading error into an io error that names the file.
+fn exr_read_error(path: &Path, e: exr::error::Error) -> io::Error {
+    match e {
+        exr::error::Error::Io(e) => {
+            io::Error::new(e.kind(), format!("cannot read {}: {e}", path.display()))
+        }
+        other => io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("cannot read {}: {other}", path.display()),
+        ),
+    }
+}
+
+/// Encodes the frame as EXR bytes in memory; sequential and in increasing
+/// line order, so the same image always gives the same bytes.
+pub fn encode_exr(img: &Image) -> io::Result<Vec<u8>> {
+    validate(img)?;
+    let f32_channel = |name: &str, f: &dyn Fn(usize) -> f32| {
+        AnyChannel::new(name, FlatSamples::F32((0..img.len()).map(f).collect()))
+    };
+    let channels = vec![
+        f32_channel("R", &|i| img.rgba[i][0]),
+        f32_channel("G", &|i| img.rgba[i][1]),
+        f32_channel("B", &|i| img.rgba[i][2]),
+        f32_channel("A", &|i| img.rgba[i][3]),
+        f32_channel(DEPTH_CHANNEL, &|i| img.depth[i]),
+        f32_channel(NORMAL_CHANNELS[0], &|i| img.normal[i][0]),
+        f32_channel(NORMAL_CHANNELS[1], &|i| img.normal[i][1]),
+        f32_channel(NORMAL_CHANNELS[2], &|i| img.normal[i][2]),
+        AnyChannel::new(ID_CHANNEL, FlatSamples::U32(img.object.clone())),
+    ];
+    let encoding = Encoding {
+        compression: Compression::ZIP16,
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
+    let layer = Layer::new(
+        Vec2(img.width as usize, img.height as usize),
+        LayerAttributes::default(),
+        encoding,
+        // The file format requires channels sorted by name.
+        AnyChannels::sort(SmallVec::from_vec(channels)),
+    );
+    let mut buf = Cursor::new(Vec::new());
+    ExrImage::from_layer(layer)
+        .write()
+        .non_parallel()
+        .to_buffered(&mut buf)
+        .map_err(exr_encode_error)?;
+    Ok(buf.into_inner())
+}
+
+/// Writes the frame as one multi-layer EXR (see the module docs), atomically.
+pub fn write_exr(img: &Image, path: &Path) -> io::Result<()> {
+    let bytes = encode_exr(img).map_err(|e| naming(path, e))?;
+    write_atomic(path, &bytes)
+}
+
+/// Encodes the frame as 8-bit sRGB RGB PNG bytes in memory. No alpha: the
+/// renderer's colour already has the background composited in, so a PNG
+/// alpha would only make the sky transparent in viewers (A is in the EXR).
+pub fn encode_png(img: &Image) -> io::Result<Vec<u8>> {
+    validate(img)?;
+    let mut pixels = Vec::with_capacity(img.len() * 3);
+    for &[r, g, b, _] in &img.rgba {
+        pixels.extend_from_slice(&[srgb8(r), srgb8(g), srgb8(b)]);
+    }
+    let mut bytes = Vec::new();
+    PngEncoder::new_with_quality(&mut bytes, CompressionType::Default, FilterType::Adaptive)
+        .write_image(&pixels, img.width, img.height, ExtendedColorType::Rgb8)
+        .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e.to_string()))?;
+    Ok(bytes)
+}
+
+/// Writes the frame as an 8-bit sRGB RGB PNG (see `encode_png`), atomically.
+pub fn write_png(img: &Image, path: &Path) -> io::Result<()> {
+    let bytes = encode_png(img).map_err(|e| naming(path, e))?;
+    write_atomic(path, &bytes)
+}
+
+/// Writes PNG or EXR by the extension (case-insensitive `.png`/`.exr`), else an InvalidInput error naming the supported extensions.
+pub fn write(img: &Image, path: &Path) -> io::Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => write_png(img, path),
+        Some("exr") => write_exr(img, path),
+        _ => Err(invalid_input(
+            "unsupported extension, expected .png or .exr",
+        )),
+    }
+}
+
+/// Linear to 8-bit sRGB (IEC 61966-2-1 transfer), clamped to [0, 1] (NaN as 0) and rounded.
+pub fn srgb8(linear: f32) -> u8 {
+    let l = if linear.is_nan() {
+        0.0
+    } else {
+        linear.clamp(0.0, 1.0)
+    };
+    let s = if l <= 0.003_130_8 {
+        12.92 * l
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    };
+    // `as` saturates, so a result a hair outside [0, 1] cannot wrap.
+    (s * 255.0 + 0.5) as u8
+}
+
+/// Reads a frame written by `write_exr` back: R, G, B required; A (default
+/// 1), Z (∞), N.X/N.Y/N.Z (0) and `id` (u32::MAX) optional. The first layer
+/// is used; RGB/Z/N may be stored as f16, f32 or u32, `id` must be u32.
+pub fn read_exr_layers(path: &Path) -> io::Result<Image> {
+    let bad = |msg: String| {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("cannot read {}: {msg}", path.display()),
+        )
+    };
+    let exr = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| exr_read_error(path, e))?;
+    let layer = exr.layer_data;
+    let (w, h) = (layer.size.width(), layer.size.height());
+    let (width, height) = match (u32::try_from(w), u32::try_from(h)) {
+        (Ok(a), Ok(b)) => (a, b),
+        _ => return Err(bad(format!("size {w}x{h} too large"))),
+    };
+    let mut img = Image::new(width, height);
+    let n = img.len();
+    let find = |name: &str| {
+        layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == name)
+            .map(|c| &c.sample_data)
+    };
+    let floats = |name: &str, required: bool| -> io::Result<Option<Vec<f32>>> {
+        match find(name) {
+            None if required => Err(bad(format!("missing channel {name}"))),
+            None => Ok(None),
+            Some(s) => {
+                let v: Vec<f32> = match s {
+                    // Bit-exact: no conversion for f32.
+                    FlatSamples::F32(v) => v.clone(),
+                    other => other.values_as_f32().collect(),
+                };
+                if v.len() != n {
+                    return Err(bad(format!("channel {name} has {} samples", v.len())));
+                }
+                Ok(Some(v))
+            }
+        }
+    };
+    for (k, name) in ["R", "G", "B", "A"].into_iter().enumerate() {
+        let values = floats(name, k < 3)?;
+        let default = if k == 3 { 1.0 } else { 0.0 };
+        for (i, px) in img.rgba.iter_mut().enumerate() {
+            px[k] = values.as_ref().map_or(default, |v| v[i]);
+        }
+    }
+    if let Some(v) = floats(DEPTH_CHANNEL, false)? {
+        img.depth = v;
+    }
+    for (k, name) in NORMAL_CHANNELS.into_iter().enumerate() {
+        if let Some(v) = floats(name, false)? {
+            for (px, x) in img.normal.iter_mut().zip(v) {
+                px[k] = x;
+            }
+        }
+    }
+    match find(ID_CHANNEL) {
+        None => {}
+        Some(FlatSamples::U32(v)) if v.len() == n => img.object = v.clone(),
+        Some(FlatSamples::U32(v)) => {
+            return Err(bad(format!("channel {ID_CHANNEL} has {} samples", v.len())))
+        }
+        Some(_) => return Err(bad(format!("channel {ID_CHANNEL} is not u32"))),
+    }
+    Ok(img)
+}

@@ -1,0 +1,168 @@
+//! Camera rays and pixel sampling: stratified jitter whose offsets are a
+//! hash of (frame, pixel, sample) (DESIGN §4), box or Gaussian weights.
+
+use glam::Vec3A;
+
+use super::accel::Accel;
+use super::shade;
+use crate::lsys::random::{self, Stream};
+use crate::scene::Camera;
+
+/// How pixel samples are weighted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Filter {
+    Box,
+    /// Weights exp(−r²/2σ²), σ = 0.5 pixel, over the samples of the pixel.
+    Gaussian,
+}
+
+/// What a render does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    pub filter: Filter,
+    pub shadows: bool,
+    /// Reflection and refraction bounces.
+    pub max_depth: u32,
+    /// Frame number, part of the sample key.
+    pub frame: u64,
+}
+
+impl Settings {
+    /// `preview`: one sample, no shadows, no reflections.
+    pub fn preview(width: u32, height: u32) -> Self {
+        Settings {
+            width,
+            height,
+            spp: 1,
+            filter: Filter::Box,
+            shadows: false,
+            max_depth: 0,
+            frame: 0,
+        }
+    }
+
+    /// `final`: 16 samples, hard shadows, 5 bounces.
+    pub fn final_quality(width: u32, height: u32) -> Self {
+        Settings {
+            width,
+            height,
+            spp: 16,
+            filter: Filter::Box,
+            shadows: true,
+            max_depth: 5,
+            frame: 0,
+        }
+    }
+}
+
+/// The pinhole camera as ray generator for an image of w × h.
+pub struct CameraRays {
+    eye: Vec3A,
+    right: Vec3A,
+    up: Vec3A,
+    forward: Vec3A,
+    tan: f32,
+    aspect: f32,
+    w: f32,
+    h: f32,
+}
+
+impl CameraRays {
+    pub fn new(c: &Camera, w: u32, h: u32) -> Self {
+        let (right, up, forward) = c.basis();
+        CameraRays {
+            eye: c.eye.into(),
+            right: right.into(),
+            up: up.into(),
+            forward: forward.into(),
+            tan: (c.fov_y.clamp(0.01, 179.0).to_radians() / 2.0).tan(),
+            aspect: w as f32 / h.max(1) as f32,
+            w: w as f32,
+            h: h as f32,
+        }
+    }
+
+    /// Unit direction through image position (px, py), in pixels from the
+    /// top-left corner.
+    pub fn dir(&self, px: f32, py: f32) -> Vec3A {
+        let sx = (2.0 * px / self.w - 1.0) * self.tan * self.aspect;
+        let sy = (1.0 - 2.0 * py / self.h) * self.tan;
+        (self.forward + sx * self.right + sy * self.up).normalize()
+    }
+
+    pub fn eye(&self) -> Vec3A {
+        self.eye
+    }
+}
+
+/// One pixel's values.
+pub struct PixelOut {
+    pub rgba: [f32; 4],
+    pub depth: f32,
+    pub normal: [f32; 3],
+    pub object: u32,
+}
+
+/// Offset of sample `s` of `n` within the pixel: cell s of a near-square
+/// grid, jittered by the hash of (frame, pixel, sample).
+fn offset(s: u32, n: u32, key: u64) -> (f32, f32) {
+    if n == 1 {
+        return (0.5, 0.5);
+    }
+    let cols = (n as f32).sqrt().ceil() as u32;
+    let rows = n.div_ceil(cols);
+    let (cx, cy) = (s % cols, s / cols);
+    let jx = random::unit(key, 2 * u64::from(s)) as f32;
+    let jy = random::unit(key, 2 * u64::from(s) + 1) as f32;
+    (
+        (cx as f32 + jx) / cols as f32,
+        (cy as f32 + jy) / rows as f32,
+    )
+}
+
+/// Renders pixel (x, y): colour from `spp` samples, the other layers from
+/// the ray through the pixel centre.
+pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> PixelOut {
+    let key = random::key(
+        st.frame,
+        Stream::Pixel,
+        (u64::from(y) << 32) | u64::from(x),
+        0,
+    );
+    let n = st.spp.max(1);
+    let mut sum = [0.0f32; 4];
+    let mut wsum = 0.0f32;
+    for s in 0..n {
+        let (ox, oy) = offset(s, n, key);
+        let d = cam.dir(x as f32 + ox, y as f32 + oy);
+        let w = match st.filter {
+            Filter::Box => 1.0,
+            Filter::Gaussian => {
+                let (dx, dy) = (ox - 0.5, oy - 0.5);
+                (-(dx * dx + dy * dy) / (2.0 * 0.25)).exp()
+            }
+        };
+        let (c, hit) = shade::trace(accel, cam.eye(), d, st, 0);
+        sum[0] += w * c.x;
+        sum[1] += w * c.y;
+        sum[2] += w * c.z;
+        sum[3] += w * f32::from(u8::from(hit));
+        wsum += w;
+    }
+    let centre = accel.cast(
+        cam.eye(),
+        cam.dir(x as f32 + 0.5, y as f32 + 0.5),
+        0.0,
+        f32::INFINITY,
+    );
+    PixelOut {
+        rgba: sum.map(|v| v / wsum),
+        depth: centre.map_or(f32::INFINITY, |h| h.t),
+        normal: centre.map_or([0.0; 3], |h| h.normal.to_array()),
+        object: centre.map_or(u32::MAX, |h| h.object),
+    }
+}

@@ -1,0 +1,101 @@
+//! Whitted shading as Rayshade does it: ambient + Lambert + Phong per
+//! material, point lights with hard shadows, mirror reflection and
+//! refraction to a depth limit, procedural marble, bump and sky.
+
+use glam::{Vec3, Vec3A};
+
+use super::accel::Accel;
+use super::sample::Settings;
+use super::texture;
+use crate::scene::material::Texture;
+
+/// Offset of secondary rays from the surface, relative to the scene size
+/// of ordinary scenes (metres).
+const EPS: f32 = 1e-4;
+
+/// Horizon colour of a sky: its zenith colour lightened toward white.
+fn horizon(zenith: Vec3) -> Vec3 {
+    zenith.lerp(Vec3::ONE, 0.6)
+}
+
+/// What a ray sees where it hits nothing: black, or the sky of `D` 15.
+fn background(accel: &Accel, dir: Vec3A) -> Vec3 {
+    let bg = accel.scene.background;
+    if bg == Vec3::ZERO {
+        Vec3::ZERO
+    } else {
+        texture::sky(dir, bg, horizon(bg))
+    }
+}
+
+fn reflect(d: Vec3A, n: Vec3A) -> Vec3A {
+    d - 2.0 * d.dot(n) * n
+}
+
+/// Refraction of unit `d` at unit `n` (facing `d`) for η = n1/n2; None on
+/// total internal reflection.
+fn refract(d: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
+    let cos_i = -d.dot(n);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    (k >= 0.0).then(|| (eta * d + (eta * cos_i - k.sqrt()) * n).normalize())
+}
+
+/// Colour seen along the unit ray `o + t·d`, and whether it hit anything.
+pub fn trace(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, depth: u32) -> (Vec3, bool) {
+    let Some(hit) = accel.cast(o, d, if depth == 0 { 0.0 } else { EPS }, f32::INFINITY) else {
+        return (background(accel, d), false);
+    };
+    let scene = accel.scene;
+    let Some(m) = scene.materials.get(hit.material as usize) else {
+        return (Vec3::ZERO, true);
+    };
+    let p = o + hit.t * d;
+    let outside = hit.normal.dot(d) < 0.0;
+    let mut n = if outside { hit.normal } else { -hit.normal };
+    let mut diffuse = m.diffuse;
+    match m.texture {
+        Some(Texture::Marble) => diffuse = diffuse.lerp(Vec3::splat(0.95), texture::marble(p)),
+        Some(Texture::Bump) => n = texture::bump(p, n, 0.3),
+        None => {}
+    }
+    let mut local = m.ambient;
+    let lift = p + n * EPS * (1.0 + p.abs().max_element());
+    for light in &scene.lights {
+        let to = Vec3A::from(light.position) - p;
+        let dist = to.length();
+        if dist <= 0.0 {
+            continue;
+        }
+        let l = to / dist;
+        let ndl = n.dot(l);
+        if ndl <= 0.0 {
+            continue;
+        }
+        if st.shadows && accel.occluded(lift, l, 0.0, dist) {
+            continue;
+        }
+        let spec = reflect(-l, n).dot(-d).max(0.0).powf(m.shininess.max(1.0));
+        local += light.color * (diffuse * ndl + m.specular * spec);
+    }
+    let mut colour = local * (1.0 - m.transmit);
+    if depth < st.max_depth {
+        if m.reflect > 0.0 {
+            let (c, _) = trace(accel, lift, reflect(d, n).normalize(), st, depth + 1);
+            colour += m.reflect * c;
+        }
+        if m.transmit > 0.0 {
+            let eta = if outside {
+                1.0 / m.ior.max(1e-3)
+            } else {
+                m.ior
+            };
+            let below = p - n * EPS * (1.0 + p.abs().max_element());
+            let c = match refract(d, n, eta) {
+                Some(t) => trace(accel, below, t, st, depth + 1).0,
+                None => trace(accel, lift, reflect(d, n).normalize(), st, depth + 1).0,
+            };
+            colour += m.transmit * c;
+        }
+    }
+    (colour, true)
+}

@@ -1,0 +1,136 @@
+//! The ray tracer on real scenes (issue 4).
+
+mod common;
+use common::*;
+use glam::{Vec3, Vec3A};
+use lmfilm::lsys::NoSensors;
+use lmfilm::render::{render, Accel, Filter, Settings};
+use lmfilm::scene::Scene;
+use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
+
+fn scene_of(text: &str) -> Scene {
+    let mut a = from_text(text);
+    let surfaces = Surfaces::load(&a).unwrap();
+    build_scene(
+        &mut a,
+        &surfaces,
+        &mut Vec::new(),
+        &mut NoSensors,
+        &mut NoWorld,
+        Options::default(),
+    )
+    .0
+}
+
+/// A sphere of radius 1 at the origin seen from (0, 0, 10).
+const SPHERE: &str = "Camera_AnimationParameters\nobserver 0 0 10\nlookatPoint 0 0 0\nviewAngle 300\nAxiom\nm () (7) a () () () () (2)\n";
+
+#[test]
+fn sphere_covers_its_projected_disc() {
+    let s = scene_of(SPHERE);
+    let (w, h) = (400, 400);
+    let img = render(&s, &Settings::preview(w, h));
+    let covered = img.rgba.iter().filter(|p| p[3] > 0.5).count() as f64;
+    // Silhouette half-angle asin(r/D), projected with the 30° field.
+    let alpha = (1.0f64 / 10.0).asin();
+    let radius_px = alpha.tan() / 15f64.to_radians().tan() * (h as f64 / 2.0);
+    let disc = std::f64::consts::PI * radius_px * radius_px;
+    assert!(
+        (covered / disc - 1.0).abs() < 0.02,
+        "covered {covered} disc {disc}"
+    );
+}
+
+#[test]
+fn depth_layer_holds_distance_minus_radius_at_the_centre() {
+    let s = scene_of(SPHERE);
+    let img = render(&s, &Settings::preview(41, 41));
+    let c = 20 * 41 + 20;
+    assert!((img.depth[c] - 9.0).abs() < 1e-4, "{}", img.depth[c]);
+    assert!((Vec3::from_array(img.normal[c]) - Vec3::Z).length() < 1e-3);
+    assert_eq!(img.object[c], 0);
+    assert_eq!(img.depth[0], f32::INFINITY);
+    assert_eq!(img.object[0], u32::MAX);
+}
+
+#[test]
+fn cast_reports_distance_material_normal_and_vision_colour() {
+    let s = scene_of(SPHERE);
+    let accel = Accel::new(&s);
+    let hit = accel
+        .cast(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z, 0.0, f32::INFINITY)
+        .unwrap();
+    assert!((hit.t - 9.0).abs() < 1e-5);
+    assert_eq!(s.materials[hit.material as usize].name, "white");
+    assert!((hit.normal - Vec3A::Z).length() < 1e-5);
+    assert_eq!(hit.vision, s.materials[hit.material as usize].vision);
+    assert!(accel
+        .cast(Vec3A::new(0.0, 5.0, 10.0), -Vec3A::Z, 0.0, f32::INFINITY)
+        .is_none());
+    assert!(accel.occluded(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z, 0.0, 20.0));
+    assert!(!accel.occluded(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z, 0.0, 8.0));
+}
+
+#[test]
+fn identical_for_any_thread_count() {
+    let mut a = load("cours_tree3.lm");
+    a.advance_to(100, &mut NoSensors);
+    let surfaces = Surfaces::load(&a).unwrap();
+    let (s, _) = build_scene(
+        &mut a,
+        &surfaces,
+        &mut Vec::new(),
+        &mut NoSensors,
+        &mut NoWorld,
+        Options::default(),
+    );
+    let mut st = Settings::final_quality(64, 48);
+    st.spp = 4;
+    st.filter = Filter::Gaussian;
+    let run = |n: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap();
+        pool.install(|| render(&s, &st))
+    };
+    let (one, two) = (run(1), run(2));
+    let bits = |i: &lmfilm::render::Image| {
+        i.rgba
+            .iter()
+            .flatten()
+            .map(|v| v.to_bits())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&one), bits(&two));
+    assert!(one.rgba.iter().any(|p| p[3] > 0.0), "the tree is in view");
+}
+
+#[test]
+fn pathologically_deep_scene_falls_back_and_finds_everything() {
+    // Spheres at x = 2^-k: a chain a binary BVH can only nest ever deeper.
+    let mut axiom = String::new();
+    for k in 0..120 {
+        let x = 1000.0 * 0.8f64.powi(k);
+        axiom.push_str(&format!(
+            "[ f () () () (2) ({x}) (0) (0) a () () () () ({}) ] ",
+            x * 0.05
+        ));
+    }
+    let s = scene_of(&format!("Axiom\n{axiom}\n"));
+    let accel = Accel::new(&s);
+    assert!(
+        accel.uses_fallback(),
+        "the chain is deeper than obvhs's wide stack"
+    );
+    for k in 0..120 {
+        // From just above each sphere (radius r = x/40), straight down.
+        let x = (1000.0 * 0.8f64.powi(k)) as f32;
+        let r = x * 0.025;
+        let hit = accel.cast(Vec3A::new(x, 3.0 * r, 0.0), -Vec3A::Y, 0.0, f32::INFINITY);
+        assert!(
+            hit.is_some_and(|h| (h.t - 2.0 * r).abs() < 1e-3 * r),
+            "sphere {k}: {hit:?}"
+        );
+    }
+}
