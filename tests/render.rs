@@ -108,14 +108,13 @@ fn identical_for_any_thread_count() {
 
 #[test]
 fn pathologically_deep_scene_falls_back_and_finds_everything() {
-    // Spheres at x = 2^-k: a chain a binary BVH can only nest ever deeper.
+    // 250 concentric spheres, radii 0.9^k: their boxes nest, so the builder
+    // can only merge the two smallest at a time — a chain far deeper than
+    // obvhs's 32-entry wide traversal stack.
+    let n = 250;
     let mut axiom = String::new();
-    for k in 0..120 {
-        let x = 1000.0 * 0.8f64.powi(k);
-        axiom.push_str(&format!(
-            "[ f () () () (2) ({x}) (0) (0) a () () () () ({}) ] ",
-            x * 0.05
-        ));
+    for k in 0..n {
+        axiom.push_str(&format!("a () () () () ({}) ", 2.0 * 0.9f64.powi(k)));
     }
     let s = scene_of(&format!("Axiom\n{axiom}\n"));
     let accel = Accel::new(&s);
@@ -123,14 +122,14 @@ fn pathologically_deep_scene_falls_back_and_finds_everything() {
         accel.uses_fallback(),
         "the chain is deeper than obvhs's wide stack"
     );
-    for k in 0..120 {
-        // From just above each sphere (radius r = x/40), straight down.
-        let x = (1000.0 * 0.8f64.powi(k)) as f32;
-        let r = x * 0.025;
-        let hit = accel.cast(Vec3A::new(x, 3.0 * r, 0.0), -Vec3A::Y, 0.0, f32::INFINITY);
+    for k in 0..n - 1 {
+        // From between shells k + 1 and k, outward: shell k is the nearest.
+        let (r0, r1) = (0.9f32.powi(k), 0.9f32.powi(k + 1));
+        let y = (r0 + r1) / 2.0;
+        let hit = accel.cast(Vec3A::new(0.0, y, 0.0), Vec3A::Y, 0.0, f32::INFINITY);
         assert!(
-            hit.is_some_and(|h| (h.t - 2.0 * r).abs() < 1e-3 * r),
-            "sphere {k}: {hit:?}"
+            hit.is_some_and(|h| (h.t - (r0 - y)).abs() < 1e-3 * r0),
+            "shell {k}: {hit:?}"
         );
     }
 }

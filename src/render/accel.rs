@@ -14,13 +14,15 @@ use obvhs::bvh2::Bvh2;
 use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray, RayHit};
+use obvhs::rt_triangle::RtTriangle;
 use obvhs::BvhBuildParams;
 
 use super::intersect;
-use crate::scene::{Scene, Shape};
+use crate::scene::{Geometry, Scene};
 
-/// Depth below which a binary tree's wide form fits obvhs's 32-entry stack.
-const WIDE_SAFE_DEPTH: usize = 32;
+/// Levels the wide traversal may use: obvhs's stack has 32 slots and
+/// its own validation asserts a depth below 32; two are kept spare.
+const WIDE_MAX_DEPTH: usize = 30;
 
 /// A built tree: wide (fast) or binary (any depth).
 pub enum Tree {
@@ -28,6 +30,7 @@ pub enum Tree {
     Binary(Bvh2),
 }
 
+/// Deepest level of a binary tree (iterative: deep trees are the point).
 fn depth(b: &Bvh2) -> usize {
     let mut max = 0;
     let mut stack = vec![(0usize, 1usize)];
@@ -42,14 +45,30 @@ fn depth(b: &Bvh2) -> usize {
     max
 }
 
+/// Deepest level of a wide tree.
+fn wide_depth(b: &CwBvh) -> usize {
+    let mut max = 0;
+    let mut stack = vec![(0usize, 1usize)];
+    while let Some((i, d)) = stack.pop() {
+        let n = &b.nodes[i];
+        max = max.max(d);
+        for ch in 0..8 {
+            if !n.is_child_empty(ch) && !n.is_leaf(ch) {
+                stack.push((n.child_node_index(ch) as usize, d + 1));
+            }
+        }
+    }
+    max
+}
+
 impl Tree {
-    /// Builds over `aabbs` (all finite) with the fast preset used for
-    /// per-frame rebuilds. `None` when there is nothing to build.
+    /// Builds over `aabbs` (all finite) with obvhs's medium preset (about
+    /// Embree's build time, faster traversal). `None` when empty.
     pub fn build(aabbs: &[Aabb]) -> Option<Tree> {
         if aabbs.is_empty() {
             return None;
         }
-        let p = BvhBuildParams::fast_build();
+        let p = BvhBuildParams::medium_build();
         let indices = (0..aabbs.len() as u32).collect();
         let mut b = p.ploc_search_distance.build(
             aabbs,
@@ -58,30 +77,30 @@ impl Tree {
             p.search_depth_threshold,
         );
         ReinsertionOptimizer::run(&mut b, p.reinsertion_batch_ratio, None);
-        let d = depth(&b);
-        if d < WIDE_SAFE_DEPTH {
-            Some(Tree::Wide(bvh2_to_cwbvh(
-                &b,
-                p.max_prims_per_leaf.clamp(1, 3),
-                true,
-                false,
-            )))
+        let wide = bvh2_to_cwbvh(&b, p.max_prims_per_leaf.clamp(1, 3), true, false);
+        if wide_depth(&wide) <= WIDE_MAX_DEPTH {
+            Some(Tree::Wide(wide))
         } else {
-            b.max_depth = Some(d + 2);
+            b.max_depth = Some(depth(&b) + 2);
             Some(Tree::Binary(b))
         }
     }
 
-    /// Closest hit: `f(ray, primitive)` returns the hit t or infinity.
+    /// Input index of each primitive in traversal order: `f` below gets
+    /// positions in this list.
+    fn order(&self) -> &[u32] {
+        match self {
+            Tree::Wide(b) => &b.primitive_indices,
+            Tree::Binary(b) => &b.primitive_indices,
+        }
+    }
+
+    /// Closest hit: `f(ray, position)` returns the hit t or infinity.
     fn closest(&self, ray: Ray, mut f: impl FnMut(&Ray, usize) -> f32) -> bool {
         let mut hit = RayHit::none();
         match self {
-            Tree::Wide(b) => b.ray_traverse(ray, &mut hit, |r, id| {
-                f(r, b.primitive_indices[id] as usize)
-            }),
-            Tree::Binary(b) => b.ray_traverse(ray, &mut hit, |r, id| {
-                f(r, b.primitive_indices[id] as usize)
-            }),
+            Tree::Wide(b) => b.ray_traverse(ray, &mut hit, |r, id| f(r, id)),
+            Tree::Binary(b) => b.ray_traverse(ray, &mut hit, |r, id| f(r, id)),
         }
     }
 
@@ -91,15 +110,11 @@ impl Tree {
         match self {
             Tree::Wide(b) => {
                 let mut st = b.new_ray_traversal(ray);
-                b.ray_traverse_dynamic(&mut st, &mut hit, |r, id| {
-                    f(r, b.primitive_indices[id] as usize)
-                })
+                b.ray_traverse_dynamic(&mut st, &mut hit, |r, id| f(r, id))
             }
             Tree::Binary(b) => {
                 let mut st = b.new_ray_traversal(ray);
-                b.ray_traverse_dynamic(&mut st, &mut hit, |r, id| {
-                    f(r, b.primitive_indices[id] as usize)
-                })
+                b.ray_traverse_dynamic(&mut st, &mut hit, |r, id| f(r, id))
             }
         }
     }
@@ -117,11 +132,18 @@ pub enum Prim {
     Triangle(u32),
 }
 
+/// A primitive as the traversal meets it, stored in traversal order so a
+/// leaf needs no index lookups.
+enum Leaf {
+    /// Precomputed edges for Möller–Trumbore, and the triangle's index.
+    Triangle(RtTriangle, u32),
+    /// The shape's index and its inverse transform (local ← geometry).
+    Shape(u32, Affine3A),
+}
+
 struct Blas {
     tree: Tree,
-    prims: Vec<Prim>,
-    /// Inverse transforms of the shapes (local ← geometry).
-    shape_inv: Vec<Affine3A>,
+    leaves: Vec<Leaf>,
 }
 
 /// The nearest surface a ray meets.
@@ -146,7 +168,7 @@ pub struct Hit {
 pub struct Accel<'a> {
     pub scene: &'a Scene,
     tlas: Option<Tree>,
-    /// Instance index of each top-level primitive.
+    /// Instance index of each top-level primitive, in traversal order.
     tlas_inst: Vec<u32>,
     inst_inv: Vec<Affine3A>,
     blas: Vec<Option<Blas>>,
@@ -176,55 +198,62 @@ fn transformed(a: &Aabb, m: &Affine3A) -> Option<Aabb> {
     (out.min.is_finite() && out.max.is_finite()).then_some(out)
 }
 
+/// The bottom level of one geometry; primitives with non-finite bounds
+/// never reach the builder.
+fn blas(g: &Geometry) -> Option<Blas> {
+    let mut prims = Vec::with_capacity(g.shapes.len() + g.triangles.len());
+    let mut boxes = Vec::with_capacity(prims.capacity());
+    for (i, s) in g.shapes.iter().enumerate() {
+        if let Some(b) = intersect::bounds(s) {
+            prims.push(Prim::Shape(i as u32));
+            boxes.push(aabb(b));
+        }
+    }
+    for (i, t) in g.triangles.iter().enumerate() {
+        if let Some(b) = intersect::triangle_bounds(&t.v) {
+            prims.push(Prim::Triangle(i as u32));
+            boxes.push(aabb(b));
+        }
+    }
+    let tree = Tree::build(&boxes)?;
+    let leaves = tree
+        .order()
+        .iter()
+        .map(|&p| match prims[p as usize] {
+            Prim::Shape(i) => Leaf::Shape(i, g.shapes[i as usize].transform.inverse()),
+            Prim::Triangle(i) => {
+                let v = g.triangles[i as usize].v.map(Vec3A::from);
+                Leaf::Triangle(RtTriangle::new(v[0], v[1], v[2]), i)
+            }
+        })
+        .collect();
+    Some(Blas { tree, leaves })
+}
+
 impl<'a> Accel<'a> {
-    /// Builds the bottom levels, then the top level. Primitives or
-    /// instances with non-finite bounds are left out.
+    /// Builds the bottom levels, then the top level over the instances
+    /// whose bounds are finite.
     pub fn new(scene: &'a Scene) -> Self {
-        let blas: Vec<Option<Blas>> = scene
-            .geometries
-            .iter()
-            .map(|g| {
-                let mut prims = Vec::with_capacity(g.shapes.len() + g.triangles.len());
-                let mut boxes = Vec::with_capacity(prims.capacity());
-                for (i, s) in g.shapes.iter().enumerate() {
-                    if let Some(b) = intersect::bounds(s) {
-                        prims.push(Prim::Shape(i as u32));
-                        boxes.push(aabb(b));
-                    }
-                }
-                for (i, t) in g.triangles.iter().enumerate() {
-                    if let Some(b) = intersect::triangle_bounds(&t.v) {
-                        prims.push(Prim::Triangle(i as u32));
-                        boxes.push(aabb(b));
-                    }
-                }
-                let shape_inv = g
-                    .shapes
-                    .iter()
-                    .map(|s: &Shape| s.transform.inverse())
-                    .collect();
-                Tree::build(&boxes).map(|tree| Blas {
-                    tree,
-                    prims,
-                    shape_inv,
-                })
-            })
-            .collect();
-        let mut tlas_inst = Vec::new();
+        let blas: Vec<Option<Blas>> = scene.geometries.iter().map(blas).collect();
+        let mut inst = Vec::new();
         let mut boxes = Vec::new();
-        for (k, inst) in scene.instances.iter().enumerate() {
-            let Some(Some(b)) = blas.get(inst.geometry as usize) else {
+        for (k, i) in scene.instances.iter().enumerate() {
+            let Some(Some(b)) = blas.get(i.geometry as usize) else {
                 continue;
             };
             let total = match &b.tree {
                 Tree::Wide(t) => t.total_aabb,
                 Tree::Binary(t) => t.nodes[0].aabb,
             };
-            if let Some(wb) = transformed(&total, &inst.transform) {
-                tlas_inst.push(k as u32);
+            if let Some(wb) = transformed(&total, &i.transform) {
+                inst.push(k as u32);
                 boxes.push(wb);
             }
         }
+        let tlas = Tree::build(&boxes);
+        let tlas_inst = tlas.as_ref().map_or(Vec::new(), |t| {
+            t.order().iter().map(|&p| inst[p as usize]).collect()
+        });
         let inst_inv = scene
             .instances
             .iter()
@@ -232,36 +261,42 @@ impl<'a> Accel<'a> {
             .collect();
         Accel {
             scene,
-            tlas: Tree::build(&boxes),
+            tlas,
             tlas_inst,
             inst_inv,
             blas,
         }
     }
 
-    /// Intersects primitive `p` of geometry `g` with the local ray.
-    #[inline]
-    fn prim_hit(&self, b: &Blas, g: usize, p: Prim, r: &Ray) -> Option<intersect::LocalHit> {
-        let geo = &self.scene.geometries[g];
-        match p {
-            Prim::Shape(i) => {
-                let inv = &b.shape_inv[i as usize];
+    /// Intersects a leaf with the local ray: the primitive and its hit
+    /// (triangle normals are computed only for the closest hit).
+    #[inline(always)]
+    fn leaf_hit(leaf: &Leaf, g: &Geometry, r: &Ray) -> Option<(Prim, intersect::LocalHit)> {
+        match leaf {
+            Leaf::Triangle(rt, i) => {
+                let t = rt.intersect(r);
+                (t.is_finite() && t > r.tmin).then_some((
+                    Prim::Triangle(*i),
+                    intersect::LocalHit {
+                        t,
+                        normal: Vec3A::ZERO,
+                    },
+                ))
+            }
+            Leaf::Shape(i, inv) => {
                 let o = inv.transform_point3a(r.origin);
                 let d = inv.transform_vector3a(r.direction);
-                intersect::shape(geo.shapes[i as usize].kind, o, d, r.tmin, r.tmax)
+                intersect::shape(g.shapes[*i as usize].kind, o, d, r.tmin, r.tmax)
+                    .map(|h| (Prim::Shape(*i), h))
             }
-            Prim::Triangle(i) => intersect::triangle(
-                &geo.triangles[i as usize].v,
-                r.origin,
-                r.direction,
-                r.tmin,
-                r.tmax,
-            ),
         }
     }
 
     fn local_ray(&self, k: usize, r: &Ray) -> Ray {
         let inv = &self.inst_inv[k];
+        if *inv == Affine3A::IDENTITY {
+            return *r;
+        }
         ray(
             inv.transform_point3a(r.origin),
             inv.transform_vector3a(r.direction),
@@ -270,34 +305,70 @@ impl<'a> Accel<'a> {
         )
     }
 
+    /// Closest hit within instance `k` (its t, or infinity), kept in `best`.
+    #[inline]
+    fn instance_closest(
+        &self,
+        k: usize,
+        r: &Ray,
+        best: &mut Option<(u32, Prim, intersect::LocalHit)>,
+    ) -> f32 {
+        let g = self.scene.instances[k].geometry as usize;
+        let Some(b) = &self.blas[g] else {
+            return f32::INFINITY;
+        };
+        let geo = &self.scene.geometries[g];
+        let mut found = f32::INFINITY;
+        b.tree.closest(self.local_ray(k, r), |r2, pi| {
+            match Self::leaf_hit(&b.leaves[pi], geo, r2) {
+                Some((p, h)) => {
+                    *best = Some((k as u32, p, h));
+                    found = h.t;
+                    h.t
+                }
+                None => f32::INFINITY,
+            }
+        });
+        found
+    }
+
+    /// Any hit within instance `k`: its t, or infinity.
+    #[inline]
+    fn instance_any(&self, k: usize, r: &Ray) -> f32 {
+        let g = self.scene.instances[k].geometry as usize;
+        let Some(b) = &self.blas[g] else {
+            return f32::INFINITY;
+        };
+        let geo = &self.scene.geometries[g];
+        let mut t = f32::INFINITY;
+        b.tree.any(self.local_ray(k, r), |r2, pi| {
+            match Self::leaf_hit(&b.leaves[pi], geo, r2) {
+                Some((_, h)) => {
+                    t = h.t;
+                    h.t
+                }
+                None => f32::INFINITY,
+            }
+        });
+        t
+    }
+
     /// The closest hit of the ray `origin + t·dir` with t in (tmin, tmax).
     pub fn cast(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> Option<Hit> {
         let tlas = self.tlas.as_ref()?;
         if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
             return None;
         }
-        let mut best: Option<(u32, Prim, intersect::LocalHit)> = None;
-        tlas.closest(ray(origin, dir, tmin, tmax), |r, ti| {
-            let k = self.tlas_inst[ti] as usize;
-            let g = self.scene.instances[k].geometry as usize;
-            let Some(b) = &self.blas[g] else {
-                return f32::INFINITY;
-            };
-            let lr = self.local_ray(k, r);
-            let mut found = f32::INFINITY;
-            b.tree.closest(lr, |r2, pi| {
-                let p = b.prims[pi];
-                match self.prim_hit(b, g, p, r2) {
-                    Some(h) => {
-                        best = Some((k as u32, p, h));
-                        found = h.t;
-                        h.t
-                    }
-                    None => f32::INFINITY,
-                }
+        let r = ray(origin, dir, tmin, tmax);
+        let mut best = None;
+        // One instance (a scene without repetitions): no top level to walk.
+        if let [k] = self.tlas_inst[..] {
+            self.instance_closest(k as usize, &r, &mut best);
+        } else {
+            tlas.closest(r, |r, ti| {
+                self.instance_closest(self.tlas_inst[ti] as usize, r, &mut best)
             });
-            found
-        });
+        }
         let (k, prim, h) = best?;
         Some(self.resolve(k, prim, h))
     }
@@ -308,24 +379,11 @@ impl<'a> Accel<'a> {
         if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
             return false;
         }
-        tlas.any(ray(origin, dir, tmin, tmax), |r, ti| {
-            let k = self.tlas_inst[ti] as usize;
-            let g = self.scene.instances[k].geometry as usize;
-            let Some(b) = &self.blas[g] else {
-                return f32::INFINITY;
-            };
-            let lr = self.local_ray(k, r);
-            let mut t = f32::INFINITY;
-            b.tree
-                .any(lr, |r2, pi| match self.prim_hit(b, g, b.prims[pi], r2) {
-                    Some(h) => {
-                        t = h.t;
-                        h.t
-                    }
-                    None => f32::INFINITY,
-                });
-            t
-        })
+        let r = ray(origin, dir, tmin, tmax);
+        if let [k] = self.tlas_inst[..] {
+            return self.instance_any(k as usize, &r) < f32::INFINITY;
+        }
+        tlas.any(r, |r, ti| self.instance_any(self.tlas_inst[ti] as usize, r))
     }
 
     /// World-space details of a local hit.
@@ -343,7 +401,8 @@ impl<'a> Accel<'a> {
             }
             Prim::Triangle(i) => {
                 let t = &geo.triangles[i as usize];
-                (h.normal, t.material, t.symbol)
+                let n = (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]);
+                (Vec3A::from(n), t.material, t.symbol)
             }
         };
         Hit {

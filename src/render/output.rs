@@ -18,9 +18,8 @@
 use std::io::{self, Cursor};
 use std::path::Path;
 
-use exr::prelude::Blocks;
 use exr::prelude::{
-    AnyChannel, AnyChannels, Compression, Encoding, FlatSamples, Image as ExrImage, Layer,
+    AnyChannel, AnyChannels, Blocks, Compression, Encoding, FlatSamples, Image as ExrImage, Layer,
     LayerAttributes, LineOrder, ReadChannels, ReadLayers, SmallVec, Vec2, WritableImage,
 };
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
