@@ -40,7 +40,7 @@ fn query_positions_feed_back_into_the_derivation() {
 fn help_lists_every_command_with_an_example() {
     let (code, out, _) = lmfilm(&["--help"]);
     assert_eq!(code, 0);
-    for cmd in ["print", "export"] {
+    for cmd in ["print", "export", "still"] {
         assert!(out.contains(cmd), "{out}");
         let (_, sub, _) = lmfilm(&[cmd, "--help"]);
         assert!(sub.contains(&format!("lmfilm {cmd} scenes/")), "{sub}");
@@ -74,5 +74,36 @@ fn export_writes_obj_and_mtl() {
         .map(|v| v.split_whitespace().nth(1).unwrap().parse::<f64>().unwrap())
         .fold(f64::MIN, f64::max);
     assert!((top - 6.525).abs() < 0.01, "{top}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn still_writes_png_and_exr_identically_for_any_thread_count() {
+    let dir = std::env::temp_dir().join(format!("lmfilm-cli-still-{}", std::process::id()));
+    let scene = format!("{}/scenes/examples/gallery.lm", env!("CARGO_MANIFEST_DIR"));
+    let mut exr = Vec::new();
+    for threads in ["1", "2"] {
+        for ext in ["png", "exr"] {
+            let out = dir.join(format!("g{threads}.{ext}"));
+            let st = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+                .env("RAYON_NUM_THREADS", threads)
+                .args(["still", &scene, "--width", "80", "--height", "45", "--spp", "2", "-o", out.to_str().unwrap()])
+                .status()
+                .unwrap();
+            assert!(st.success());
+        }
+        exr.push(std::fs::read(dir.join(format!("g{threads}.exr"))).unwrap());
+        assert_eq!(
+            std::fs::read(dir.join("g1.png")).unwrap(),
+            std::fs::read(dir.join(format!("g{threads}.png"))).unwrap()
+        );
+    }
+    assert_eq!(exr[0], exr[1], "EXR bytes identical for 1 and 2 threads");
+    let img = lmfilm::render::output::read_exr_layers(&dir.join("g1.exr")).unwrap();
+    assert_eq!((img.width, img.height), (80, 45));
+    assert!(img.depth.iter().any(|d| d.is_finite()) && img.object.iter().any(|&o| o != u32::MAX));
+    let (code, _, err) = lmfilm(&["still", &scene, "-o", dir.join("x.jpg").to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains(".png or .exr"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
