@@ -87,7 +87,18 @@ fn still_writes_png_and_exr_identically_for_any_thread_count() {
             let out = dir.join(format!("g{threads}.{ext}"));
             let st = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
                 .env("RAYON_NUM_THREADS", threads)
-                .args(["still", &scene, "--width", "80", "--height", "45", "--spp", "2", "-o", out.to_str().unwrap()])
+                .args([
+                    "still",
+                    &scene,
+                    "--width",
+                    "80",
+                    "--height",
+                    "45",
+                    "--spp",
+                    "2",
+                    "-o",
+                    out.to_str().unwrap(),
+                ])
                 .status()
                 .unwrap();
             assert!(st.success());

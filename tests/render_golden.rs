@@ -32,7 +32,14 @@ fn image(scene: &str, time: f64, settings: Settings) -> Image {
     let mut a = load(scene);
     a.advance_to(a.frame_at(time), &mut NoSensors);
     let surfaces = Surfaces::load(&a).unwrap();
-    let (s, _) = build_scene(&mut a, &surfaces, &mut Vec::new(), &mut NoSensors, &mut NoWorld, Options::default());
+    let (s, _) = build_scene(
+        &mut a,
+        &surfaces,
+        &mut Vec::new(),
+        &mut NoSensors,
+        &mut NoWorld,
+        Options::default(),
+    );
     let mut st = settings;
     st.frame = a.frame;
     render(&s, &st)
@@ -44,18 +51,37 @@ fn golden_images() {
     gallery.spp = 4;
     let cases = [
         ("gallery_final", image("gallery.lm", 0.0, gallery)),
-        ("gallery_preview", image("gallery.lm", 0.0, Settings::preview(160, 90))),
-        ("growing_tree", image("growing_tree_drawn.lm", 1.5, Settings::final_quality(64, 48))),
-        ("cours_tree3", image("cours_tree3.lm", 3.0, Settings::preview(96, 72))),
+        (
+            "gallery_preview",
+            image("gallery.lm", 0.0, Settings::preview(160, 90)),
+        ),
+        (
+            "growing_tree",
+            image(
+                "growing_tree_drawn.lm",
+                1.5,
+                Settings::final_quality(64, 48),
+            ),
+        ),
+        (
+            "cours_tree3",
+            image("cours_tree3.lm", 3.0, Settings::preview(96, 72)),
+        ),
     ];
-    let got: String = cases.iter().map(|(n, img)| format!("{n} {:016x}\n", fnv(img))).collect();
+    let got: String = cases
+        .iter()
+        .map(|(n, img)| format!("{n} {:016x}\n", fnv(img)))
+        .collect();
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden/render.txt");
     if std::env::var_os("LMFILM_BLESS").is_some() {
         std::fs::write(path, &got).unwrap();
         return;
     }
     let want = std::fs::read_to_string(path).unwrap_or_default();
-    assert_eq!(got, want, "rendered images changed; if intended, re-bless (see the top of this file)");
+    assert_eq!(
+        got, want,
+        "rendered images changed; if intended, re-bless (see the top of this file)"
+    );
     // The gallery is not empty: most pixels see the ground or the sky.
     assert!(cases[0].1.rgba.iter().all(|p| p[0] + p[1] + p[2] > 0.0));
 }
