@@ -6,20 +6,9 @@ use glam::{Vec3, Vec3A};
 use lmfilm::lsys::NoSensors;
 use lmfilm::render::{render, Accel, Filter, Settings};
 use lmfilm::scene::Scene;
-use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
 
 fn scene_of(text: &str) -> Scene {
-    let mut a = from_text(text);
-    let surfaces = Surfaces::load(&a).unwrap();
-    build_scene(
-        &mut a,
-        &surfaces,
-        &mut Vec::new(),
-        &mut NoSensors,
-        &mut NoWorld,
-        Options::default(),
-    )
-    .0
+    scene(&mut from_text(text)).0
 }
 
 /// A sphere of radius 1 at the origin seen from (0, 0, 10).
@@ -75,15 +64,7 @@ fn cast_reports_distance_material_normal_and_vision_colour() {
 fn identical_for_any_thread_count() {
     let mut a = load("cours_tree3.lm");
     a.advance_to(100, &mut NoSensors);
-    let surfaces = Surfaces::load(&a).unwrap();
-    let (s, _) = build_scene(
-        &mut a,
-        &surfaces,
-        &mut Vec::new(),
-        &mut NoSensors,
-        &mut NoWorld,
-        Options::default(),
-    );
+    let (s, _) = scene(&mut a);
     let mut st = Settings::final_quality(64, 48);
     st.spp = 4;
     st.filter = Filter::Gaussian;

@@ -10,7 +10,6 @@ mod common;
 use common::*;
 use lmfilm::lsys::NoSensors;
 use lmfilm::render::{render, Image, Settings};
-use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
 
 fn fnv(img: &Image) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
@@ -28,18 +27,10 @@ fn fnv(img: &Image) -> u64 {
     h
 }
 
-fn image(scene: &str, time: f64, settings: Settings) -> Image {
-    let mut a = load(scene);
+fn image(file: &str, time: f64, settings: Settings) -> Image {
+    let mut a = load(file);
     a.advance_to(a.frame_at(time), &mut NoSensors);
-    let surfaces = Surfaces::load(&a).unwrap();
-    let (s, _) = build_scene(
-        &mut a,
-        &surfaces,
-        &mut Vec::new(),
-        &mut NoSensors,
-        &mut NoWorld,
-        Options::default(),
-    );
+    let (s, _) = scene(&mut a);
     let mut st = settings;
     st.frame = a.frame;
     render(&s, &st)

@@ -3,22 +3,9 @@
 mod common;
 use common::*;
 use glam::{Vec3, Vec3A};
-use lmfilm::lsys::{Animation, NoSensors};
+use lmfilm::lsys::NoSensors;
 use lmfilm::scene::{mesh, snapshot, Scene, ShapeKind};
-use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces, Tables};
-
-fn scene(a: &mut Animation) -> (Scene, Vec<String>) {
-    let surfaces = Surfaces::load(a).unwrap();
-    let mut tables: Vec<Tables> = Vec::new();
-    build_scene(
-        a,
-        &surfaces,
-        &mut tables,
-        &mut NoSensors,
-        &mut NoWorld,
-        Options::default(),
-    )
-}
+use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
 
 /// (start, end) of every cylinder-like shape along its local x axis.
 fn segments(s: &Scene) -> Vec<(Vec3A, Vec3A)> {

@@ -33,3 +33,18 @@ pub fn at_frame(a: &mut Animation, n: u64) -> String {
     a.advance_to(n, &mut NoSensors);
     symbols(a)
 }
+
+/// The scene of the animation's current frame (surfaces loaded, no
+/// particle or actor layers).
+pub fn scene(a: &mut Animation) -> (lmfilm::scene::Scene, Vec<String>) {
+    use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
+    let surfaces = Surfaces::load(a).unwrap_or_else(|e| panic!("{e}"));
+    build_scene(
+        a,
+        &surfaces,
+        &mut Vec::new(),
+        &mut NoSensors,
+        &mut NoWorld,
+        Options::default(),
+    )
+}
