@@ -280,7 +280,17 @@ fn still(
         FilterArg::Gaussian => Filter::Gaussian,
     };
     settings.frame = derived.anim.frame;
-    let img = render::render(&scene, &settings);
+    let accel = render::Accel::new(&scene);
+    let show = std::io::stderr().is_terminal();
+    let img = render::render_with(&accel, &settings, &|done, rows| {
+        // Every 5 % of the rows, on a terminal only.
+        if show && done * 20 / rows != (done - 1) * 20 / rows {
+            eprint!("\rrendering {}%", done * 100 / rows);
+        }
+    });
+    if show {
+        eprint!("\r\x1b[K");
+    }
     if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| {
             (

@@ -10,6 +10,8 @@ pub mod sample;
 pub mod shade;
 pub mod texture;
 
+use std::sync::atomic::{AtomicU32, Ordering};
+
 use rayon::prelude::*;
 
 use crate::scene::Scene;
@@ -20,21 +22,28 @@ pub use sample::{Filter, Settings};
 /// Renders `scene` into an image. Rows are computed independently into
 /// fixed slots, so the result does not depend on the thread count.
 pub fn render(scene: &Scene, settings: &Settings) -> Image {
-    let accel = Accel::new(scene);
-    render_with(&accel, settings)
+    render_with(&Accel::new(scene), settings, &|_, _| {})
 }
 
-/// Renders with an already built acceleration structure.
-pub fn render_with(accel: &Accel, settings: &Settings) -> Image {
+/// Renders with an already built acceleration structure; `progress(done,
+/// total)` is called as rows finish (from any thread, in any order).
+pub fn render_with(
+    accel: &Accel,
+    settings: &Settings,
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Image {
     let (w, h) = (settings.width, settings.height);
     let mut img = Image::new(w, h);
     let cam = sample::CameraRays::new(&accel.scene.camera, w, h);
+    let done = AtomicU32::new(0);
     let rows: Vec<Vec<sample::PixelOut>> = (0..h)
         .into_par_iter()
         .map(|y| {
-            (0..w)
+            let row = (0..w)
                 .map(|x| sample::pixel(accel, &cam, settings, x, y))
-                .collect()
+                .collect();
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, h);
+            row
         })
         .collect();
     for (y, row) in rows.into_iter().enumerate() {
