@@ -177,7 +177,7 @@ impl Builder {
     ///
     /// Vision sees it as table material `like` (the court as green, its
     /// lines as white), so vision colours stay apart (3.1.2).
-    pub fn court_material(&mut self, rgb: Vec3, name: &str, like: usize) -> u32 {
+    pub fn builtin_material(&mut self, rgb: Vec3, name: &str, like: usize) -> u32 {
         if let Some(i) = self.materials.iter().position(|m| m.name == name) {
             return i as u32;
         }

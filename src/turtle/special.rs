@@ -114,10 +114,10 @@ fn slab(it: &mut Interpreter, s: &Symbol, lo: DVec3, hi: DVec3, m: u32) {
 fn tennis_court(it: &mut Interpreter, s: &Symbol, surround: bool) {
     use court::*;
     let b = it.builder();
-    let green = b.court_material(Vec3::new(0.15, 0.45, 0.2), "court", 1);
-    let white = b.court_material(Vec3::new(0.95, 0.95, 0.95), "court_line", 7);
-    let net = b.court_material(Vec3::new(0.1, 0.1, 0.1), "court_net", 18);
-    let grey = b.court_material(Vec3::new(0.5, 0.5, 0.5), "court_surround", 6);
+    let green = b.builtin_material(Vec3::new(0.15, 0.45, 0.2), "court", 1);
+    let white = b.builtin_material(Vec3::new(0.95, 0.95, 0.95), "court_line", 7);
+    let net = b.builtin_material(Vec3::new(0.1, 0.1, 0.1), "court_net", 18);
+    let grey = b.builtin_material(Vec3::new(0.5, 0.5, 0.5), "court_surround", 6);
     let (hl, hw) = (LENGTH / 2.0, DOUBLES_WIDTH / 2.0);
     let margin = (6.4, 3.66);
     let th = 0.01;
@@ -175,7 +175,7 @@ fn tennis_court(it: &mut Interpreter, s: &Symbol, surround: bool) {
 fn clouds(it: &mut Interpreter, s: &Symbol, g: [f64; 3]) {
     let m = it
         .builder()
-        .court_material(Vec3::new(0.95, 0.95, 0.97), "cloud", 7);
+        .builtin_material(Vec3::new(0.95, 0.95, 0.97), "cloud", 7);
     let scale = if g.iter().all(|v| v.is_finite() && *v > 0.0) {
         g
     } else {
