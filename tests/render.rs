@@ -114,3 +114,49 @@ fn pathologically_deep_scene_falls_back_and_finds_everything() {
         );
     }
 }
+
+/// Ground values seen from above with a cube on the ground, one sample per
+/// pixel, hard or soft shadows by the light `l`.
+fn ground_values(light: &str) -> Vec<f32> {
+    let text = format!(
+        "Camera_AnimationParameters\nobserver 0 20 0.01\nlookatPoint 0 0 0\nviewAngle 600\nAxiom\n{light} m () (8) D () (2) () () (0) f () () () (2) (1_) (0) (0) c () () () () (2) (2) (2)\n"
+    );
+    let s = scene_of(&text);
+    let mut st = Settings::final_quality(80, 80);
+    st.spp = 1;
+    st.light_samples = 16;
+    let img = render(&s, &st);
+    // Pixels of the ground (depth ≈ 20) only, by their red value.
+    img.rgba
+        .iter()
+        .zip(&img.depth)
+        .filter(|(_, d)| (**d - 20.0).abs() < 0.5)
+        .map(|(p, _)| p[0])
+        .collect()
+}
+
+#[test]
+fn directional_light_gives_hard_shadows_and_sphere_light_soft_ones() {
+    // The sun, slanted: the lit ground has one value, the shadow another.
+    let sun = ground_values("l () () () (12) (1) (2_) (0.5)");
+    let (lo, hi) = sun
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+    assert!(hi > lo + 0.1, "lit {hi} shadow {lo}");
+    assert!(
+        sun.iter().all(|v| *v == lo || *v == hi),
+        "hard shadows: two values only"
+    );
+    let lit = sun.iter().filter(|v| **v == hi).count();
+    assert!(lit > sun.len() / 2, "most of the ground is lit");
+    // A sphere light of radius 3 gives a penumbra of in-between values.
+    let soft = ground_values("l () (3) () (13) (8) (10) (2)");
+    let (lo, hi) = soft
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+    let between = soft
+        .iter()
+        .filter(|v| **v > lo + 0.02 && **v < hi - 0.02)
+        .count();
+    assert!(between > 20, "penumbra pixels: {between}");
+}

@@ -129,10 +129,14 @@ fn sample_scene() -> Scene {
             Light {
                 position: v3(10.0, 20.0, -0.0),
                 color: v3(1.0, 0.9, 0.8),
+                kind: LightKind::Sphere { radius: at(4) },
             },
             Light {
                 position: v3(at(5), at(6), at(7)),
                 color: v3(at(8), at(9), at(10)),
+                kind: LightKind::Directional {
+                    direction: v3(at(1), at(2), at(3)),
+                },
             },
         ],
         materials: vec![

@@ -27,6 +27,8 @@ pub struct Settings {
     pub shadows: bool,
     /// Reflection and refraction bounces.
     pub max_depth: u32,
+    /// Shadow rays toward each sphere light (soft shadows).
+    pub light_samples: u32,
     /// Frame number, part of the sample key.
     pub frame: u64,
 }
@@ -41,11 +43,12 @@ impl Settings {
             filter: Filter::Box,
             shadows: false,
             max_depth: 0,
+            light_samples: 1,
             frame: 0,
         }
     }
 
-    /// `final`: 16 samples, hard shadows, 5 bounces.
+    /// `final`: 16 samples, shadows (4 rays per sphere light), 5 bounces.
     pub fn final_quality(width: u32, height: u32) -> Self {
         Settings {
             width,
@@ -54,6 +57,7 @@ impl Settings {
             filter: Filter::Box,
             shadows: true,
             max_depth: 5,
+            light_samples: 4,
             frame: 0,
         }
     }
@@ -146,7 +150,14 @@ pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> 
                 (-(dx * dx + dy * dy) / (2.0 * 0.25)).exp()
             }
         };
-        let (c, hit) = shade::trace(accel, cam.eye(), d, st, 0);
+        let (c, hit) = shade::trace(
+            accel,
+            cam.eye(),
+            d,
+            st,
+            0,
+            random::key(key, Stream::Pixel, u64::from(s), 1),
+        );
         sum[0] += w * c.x;
         sum[1] += w * c.y;
         sum[2] += w * c.z;

@@ -7,7 +7,9 @@ use glam::{Vec3, Vec3A};
 use super::accel::Accel;
 use super::sample::Settings;
 use super::texture;
+use crate::lsys::random;
 use crate::scene::material::Texture;
+use crate::scene::LightKind;
 
 /// Offset of secondary rays from the surface, relative to the scene size
 /// of ordinary scenes (metres).
@@ -41,7 +43,15 @@ fn refract(d: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
 }
 
 /// Colour seen along the unit ray `o + t·d`, and whether it hit anything.
-pub fn trace(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, depth: u32) -> (Vec3, bool) {
+/// `key` keys the random points of soft shadows (one per pixel sample).
+pub fn trace(
+    accel: &Accel,
+    o: Vec3A,
+    d: Vec3A,
+    st: &Settings,
+    depth: u32,
+    key: u64,
+) -> (Vec3, bool) {
     let Some(hit) = accel.cast(o, d, if depth == 0 { 0.0 } else { EPS }, f32::INFINITY) else {
         return (background(accel, d), false);
     };
@@ -60,27 +70,51 @@ pub fn trace(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, depth: u32) -> (V
     }
     let mut local = m.ambient;
     let lift = p + n * EPS * (1.0 + p.abs().max_element());
-    for light in &scene.lights {
-        let to = Vec3A::from(light.position) - p;
-        let dist = to.length();
-        if dist <= 0.0 {
-            continue;
-        }
-        let l = to / dist;
+    for (li, light) in scene.lights.iter().enumerate() {
+        // Direction and distance to the light's centre, for shading.
+        let (l, dist) = match light.kind {
+            LightKind::Directional { direction } => {
+                (-Vec3A::from(direction).normalize_or_zero(), f32::INFINITY)
+            }
+            _ => {
+                let to = Vec3A::from(light.position) - p;
+                (to.normalize_or_zero(), to.length())
+            }
+        };
         let ndl = n.dot(l);
-        if ndl <= 0.0 {
+        if ndl <= 0.0 || l == Vec3A::ZERO {
             continue;
         }
-        if st.shadows && accel.occluded(lift, l, 0.0, dist) {
+        let visible = if !st.shadows {
+            1.0
+        } else if let LightKind::Sphere { radius } = light.kind {
+            // Soft shadow: the fraction of points of the sphere in view,
+            // sampled by the hash of (pixel, sample, light, point).
+            let n_s = st.light_samples.max(1);
+            let seen = (0..n_s)
+                .filter(|&k| {
+                    let slot = (u64::from(depth) << 40) | ((li as u64) << 20) | u64::from(k);
+                    let q = Vec3A::from(light.position) + radius * sphere_point(key, slot);
+                    let to = q - lift;
+                    !accel.occluded(lift, to.normalize_or_zero(), 0.0, to.length())
+                })
+                .count();
+            seen as f32 / n_s as f32
+        } else if accel.occluded(lift, l, 0.0, dist) {
+            0.0
+        } else {
+            1.0
+        };
+        if visible == 0.0 {
             continue;
         }
         let spec = reflect(-l, n).dot(-d).max(0.0).powf(m.shininess.max(1.0));
-        local += light.color * (diffuse * ndl + m.specular * spec);
+        local += visible * light.color * (diffuse * ndl + m.specular * spec);
     }
     let mut colour = local * (1.0 - m.transmit);
     if depth < st.max_depth {
         if m.reflect > 0.0 {
-            let (c, _) = trace(accel, lift, reflect(d, n).normalize(), st, depth + 1);
+            let (c, _) = trace(accel, lift, reflect(d, n).normalize(), st, depth + 1, key);
             colour += m.reflect * c;
         }
         if m.transmit > 0.0 {
@@ -91,11 +125,19 @@ pub fn trace(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, depth: u32) -> (V
             };
             let below = p - n * EPS * (1.0 + p.abs().max_element());
             let c = match refract(d, n, eta) {
-                Some(t) => trace(accel, below, t, st, depth + 1).0,
-                None => trace(accel, lift, reflect(d, n).normalize(), st, depth + 1).0,
+                Some(t) => trace(accel, below, t, st, depth + 1, key).0,
+                None => trace(accel, lift, reflect(d, n).normalize(), st, depth + 1, key).0,
             };
             colour += m.transmit * c;
         }
     }
     (colour, true)
+}
+
+/// A uniform point on the unit sphere from slot `slot` of `key`.
+fn sphere_point(key: u64, slot: u64) -> Vec3A {
+    let z = 1.0 - 2.0 * random::unit(key, 2 * slot) as f32;
+    let phi = std::f32::consts::TAU * random::unit(key, 2 * slot + 1) as f32;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
 }

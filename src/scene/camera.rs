@@ -36,9 +36,33 @@ impl Camera {
     }
 }
 
-/// A point light.
+/// What kind of light a [`Light`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub enum LightKind {
+    /// At `position`, hard shadows.
+    #[default]
+    Point,
+    /// From infinitely far, travelling along `direction` (the sun).
+    Directional { direction: Vec3 },
+    /// A sphere of `radius` at `position`: soft shadows.
+    Sphere { radius: f32 },
+}
+
+/// A light: white or grey for vision's colour coding (3.1.2, rule 3).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Light {
     pub position: Vec3,
     pub color: Vec3,
+    pub kind: LightKind,
+}
+
+impl Light {
+    /// A point light.
+    pub fn point(position: Vec3, color: Vec3) -> Self {
+        Light {
+            position,
+            color,
+            kind: LightKind::Point,
+        }
+    }
 }

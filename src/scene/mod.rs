@@ -15,7 +15,7 @@ pub mod snapshot;
 use glam::{Affine3A, Vec3};
 use serde::{Deserialize, Serialize};
 
-pub use camera::{Camera, Light};
+pub use camera::{Camera, Light, LightKind};
 pub use material::Material;
 pub use shape::{Shape, ShapeKind, Triangle};
 

@@ -30,7 +30,7 @@ pub const MAGIC: [u8; 8] = *b"LMSNAP\0\0";
 
 /// Format version written by this build; bump it whenever `Scene` or any
 /// type inside it changes shape, since postcard is not self-describing.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 /// Bytes before the payload: magic, version, payload length.
 const HEADER_LEN: usize = 8 + 4 + 8;

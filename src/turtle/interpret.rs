@@ -359,8 +359,7 @@ impl Interpreter<'_> {
             },
             b'l' => {
                 let g = DVec3::from_array(self.growth(&s));
-                self.b
-                    .camera_symbol(z as i64, y as i64, g, self.who(&s), self.world);
+                self.b.camera_symbol(s.par, g, self.who(&s), self.world);
             }
             b'R' | b'S' => {
                 self.tropism();

@@ -18,7 +18,7 @@ use glam::{DVec3, Vec3};
 
 use crate::lsys::{Animation, Sensors, Who};
 use crate::scene::material::{self, Texture};
-use crate::scene::{obj, Camera, Geometry, Instance, Light, Material, Scene};
+use crate::scene::{obj, Camera, Geometry, Instance, Light, LightKind, Material, Scene};
 pub use interpret::{interpret, Options, Placed, Structure, Tables};
 pub use state::Turtle;
 
@@ -90,7 +90,7 @@ pub struct Builder {
     pub materials: Vec<Material>,
     derived: BTreeMap<(u32, [u32; 3], u8), u32>,
     pub camera: Camera,
-    light3: Option<Vec3>,
+    light3: Option<Light>,
     extra_lights: Vec<Light>,
     pub background: Vec3,
     /// Set by `D` par1 = 40, looked at by `l` par3 = 10.
@@ -195,10 +195,8 @@ impl Builder {
 
     /// `D` par1 = 18: a light at the observer.
     pub fn observer_light(&mut self) {
-        self.extra_lights.push(Light {
-            position: self.camera.eye,
-            color: Vec3::splat(0.5),
-        });
+        self.extra_lights
+            .push(Light::point(self.camera.eye, Vec3::splat(0.5)));
     }
 
     pub fn bbox_begin(&mut self, n: (usize, usize)) {
@@ -231,15 +229,17 @@ impl Builder {
         }
     }
 
-    /// `l`: camera (par3 = 0, 1, 2, 4, 5, 8, 10) and light 3 (par3 = 3).
+    /// `l`: camera (par3 = 0, 1, 2, 4, 5, 8, 10) and light 3 (par3 = 3,
+    /// and the extensions 12, 13).
+    /// `par` = (par1, par2 = microphone, par3 = mode); `g` = par4..6.
     pub fn camera_symbol(
         &mut self,
-        mode: i64,
-        mic: i64,
+        par: [f64; 3],
         g: DVec3,
         who: Who,
         world: &mut dyn TurtleWorld,
     ) {
+        let (radius, mic, mode) = (par[0], par[1] as i64, par[2] as i64);
         let c = &mut self.camera;
         match mode {
             0 => c.eye = g.as_vec3(),
@@ -249,7 +249,25 @@ impl Builder {
                 c.aspect = g.y as f32;
                 c.twist = (g.z / 10.0) as f32;
             }
-            3 => self.light3 = Some(g.as_vec3()),
+            3 => self.light3 = Some(Light::point(g.as_vec3(), Vec3::ONE)),
+            // Extensions: light 3 as the sun travelling along par4..6, or
+            // as a sphere of radius par1 at par4..6 for soft shadows.
+            12 => {
+                let direction = g.as_vec3();
+                self.light3 = Some(Light {
+                    position: Vec3::ZERO,
+                    color: Vec3::ONE,
+                    kind: LightKind::Directional { direction },
+                });
+            }
+            13 => {
+                let radius = (radius as f32).max(0.0);
+                self.light3 = Some(Light {
+                    position: g.as_vec3(),
+                    color: Vec3::ONE,
+                    kind: LightKind::Sphere { radius },
+                });
+            }
             4 => {
                 if let Some(p) = world.particle_position(who) {
                     c.eye = p.as_vec3();
@@ -348,21 +366,11 @@ pub fn build_scene(
             }
         }
     }
-    let mut lights: Vec<Light> = b
-        .light3
-        .map(|p| Light {
-            position: p,
-            color: Vec3::ONE,
-        })
-        .into_iter()
-        .collect();
+    let mut lights: Vec<Light> = b.light3.into_iter().collect();
     lights.extend(b.extra_lights.iter().copied());
     if lights.is_empty() {
         // Every scene is visible: a white light at the observer.
-        lights.push(Light {
-            position: b.camera.eye,
-            color: Vec3::ONE,
-        });
+        lights.push(Light::point(b.camera.eye, Vec3::ONE));
     }
     let scene = Scene {
         frame,
