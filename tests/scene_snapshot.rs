@@ -7,7 +7,7 @@ use glam::{Affine3A, Quat, Vec3};
 use lmfilm::scene::material::Texture;
 use lmfilm::scene::snapshot::{self, SnapshotError, MAGIC, VERSION};
 use lmfilm::scene::{
-    Camera, Geometry, Instance, Light, Material, Scene, Shape, ShapeKind, Triangle,
+    Camera, Geometry, Instance, Light, LightKind, Material, Scene, Shape, ShapeKind, Triangle,
 };
 
 /// Float values that a careless format would alter: signed zero,
