@@ -351,8 +351,9 @@ fn encoding_is_deterministic_and_has_the_documented_layout() {
     let b = snapshot::encode(&sample_scene());
     assert_eq!(a, b);
     assert_eq!(&a[..8], b"LMSNAP\0\0");
-    assert_eq!(u32::from_le_bytes(a[8..12].try_into().unwrap()), 1);
-    assert_eq!(VERSION, 1);
+    // Version 2: lights carry their kind (point, directional, sphere).
+    assert_eq!(u32::from_le_bytes(a[8..12].try_into().unwrap()), 2);
+    assert_eq!(VERSION, 2);
     let len = u64::from_le_bytes(a[12..20].try_into().unwrap()) as usize;
     assert_eq!(a.len(), 20 + len + 8);
     let hash = u64::from_le_bytes(a[20 + len..].try_into().unwrap());
