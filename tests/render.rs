@@ -160,3 +160,21 @@ fn directional_light_gives_hard_shadows_and_sphere_light_soft_ones() {
         .count();
     assert!(between > 20, "penumbra pixels: {between}");
 }
+
+#[test]
+fn cloud_layer_is_see_through_and_casts_no_shadow() {
+    // Under the sun the ground looks the same with and without clouds.
+    let sun = "l () () () (12) (0.3) (1_) (0.2)";
+    let clear = ground_values(sun);
+    let cloudy = ground_values(&format!("{sun} D () (16) () () (400) (15) (400)"));
+    assert!(!clear.is_empty());
+    assert_eq!(clear, cloudy);
+    // Looking up: clouds and the sky between them.
+    let s = scene_of("Camera_AnimationParameters\nobserver 0 2 0\nlookatPoint 0 50 -100\nAxiom\nD () (15) D () (16) () () (400) (15) (400)\n");
+    let img = render(&s, &Settings::final_quality(64, 36));
+    let blue: Vec<f32> = img.rgba.iter().map(|p| p[2] - p[0]).collect();
+    let (lo, hi) = blue
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+    assert!(hi - lo > 0.1, "white clouds and blue sky: {lo} {hi}");
+}

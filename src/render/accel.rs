@@ -18,7 +18,8 @@ use obvhs::rt_triangle::RtTriangle;
 use obvhs::BvhBuildParams;
 
 use super::intersect;
-use crate::scene::{Geometry, Scene};
+use crate::scene::material::Texture;
+use crate::scene::{Geometry, Material, Scene};
 
 /// Levels the wide traversal may use: obvhs's stack has 32 slots and
 /// its own validation asserts a depth below 32; two are kept spare.
@@ -137,8 +138,9 @@ pub enum Prim {
 enum Leaf {
     /// Precomputed edges for Möller–Trumbore, and the triangle's index.
     Triangle(RtTriangle, u32),
-    /// The shape's index and its inverse transform (local ← geometry).
-    Shape(u32, Affine3A),
+    /// The shape's index, its inverse transform (local ← geometry), and
+    /// whether it casts shadows (cloud layers do not).
+    Shape(u32, Affine3A, bool),
 }
 
 struct Blas {
@@ -200,7 +202,7 @@ fn transformed(a: &Aabb, m: &Affine3A) -> Option<Aabb> {
 
 /// The bottom level of one geometry; primitives with non-finite bounds
 /// never reach the builder.
-fn blas(g: &Geometry) -> Option<Blas> {
+fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
     let mut prims = Vec::with_capacity(g.shapes.len() + g.triangles.len());
     let mut boxes = Vec::with_capacity(prims.capacity());
     for (i, s) in g.shapes.iter().enumerate() {
@@ -220,7 +222,13 @@ fn blas(g: &Geometry) -> Option<Blas> {
         .order()
         .iter()
         .map(|&p| match prims[p as usize] {
-            Prim::Shape(i) => Leaf::Shape(i, g.shapes[i as usize].transform.inverse()),
+            Prim::Shape(i) => {
+                let s = &g.shapes[i as usize];
+                let cloud = materials
+                    .get(s.material as usize)
+                    .is_some_and(|m| m.texture == Some(Texture::Cloud));
+                Leaf::Shape(i, s.transform.inverse(), !cloud)
+            }
             Prim::Triangle(i) => {
                 let v = g.triangles[i as usize].v.map(Vec3A::from);
                 Leaf::Triangle(RtTriangle::new(v[0], v[1], v[2]), i)
@@ -234,7 +242,11 @@ impl<'a> Accel<'a> {
     /// Builds the bottom levels, then the top level over the instances
     /// whose bounds are finite.
     pub fn new(scene: &'a Scene) -> Self {
-        let blas: Vec<Option<Blas>> = scene.geometries.iter().map(blas).collect();
+        let blas: Vec<Option<Blas>> = scene
+            .geometries
+            .iter()
+            .map(|g| blas(g, &scene.materials))
+            .collect();
         let mut inst = Vec::new();
         let mut boxes = Vec::new();
         for (k, i) in scene.instances.iter().enumerate() {
@@ -283,7 +295,7 @@ impl<'a> Accel<'a> {
                     },
                 ))
             }
-            Leaf::Shape(i, inv) => {
+            Leaf::Shape(i, inv, _) => {
                 let o = inv.transform_point3a(r.origin);
                 let d = inv.transform_vector3a(r.direction);
                 intersect::shape(g.shapes[*i as usize].kind, o, d, r.tmin, r.tmax)
@@ -342,7 +354,11 @@ impl<'a> Accel<'a> {
         let geo = &self.scene.geometries[g];
         let mut t = f32::INFINITY;
         b.tree.any(self.local_ray(k, r), |r2, pi| {
-            match Self::leaf_hit(&b.leaves[pi], geo, r2) {
+            let leaf = &b.leaves[pi];
+            if let Leaf::Shape(_, _, false) = leaf {
+                return f32::INFINITY;
+            }
+            match Self::leaf_hit(leaf, geo, r2) {
                 Some((_, h)) => {
                     t = h.t;
                     h.t
@@ -373,7 +389,7 @@ impl<'a> Accel<'a> {
         Some(self.resolve(k, prim, h))
     }
 
-    /// Whether anything blocks the ray within (tmin, tmax).
+    /// Whether anything but a cloud layer blocks the ray within (tmin, tmax).
     pub fn occluded(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> bool {
         let Some(tlas) = &self.tlas else { return false };
         if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {

@@ -9,11 +9,14 @@ use super::sample::Settings;
 use super::texture;
 use crate::lsys::random;
 use crate::scene::material::Texture;
-use crate::scene::LightKind;
+use crate::scene::{LightKind, Material};
 
 /// Offset of secondary rays from the surface, relative to the scene size
 /// of ordinary scenes (metres).
 const EPS: f32 = 1e-4;
+
+/// Extra passes a ray may make through cloud layers beyond `max_depth`.
+const CLOUD_PASSES: u32 = 4;
 
 /// Horizon colour of a sky: its zenith colour lightened toward white.
 fn horizon(zenith: Vec3) -> Vec3 {
@@ -66,8 +69,54 @@ pub fn trace(
     match m.texture {
         Some(Texture::Marble) => diffuse = diffuse.lerp(Vec3::splat(0.95), texture::marble(p)),
         Some(Texture::Bump) => n = texture::bump(p, n, 0.3),
-        None => {}
+        Some(Texture::Cloud) | None => {}
     }
+    // A cloud layer lets through what is behind it where it is thin; the
+    // pass-through is bounded like any secondary ray.
+    if m.texture == Some(Texture::Cloud) {
+        let density = texture::cloud(p * 0.02);
+        let behind = if density >= 1.0 {
+            Vec3::ZERO
+        } else if depth < st.max_depth.max(1) + CLOUD_PASSES {
+            trace(
+                accel,
+                p + d * EPS * (1.0 + p.abs().max_element()),
+                d,
+                st,
+                depth + 1,
+                key,
+            )
+            .0
+        } else {
+            background(accel, d)
+        };
+
+        // Clouds scatter light every way: their own colour, unshaded (a
+        // lit surface would be dark on the far side of the layer).
+        return (behind.lerp(diffuse, density), true);
+    }
+    (
+        shade_surface(accel, m, p, n, d, diffuse, outside, st, depth, key),
+        true,
+    )
+}
+
+/// Lights, shadows, reflection and refraction at surface point `p` with
+/// unit normal `n` facing the incoming unit direction `d`.
+#[allow(clippy::too_many_arguments)]
+fn shade_surface(
+    accel: &Accel,
+    m: &Material,
+    p: Vec3A,
+    n: Vec3A,
+    d: Vec3A,
+    diffuse: Vec3,
+    outside: bool,
+    st: &Settings,
+    depth: u32,
+    key: u64,
+) -> Vec3 {
+    let scene = accel.scene;
     let mut local = m.ambient;
     let lift = p + n * EPS * (1.0 + p.abs().max_element());
     for (li, light) in scene.lights.iter().enumerate() {
@@ -131,7 +180,7 @@ pub fn trace(
             colour += m.transmit * c;
         }
     }
-    (colour, true)
+    colour
 }
 
 /// A uniform point on the unit sphere from slot `slot` of `key`.

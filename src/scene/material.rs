@@ -8,6 +8,8 @@ use serde::{Deserialize, Serialize};
 pub enum Texture {
     Marble,
     Bump,
+    /// Density of a cloud layer: thin parts let the sky through.
+    Cloud,
 }
 
 /// A Rayshade-class surface.

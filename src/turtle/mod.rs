@@ -164,9 +164,13 @@ impl Builder {
         self.derive(base, key, 1, |m| material::segment_colour(rgb, m.vision))
     }
 
-    /// `D` par1 = 10, 11: the current material with a texture.
+    /// `D` par1 = 10, 11 (and the cloud layer): a material with a texture.
     pub fn textured(&mut self, base: u32, t: Texture) -> u32 {
-        let tag = if t == Texture::Marble { 2 } else { 3 };
+        let tag = match t {
+            Texture::Marble => 2,
+            Texture::Bump => 3,
+            Texture::Cloud => 4,
+        };
         self.derive(base, [0.0; 3], tag, |m| Material {
             texture: Some(t),
             ..m.clone()

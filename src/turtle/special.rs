@@ -173,9 +173,9 @@ fn tennis_court(it: &mut Interpreter, s: &Symbol, surround: bool) {
 /// `D` par1 = 16: a cloud layer, a flattened white ellipsoid high above
 /// the turtle (Rayshade's `texture cloud` … `scale 0.5 1 1`).
 fn clouds(it: &mut Interpreter, s: &Symbol, g: [f64; 3]) {
-    let m = it
-        .builder()
-        .builtin_material(Vec3::new(0.95, 0.95, 0.97), "cloud", 7);
+    let b = it.builder();
+    let plain = b.builtin_material(Vec3::new(0.95, 0.95, 0.97), "cloud", 7);
+    let m = b.textured(plain, Texture::Cloud);
     let scale = if g.iter().all(|v| v.is_finite() && *v > 0.0) {
         g
     } else {
