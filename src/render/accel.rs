@@ -63,13 +63,13 @@ fn wide_depth(b: &CwBvh) -> usize {
 }
 
 impl Tree {
-    /// Builds over `aabbs` (all finite) with obvhs's medium preset (about
-    /// Embree's build time, faster traversal). `None` when empty.
+    /// Builds over `aabbs` (all finite) with obvhs's fast preset: the tree
+    /// is rebuilt every frame. `None` when empty.
     pub fn build(aabbs: &[Aabb]) -> Option<Tree> {
         if aabbs.is_empty() {
             return None;
         }
-        let p = BvhBuildParams::medium_build();
+        let p = BvhBuildParams::fast_build();
         let indices = (0..aabbs.len() as u32).collect();
         let mut b = p.ploc_search_distance.build(
             aabbs,
