@@ -67,7 +67,7 @@ pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<M
     #[allow(clippy::needless_update)]
     let options = tobj::LoadOptions {
         triangulate: true,
-        single_index: true,
+        single_index: false,
         ignore_points: true,
         ignore_lines: true,
         ..Default::default()
