@@ -280,6 +280,8 @@ fn still(
         FilterArg::Gaussian => Filter::Gaussian,
     };
     settings.frame = derived.anim.frame;
+    // PNG holds colour only: no need for the layer rays.
+    settings.layers = ext.as_deref() == Some("exr");
     let accel = render::Accel::new(&scene);
     let show = std::io::stderr().is_terminal();
     let img = render::render_with(&accel, &settings, &|done, rows| {

@@ -29,6 +29,9 @@ pub struct Settings {
     pub max_depth: u32,
     /// Shadow rays toward each sphere light (soft shadows).
     pub light_samples: u32,
+    /// Whether the depth, normal and object id layers are wanted (EXR):
+    /// they cost one more ray through each pixel centre.
+    pub layers: bool,
     /// Frame number, part of the sample key.
     pub frame: u64,
 }
@@ -44,6 +47,7 @@ impl Settings {
             shadows: false,
             max_depth: 0,
             light_samples: 1,
+            layers: true,
             frame: 0,
         }
     }
@@ -58,6 +62,7 @@ impl Settings {
             shadows: true,
             max_depth: 5,
             light_samples: 4,
+            layers: true,
             frame: 0,
         }
     }
@@ -164,12 +169,16 @@ pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> 
         sum[3] += w * f32::from(u8::from(hit));
         wsum += w;
     }
-    let centre = accel.cast(
-        cam.eye(),
-        cam.dir(x as f32 + 0.5, y as f32 + 0.5),
-        0.0,
-        f32::INFINITY,
-    );
+    let centre = if st.layers {
+        accel.cast(
+            cam.eye(),
+            cam.dir(x as f32 + 0.5, y as f32 + 0.5),
+            0.0,
+            f32::INFINITY,
+        )
+    } else {
+        None
+    };
     PixelOut {
         rgba: sum.map(|v| v / wsum),
         depth: centre.map_or(f32::INFINITY, |h| h.t),
