@@ -455,7 +455,7 @@ impl Interpreter<'_> {
                 let g = self.growth(&s);
                 self.polygon(&s, &poly, [x, y, z], g[0]);
             }
-            b'D' => special::d_symbol(self, &s, tables),
+            b'D' => special::d_symbol(self, &s),
             b'B' => {
                 let g = self.growth(&s);
                 if g.iter().all(|v| v.is_finite() && *v != 0.0) {

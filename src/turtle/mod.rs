@@ -338,6 +338,24 @@ pub fn build_scene(
             named.insert(name, geometries.len() as u32);
             geometries.push(g);
         }
+        // Each placement's geometry, resolved once for all the copies.
+        let mut placed = Vec::with_capacity(st.placements.len());
+        for (what, m) in &st.placements {
+            let g = match what {
+                Placed::Named(n) => named.get(n).copied(),
+                Placed::Surface(n) => surfaces
+                    .index
+                    .iter()
+                    .find(|(l, sn, _)| *l == k && sn == n)
+                    .map(|(_, _, gi)| *gi as u32),
+            };
+            match g {
+                Some(g) => placed.push((g, *m)),
+                None => b.warn(format!(
+                    "`B` draws surface {what:?}, which the Surfaces section does not declare"
+                )),
+            }
+        }
         for r in &copies {
             let object = instances.len() as u32;
             instances.push(Instance {
@@ -345,28 +363,13 @@ pub fn build_scene(
                 transform: *r,
                 object,
             });
-            for (what, m) in &st.placements {
-                let g = match what {
-                    Placed::Named(n) => named.get(n).copied(),
-                    Placed::Surface(n) => surfaces
-                        .index
-                        .iter()
-                        .find(|(l, sn, _)| *l == k && sn == n)
-                        .map(|(_, _, gi)| *gi as u32),
-                };
-                match g {
-                    Some(g) => {
-                        let object = instances.len() as u32;
-                        instances.push(Instance {
-                            geometry: g,
-                            transform: *r * *m,
-                            object,
-                        });
-                    }
-                    None => b.warn(format!(
-                        "`B` draws surface {what:?}, which the Surfaces section does not declare"
-                    )),
-                }
+            for (g, m) in &placed {
+                let object = instances.len() as u32;
+                instances.push(Instance {
+                    geometry: *g,
+                    transform: *r * *m,
+                    object,
+                });
             }
         }
     }

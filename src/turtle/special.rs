@@ -4,7 +4,7 @@
 
 use glam::{Affine3A, DVec3, EulerRot, Quat, Vec3};
 
-use super::interpret::{Interpreter, Tables};
+use super::interpret::Interpreter;
 use super::state::Turtle;
 use crate::lsys::Symbol;
 use crate::scene::material::Texture;
@@ -28,7 +28,7 @@ pub mod court {
     pub const NET_LENGTH: f64 = DOUBLES_WIDTH + 2.0 * 0.914;
 }
 
-pub(super) fn d_symbol(it: &mut Interpreter, s: &Symbol, tables: &mut Tables) {
+pub(super) fn d_symbol(it: &mut Interpreter, s: &Symbol) {
     let [x, y, _] = s.par;
     let g = it.growth_of(s);
     let pos = it.turtle().pos;
@@ -83,7 +83,6 @@ pub(super) fn d_symbol(it: &mut Interpreter, s: &Symbol, tables: &mut Tables) {
         ),
         _ => {}
     }
-    let _ = tables;
 }
 
 fn textured(it: &mut Interpreter, t: Texture) {
