@@ -43,7 +43,7 @@ fn main() {
     let light = Vec3A::from(scene.lights[0].position);
     let mut best = f64::MAX;
     let (mut rays, mut hits) = (0usize, 0usize);
-    for _ in 0..3 {
+    for _ in 0..7 {
         let t = Instant::now();
         rays = 0;
         hits = 0;

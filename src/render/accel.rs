@@ -1,130 +1,19 @@
-//! Two-level BVH on obvhs: a top level over instances and one bottom level
-//! per shared geometry, with exact intersection of every primitive.
-//!
-//! obvhs's wide-BVH traversal keeps a fixed stack of 32 entries and
-//! silently overwrites its last slot when full; a tree that deep would
-//! lose nodes. Every tree is therefore built as a binary BVH first; when it
-//! is deeper than the wide stack could ever need, it is traversed as a
-//! binary BVH with a heap stack sized to its depth instead.
+//! Two-level BVH: a top level over instances and one bottom level per
+//! shared geometry (4-wide trees built by obvhs, see [`super::bvh4`]),
+//! with exact intersection of every primitive.
 
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
-use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
-use obvhs::bvh2::Bvh2;
-use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
-use obvhs::cwbvh::CwBvh;
-use obvhs::ray::{Ray, RayHit};
-use obvhs::rt_triangle::RtTriangle;
-use obvhs::BvhBuildParams;
 
+use super::bvh4::{Bvh4, Ray};
 use super::intersect;
+use super::tri4::Tri4;
 use crate::scene::material::Texture;
 use crate::scene::{Geometry, Material, Scene};
 
-/// Levels the wide traversal may use: obvhs's stack has 32 slots and
-/// its own validation asserts a depth below 32; two are kept spare.
-const WIDE_MAX_DEPTH: usize = 30;
-
-/// A built tree: wide (fast) or binary (any depth).
-pub enum Tree {
-    Wide(CwBvh),
-    Binary(Bvh2),
-}
-
-/// Deepest level of a binary tree (iterative: deep trees are the point).
-fn depth(b: &Bvh2) -> usize {
-    let mut max = 0;
-    let mut stack = vec![(0usize, 1usize)];
-    while let Some((i, d)) = stack.pop() {
-        let n = &b.nodes[i];
-        max = max.max(d);
-        if !n.is_leaf() {
-            stack.push((n.first_index as usize, d + 1));
-            stack.push((n.first_index as usize + 1, d + 1));
-        }
-    }
-    max
-}
-
-/// Deepest level of a wide tree.
-fn wide_depth(b: &CwBvh) -> usize {
-    let mut max = 0;
-    let mut stack = vec![(0usize, 1usize)];
-    while let Some((i, d)) = stack.pop() {
-        let n = &b.nodes[i];
-        max = max.max(d);
-        for ch in 0..8 {
-            if !n.is_child_empty(ch) && !n.is_leaf(ch) {
-                stack.push((n.child_node_index(ch) as usize, d + 1));
-            }
-        }
-    }
-    max
-}
-
-impl Tree {
-    /// Builds over `aabbs` (all finite) with obvhs's fast preset: the tree
-    /// is rebuilt every frame. `None` when empty.
-    pub fn build(aabbs: &[Aabb]) -> Option<Tree> {
-        if aabbs.is_empty() {
-            return None;
-        }
-        let p = BvhBuildParams::fast_build();
-        let indices = (0..aabbs.len() as u32).collect();
-        let mut b = p.ploc_search_distance.build(
-            aabbs,
-            indices,
-            p.sort_precision,
-            p.search_depth_threshold,
-        );
-        ReinsertionOptimizer::run(&mut b, p.reinsertion_batch_ratio, None);
-        let wide = bvh2_to_cwbvh(&b, p.max_prims_per_leaf.clamp(1, 3), true, false);
-        if wide_depth(&wide) <= WIDE_MAX_DEPTH {
-            Some(Tree::Wide(wide))
-        } else {
-            b.max_depth = Some(depth(&b) + 2);
-            Some(Tree::Binary(b))
-        }
-    }
-
-    /// Input index of each primitive in traversal order: `f` below gets
-    /// positions in this list.
-    fn order(&self) -> &[u32] {
-        match self {
-            Tree::Wide(b) => &b.primitive_indices,
-            Tree::Binary(b) => &b.primitive_indices,
-        }
-    }
-
-    /// Closest hit: `f(ray, position)` returns the hit t or infinity.
-    fn closest(&self, ray: Ray, mut f: impl FnMut(&Ray, usize) -> f32) -> bool {
-        let mut hit = RayHit::none();
-        match self {
-            Tree::Wide(b) => b.ray_traverse(ray, &mut hit, |r, id| f(r, id)),
-            Tree::Binary(b) => b.ray_traverse(ray, &mut hit, |r, id| f(r, id)),
-        }
-    }
-
-    /// Any hit: stops at the first primitive hit.
-    fn any(&self, ray: Ray, mut f: impl FnMut(&Ray, usize) -> f32) -> bool {
-        let mut hit = RayHit::none();
-        match self {
-            Tree::Wide(b) => {
-                let mut st = b.new_ray_traversal(ray);
-                b.ray_traverse_dynamic(&mut st, &mut hit, |r, id| f(r, id))
-            }
-            Tree::Binary(b) => {
-                let mut st = b.new_ray_traversal(ray);
-                b.ray_traverse_dynamic(&mut st, &mut hit, |r, id| f(r, id))
-            }
-        }
-    }
-
-    /// Whether the tree had to fall back to the binary form.
-    pub fn is_binary(&self) -> bool {
-        matches!(self, Tree::Binary(_))
-    }
-}
+/// Most primitives a bottom-level leaf may hold (the surface-area
+/// heuristic decides below that; measured best on the forest).
+const BLAS_LEAF: u32 = 16;
 
 /// A primitive of a geometry: an analytic shape or a triangle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -133,19 +22,22 @@ pub enum Prim {
     Triangle(u32),
 }
 
-/// A primitive as the traversal meets it, stored in traversal order so a
-/// leaf needs no index lookups.
-enum Leaf {
-    /// Precomputed edges for Möller–Trumbore, and the triangle's index.
-    Triangle(RtTriangle, u32),
-    /// The shape's index, its inverse transform (local ← geometry), and
-    /// whether it casts shadows (cloud layers do not).
-    Shape(u32, Affine3A, bool),
+/// An analytic shape as a leaf meets it: its index, its inverse transform
+/// (local ← geometry), and whether it casts shadows (cloud layers do not).
+struct ShapeLeaf {
+    index: u32,
+    inverse: Affine3A,
+    shadows: bool,
 }
 
+/// One geometry's tree; leaf `l` holds the triangle packs
+/// `tris[packs[l].0..packs[l].1]` and the shapes `shapes[..]` likewise.
 struct Blas {
-    tree: Tree,
-    leaves: Vec<Leaf>,
+    tree: Bvh4,
+    packs: Vec<(u32, u32)>,
+    tris: Vec<Tri4>,
+    spans: Vec<(u32, u32)>,
+    shapes: Vec<ShapeLeaf>,
 }
 
 /// The nearest surface a ray meets.
@@ -169,18 +61,11 @@ pub struct Hit {
 /// The ray-casting structure of one frame's scene.
 pub struct Accel<'a> {
     pub scene: &'a Scene,
-    tlas: Option<Tree>,
-    /// Instance index of each top-level primitive, in traversal order.
+    tlas: Option<Bvh4>,
+    /// Instance index of each top-level primitive.
     tlas_inst: Vec<u32>,
     inst_inv: Vec<Affine3A>,
     blas: Vec<Option<Blas>>,
-}
-
-/// An obvhs ray. Negative zeros in the direction are made positive: the
-/// wide traversal picks child order from the sign bits and misses boxes
-/// for a −0 component (seen with `-Vec3A::Z`).
-fn ray(o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Ray {
-    Ray::new(o, d + Vec3A::ZERO, tmin, tmax)
 }
 
 fn aabb(b: (Vec3A, Vec3A)) -> Aabb {
@@ -217,25 +102,40 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
             boxes.push(aabb(b));
         }
     }
-    let tree = Tree::build(&boxes)?;
-    let leaves = tree
-        .order()
-        .iter()
-        .map(|&p| match prims[p as usize] {
-            Prim::Shape(i) => {
-                let s = &g.shapes[i as usize];
-                let cloud = materials
-                    .get(s.material as usize)
-                    .is_some_and(|m| m.texture == Some(Texture::Cloud));
-                Leaf::Shape(i, s.transform.inverse(), !cloud)
+    let tree = Bvh4::build(&boxes, BLAS_LEAF)?;
+    let mut b = Blas {
+        packs: Vec::with_capacity(tree.leaf_count() as usize),
+        tris: Vec::new(),
+        spans: Vec::with_capacity(tree.leaf_count() as usize),
+        shapes: Vec::new(),
+        tree,
+    };
+    let mut tris = Vec::new();
+    for l in 0..b.tree.leaf_count() {
+        tris.clear();
+        let shapes_from = b.shapes.len() as u32;
+        for &p in b.tree.leaf(l) {
+            match prims[p as usize] {
+                Prim::Shape(i) => {
+                    let s = &g.shapes[i as usize];
+                    let cloud = materials
+                        .get(s.material as usize)
+                        .is_some_and(|m| m.texture == Some(Texture::Cloud));
+                    b.shapes.push(ShapeLeaf {
+                        index: i,
+                        inverse: s.transform.inverse(),
+                        shadows: !cloud,
+                    });
+                }
+                Prim::Triangle(i) => tris.push((i, g.triangles[i as usize].v)),
             }
-            Prim::Triangle(i) => {
-                let v = g.triangles[i as usize].v.map(Vec3A::from);
-                Leaf::Triangle(RtTriangle::new(v[0], v[1], v[2]), i)
-            }
-        })
-        .collect();
-    Some(Blas { tree, leaves })
+        }
+        let packs_from = b.tris.len() as u32;
+        b.tris.extend(tris.chunks(4).map(Tri4::pack));
+        b.packs.push((packs_from, b.tris.len() as u32));
+        b.spans.push((shapes_from, b.shapes.len() as u32));
+    }
+    Some(b)
 }
 
 impl<'a> Accel<'a> {
@@ -253,18 +153,16 @@ impl<'a> Accel<'a> {
             let Some(Some(b)) = blas.get(i.geometry as usize) else {
                 continue;
             };
-            let total = match &b.tree {
-                Tree::Wide(t) => t.total_aabb,
-                Tree::Binary(t) => t.nodes[0].aabb,
-            };
-            if let Some(wb) = transformed(&total, &i.transform) {
+            if let Some(wb) = transformed(&b.tree.bounds(), &i.transform) {
                 inst.push(k as u32);
                 boxes.push(wb);
             }
         }
-        let tlas = Tree::build(&boxes);
+        let tlas = Bvh4::build(&boxes, 1);
         let tlas_inst = tlas.as_ref().map_or(Vec::new(), |t| {
-            t.order().iter().map(|&p| inst[p as usize]).collect()
+            (0..t.leaf_count())
+                .map(|l| inst[t.leaf(l)[0] as usize])
+                .collect()
         });
         let inst_inv = scene
             .instances
@@ -280,109 +178,114 @@ impl<'a> Accel<'a> {
         }
     }
 
-    /// Intersects a leaf with the local ray: the primitive and its hit
-    /// (triangle normals are computed only for the closest hit).
-    #[inline(always)]
-    fn leaf_hit(leaf: &Leaf, g: &Geometry, r: &Ray) -> Option<(Prim, intersect::LocalHit)> {
-        match leaf {
-            Leaf::Triangle(rt, i) => {
-                let t = rt.intersect(r);
-                (t.is_finite() && t > r.tmin).then_some((
-                    Prim::Triangle(*i),
-                    intersect::LocalHit {
-                        t,
-                        normal: Vec3A::ZERO,
-                    },
-                ))
-            }
-            Leaf::Shape(i, inv, _) => {
-                let o = inv.transform_point3a(r.origin);
-                let d = inv.transform_vector3a(r.direction);
-                intersect::shape(g.shapes[*i as usize].kind, o, d, r.tmin, r.tmax)
-                    .map(|h| (Prim::Shape(*i), h))
-            }
-        }
-    }
-
+    /// The ray in instance `k`'s geometry space (same t).
     fn local_ray(&self, k: usize, r: &Ray) -> Ray {
         let inv = &self.inst_inv[k];
         if *inv == Affine3A::IDENTITY {
             return *r;
         }
-        ray(
+        Ray::new(
             inv.transform_point3a(r.origin),
-            inv.transform_vector3a(r.direction),
+            inv.transform_vector3a(r.direction) + Vec3A::ZERO,
             r.tmin,
-            r.tmax,
         )
     }
 
-    /// Closest hit within instance `k` (its t, or infinity), kept in `best`.
+    /// Closest hit within instance `k` nearer than `tmax`, kept in `best`;
+    /// returns the new `tmax`.
     #[inline]
     fn instance_closest(
         &self,
         k: usize,
         r: &Ray,
+        tmax: f32,
         best: &mut Option<(u32, Prim, intersect::LocalHit)>,
     ) -> f32 {
         let g = self.scene.instances[k].geometry as usize;
         let Some(b) = &self.blas[g] else {
-            return f32::INFINITY;
+            return tmax;
         };
         let geo = &self.scene.geometries[g];
-        let mut found = f32::INFINITY;
-        b.tree.closest(self.local_ray(k, r), |r2, pi| {
-            match Self::leaf_hit(&b.leaves[pi], geo, r2) {
-                Some((p, h)) => {
-                    *best = Some((k as u32, p, h));
-                    found = h.t;
-                    h.t
+        let r = self.local_ray(k, r);
+        let mut found = tmax;
+        b.tree.traverse(&r, tmax, |l, tmax| {
+            let (from, to) = b.packs[l as usize];
+            for pack in &b.tris[from as usize..to as usize] {
+                if let Some((t, lane)) = pack.intersect(&r, *tmax) {
+                    let prim = Prim::Triangle(pack.index[lane]);
+                    let normal = Vec3A::ZERO; // computed for the closest only
+                    *best = Some((k as u32, prim, intersect::LocalHit { t, normal }));
+                    *tmax = t;
                 }
-                None => f32::INFINITY,
             }
+            let (from, to) = b.spans[l as usize];
+            for s in &b.shapes[from as usize..to as usize] {
+                let o = s.inverse.transform_point3a(r.origin);
+                let d = s.inverse.transform_vector3a(r.direction);
+                let kind = geo.shapes[s.index as usize].kind;
+                if let Some(h) = intersect::shape(kind, o, d, r.tmin, *tmax) {
+                    *best = Some((k as u32, Prim::Shape(s.index), h));
+                    *tmax = h.t;
+                }
+            }
+            found = *tmax;
+            false
         });
         found
     }
 
-    /// Any hit within instance `k`: its t, or infinity.
+    /// Whether anything in instance `k` but a cloud layer blocks the ray
+    /// before `tmax`.
     #[inline]
-    fn instance_any(&self, k: usize, r: &Ray) -> f32 {
+    fn instance_any(&self, k: usize, r: &Ray, tmax: f32) -> bool {
         let g = self.scene.instances[k].geometry as usize;
         let Some(b) = &self.blas[g] else {
-            return f32::INFINITY;
+            return false;
         };
         let geo = &self.scene.geometries[g];
-        let mut t = f32::INFINITY;
-        b.tree.any(self.local_ray(k, r), |r2, pi| {
-            let leaf = &b.leaves[pi];
-            if let Leaf::Shape(_, _, false) = leaf {
-                return f32::INFINITY;
+        let r = self.local_ray(k, r);
+        b.tree.traverse(&r, tmax, |l, tmax| {
+            let (from, to) = b.packs[l as usize];
+            if b.tris[from as usize..to as usize]
+                .iter()
+                .any(|p| p.intersect(&r, *tmax).is_some())
+            {
+                return true;
             }
-            match Self::leaf_hit(leaf, geo, r2) {
-                Some((_, h)) => {
-                    t = h.t;
-                    h.t
-                }
-                None => f32::INFINITY,
-            }
-        });
-        t
+            let (from, to) = b.spans[l as usize];
+            b.shapes[from as usize..to as usize].iter().any(|s| {
+                let o = s.inverse.transform_point3a(r.origin);
+                let d = s.inverse.transform_vector3a(r.direction);
+                let kind = geo.shapes[s.index as usize].kind;
+                s.shadows && intersect::shape(kind, o, d, r.tmin, *tmax).is_some()
+            })
+        })
+    }
+
+    /// The ray, or None when it cannot hit anything. Negative zeros in the
+    /// direction are made positive so the slab tests see one sign.
+    fn ray(&self, origin: Vec3A, dir: Vec3A, tmin: f32) -> Option<Ray> {
+        let ok = self.tlas.is_some() && origin.is_finite() && dir.is_finite() && dir != Vec3A::ZERO;
+        ok.then(|| Ray::new(origin, dir + Vec3A::ZERO, tmin))
     }
 
     /// The closest hit of the ray `origin + t·dir` with t in (tmin, tmax).
     pub fn cast(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> Option<Hit> {
+        let r = self.ray(origin, dir, tmin)?;
         let tlas = self.tlas.as_ref()?;
-        if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
-            return None;
-        }
-        let r = ray(origin, dir, tmin, tmax);
         let mut best = None;
         // One instance (a scene without repetitions): no top level to walk.
         if let [k] = self.tlas_inst[..] {
-            self.instance_closest(k as usize, &r, &mut best);
+            self.instance_closest(k as usize, &r, tmax, &mut best);
         } else {
-            tlas.closest(r, |r, ti| {
-                self.instance_closest(self.tlas_inst[ti] as usize, r, &mut best)
+            tlas.traverse(&r, tmax, |l, tmax| {
+                *tmax = self.instance_closest(
+                    self.tlas_inst[l as usize] as usize,
+                    &r,
+                    *tmax,
+                    &mut best,
+                );
+                false
             });
         }
         let (k, prim, h) = best?;
@@ -391,15 +294,16 @@ impl<'a> Accel<'a> {
 
     /// Whether anything but a cloud layer blocks the ray within (tmin, tmax).
     pub fn occluded(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> bool {
-        let Some(tlas) = &self.tlas else { return false };
-        if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
+        let Some(r) = self.ray(origin, dir, tmin) else {
             return false;
-        }
-        let r = ray(origin, dir, tmin, tmax);
+        };
+        let Some(tlas) = &self.tlas else { return false };
         if let [k] = self.tlas_inst[..] {
-            return self.instance_any(k as usize, &r) < f32::INFINITY;
+            return self.instance_any(k as usize, &r, tmax);
         }
-        tlas.any(r, |r, ti| self.instance_any(self.tlas_inst[ti] as usize, r))
+        tlas.traverse(&r, tmax, |l, tmax| {
+            self.instance_any(self.tlas_inst[l as usize] as usize, &r, *tmax)
+        })
     }
 
     /// World-space details of a local hit.
@@ -438,11 +342,17 @@ impl<'a> Accel<'a> {
         }
     }
 
-    /// True when some top- or bottom-level tree had to use the binary
-    /// fallback (tests of pathological scenes).
-    pub fn uses_fallback(&self) -> bool {
-        self.tlas.as_ref().is_some_and(Tree::is_binary)
-            || self.blas.iter().flatten().any(|b| b.tree.is_binary())
+    /// Levels of the deepest tree, top plus bottom (tests of deep
+    /// scenes: the traversal stack is sized from it).
+    pub fn depth(&self) -> usize {
+        let top = self.tlas.as_ref().map_or(0, Bvh4::depth);
+        top + self
+            .blas
+            .iter()
+            .flatten()
+            .map(|b| b.tree.depth())
+            .max()
+            .unwrap_or(0)
     }
 }
 

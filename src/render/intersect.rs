@@ -38,65 +38,6 @@ pub fn shape(kind: ShapeKind, o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Optio
     }
 }
 
-/// Watertight ray/triangle test (Woop, Benthin, Wald 2013): rays through a
-/// shared edge or vertex never slip between neighbouring triangles, which
-/// keeps closed meshes closed for refraction. Both sides hit; the normal is
-/// (v1−v0)×(v2−v0) whatever side the ray comes from.
-#[inline]
-pub fn triangle(v: &[Vec3; 3], o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<LocalHit> {
-    let ad = d.abs();
-    let kz = if ad.x > ad.y {
-        if ad.x > ad.z {
-            0
-        } else {
-            2
-        }
-    } else if ad.y > ad.z {
-        1
-    } else {
-        2
-    };
-    let dz = d[kz];
-    if dz == 0.0 || !(o.is_finite() && d.is_finite()) {
-        return None;
-    }
-    let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-    if dz < 0.0 {
-        std::mem::swap(&mut kx, &mut ky);
-    }
-    let (sx, sy, sz) = (d[kx] / dz, d[ky] / dz, 1.0 / dz);
-
-    let a = Vec3A::from(v[0]) - o;
-    let b = Vec3A::from(v[1]) - o;
-    let c = Vec3A::from(v[2]) - o;
-    let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
-    let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
-    let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
-
-    let mut u = cx * by - cy * bx;
-    let mut w = ax * cy - ay * cx;
-    let mut x = bx * ay - by * ax;
-    // Exactly on an edge in f32: decide it in f64 so both neighbours agree.
-    if u == 0.0 || w == 0.0 || x == 0.0 {
-        let f = |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
-        u = f(cx, by, cy, bx);
-        w = f(ax, cy, ay, cx);
-        x = f(bx, ay, by, ax);
-    }
-    if (u < 0.0 || w < 0.0 || x < 0.0) && (u > 0.0 || w > 0.0 || x > 0.0) {
-        return None;
-    }
-    let det = u + w + x;
-    if det == 0.0 {
-        return None;
-    }
-    let t = (u * (sz * a[kz]) + w * (sz * b[kz]) + x * (sz * c[kz])) / det;
-    (t > tmin && t < tmax).then(|| LocalHit {
-        t,
-        normal: Vec3A::from((v[1] - v[0]).cross(v[2] - v[0])),
-    })
-}
-
 /// Local-space AABB (min, max) of a unit shape; NaN for parameters that
 /// describe no solid (negative, NaN or infinite sizes), so that [`bounds`]
 /// rejects them.

@@ -1,14 +1,16 @@
-//! The ray tracer (DESIGN §1 step 4): a two-level BVH on obvhs with exact
+//! The ray tracer (DESIGN §1 step 4): a two-level 4-wide BVH built by obvhs, with exact
 //! shapes, Whitted shading as Rayshade did it, stratified supersampling
 //! keyed by (frame, pixel, sample), tiles on rayon, EXR and PNG output.
 //! The same [`accel::Accel::cast`] serves actor vision.
 
 pub mod accel;
+pub mod bvh4;
 pub mod intersect;
 pub mod output;
 pub mod sample;
 pub mod shade;
 pub mod texture;
+pub mod tri4;
 
 use std::sync::atomic::{AtomicU32, Ordering};
 

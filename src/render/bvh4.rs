@@ -1,0 +1,352 @@
+//! A 4-wide BVH with uncompressed boxes, collapsed from the binary tree
+//! obvhs builds (its fast preset: PLOC + reinsertion).
+//!
+//! Why not obvhs's CWBVH for traversal: its 8-bit quantised child boxes
+//! must be widened to floats one byte at a time on baseline x86-64
+//! (SSE2), and converting the binary tree into it took ~40 % of the build.
+//! Four float boxes in structure-of-arrays form are tested with one
+//! 4-wide slab test (glam's `Vec4`: SSE2 on x86-64, NEON or scalar
+//! elsewhere, the same IEEE operations everywhere), and the collapse is a
+//! single pass. The traversal stack is sized from the tree's measured
+//! depth, so no tree is too deep for it.
+
+use glam::{Vec3A, Vec4};
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::bvh2::Bvh2;
+use obvhs::BvhBuildParams;
+
+/// Child slot tag: a leaf (index into `leaves`) rather than a node.
+const LEAF: u32 = 1 << 31;
+/// An unused child slot (its box is inverted, so no ray enters it).
+const EMPTY: u32 = u32::MAX;
+/// Traversal stacks up to this size live on the call stack.
+const INLINE_STACK: usize = 64;
+
+/// Four children's boxes, one `Vec4` per axis and side.
+#[derive(Clone, Copy)]
+#[repr(C, align(64))]
+struct Node {
+    min: [Vec4; 3],
+    max: [Vec4; 3],
+    child: [u32; 4],
+}
+
+impl Node {
+    fn empty() -> Node {
+        Node {
+            min: [Vec4::INFINITY; 3],
+            max: [Vec4::NEG_INFINITY; 3],
+            child: [EMPTY; 4],
+        }
+    }
+
+    fn set(&mut self, lane: usize, b: &Aabb, child: u32) {
+        for a in 0..3 {
+            self.min[a][lane] = b.min[a];
+            self.max[a][lane] = b.max[a];
+        }
+        self.child[lane] = child;
+    }
+}
+
+/// A ray prepared for slab tests — reciprocal direction (finite, so no
+/// 0·∞ can make a NaN) and origin times it — and for watertight triangle
+/// tests: `axes` puts the direction's largest component last (z), `shear`
+/// maps the direction onto that axis.
+#[derive(Clone, Copy, Debug)]
+pub struct Ray {
+    pub origin: Vec3A,
+    pub direction: Vec3A,
+    pub tmin: f32,
+    inv: Vec3A,
+    origin_inv: Vec3A,
+    negative: [bool; 3],
+    pub axes: [usize; 3],
+    pub shear: Vec3A,
+}
+
+impl Ray {
+    pub fn new(origin: Vec3A, direction: Vec3A, tmin: f32) -> Ray {
+        let inv = Vec3A::from_array(direction.to_array().map(|d| {
+            let r = 1.0 / d;
+            if r.is_finite() {
+                r
+            } else {
+                f32::MAX.copysign(d)
+            }
+        }));
+        let d = direction;
+        let ad = d.abs();
+        let kz = if ad.x > ad.y {
+            if ad.x > ad.z {
+                0
+            } else {
+                2
+            }
+        } else if ad.y > ad.z {
+            1
+        } else {
+            2
+        };
+        // Keep the frame right-handed so the edge functions' signs hold.
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        Ray {
+            origin,
+            direction,
+            tmin,
+            inv,
+            origin_inv: origin * inv,
+            negative: d.to_array().map(|c| c.is_sign_negative()),
+            axes: [kx, ky, kz],
+            shear: Vec3A::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]),
+        }
+    }
+}
+
+/// A built tree: nodes, and leaves as ranges of input indices.
+pub struct Bvh4 {
+    nodes: Vec<Node>,
+    root: u32,
+    /// `(first, count)` into `prims` per leaf.
+    leaves: Vec<(u32, u32)>,
+    /// Input indices, leaf after leaf.
+    prims: Vec<u32>,
+    /// Entries a traversal can need at most (3 per level + 1).
+    stack_size: usize,
+    bounds: Aabb,
+}
+
+/// Relative costs of one 4-wide node test and one packed leaf test (of
+/// up to four primitives) for the surface-area heuristic.
+const NODE_COST: f32 = 1.0;
+const PACK_COST: f32 = 1.0;
+
+/// Which binary nodes become leaves: bottom-up without recursion, a
+/// subtree of at most `max_leaf` primitives is a leaf when the surface-area
+/// heuristic says testing all its primitives beats descending. A 4-wide
+/// node stands for about three binary ones, so each binary node is
+/// charged a third of a node test.
+fn leaf_choice(b: &Bvh2, max_leaf: u32) -> Vec<bool> {
+    let mut order = Vec::with_capacity(b.nodes.len());
+    let mut todo = vec![0usize];
+    while let Some(i) = todo.pop() {
+        order.push(i);
+        let n = &b.nodes[i];
+        if !n.is_leaf() {
+            todo.push(n.first_index as usize);
+            todo.push(n.first_index as usize + 1);
+        }
+    }
+    let mut count = vec![0u32; b.nodes.len()];
+    let mut cost = vec![0f32; b.nodes.len()];
+    let mut leaf = vec![false; b.nodes.len()];
+    for &i in order.iter().rev() {
+        let n = &b.nodes[i];
+        let area = n.aabb.half_area();
+        if n.is_leaf() {
+            count[i] = n.prim_count;
+            cost[i] = area * PACK_COST * n.prim_count.div_ceil(4) as f32;
+            leaf[i] = true;
+            continue;
+        }
+        let (l, r) = (n.first_index as usize, n.first_index as usize + 1);
+        count[i] = count[l] + count[r];
+        let split = area * NODE_COST / 3.0 + cost[l] + cost[r];
+        let whole = area * PACK_COST * count[i].div_ceil(4) as f32;
+        leaf[i] = count[i] <= max_leaf && whole <= split;
+        cost[i] = if leaf[i] { whole } else { split };
+    }
+    leaf
+}
+
+impl Bvh4 {
+    /// Builds over `aabbs` (all finite); leaves hold at most `max_leaf`
+    /// primitives (more only where obvhs made a bigger leaf). `None` when
+    /// empty.
+    pub fn build(aabbs: &[Aabb], max_leaf: u32) -> Option<Bvh4> {
+        if aabbs.is_empty() {
+            return None;
+        }
+        let p = BvhBuildParams::fast_build();
+        let indices = (0..aabbs.len() as u32).collect();
+        let mut b = p.ploc_search_distance.build(
+            aabbs,
+            indices,
+            p.sort_precision,
+            p.search_depth_threshold,
+        );
+        ReinsertionOptimizer::run(&mut b, p.reinsertion_batch_ratio, None);
+        Some(Self::collapse(&b, max_leaf))
+    }
+
+    fn collapse(b: &Bvh2, max_leaf: u32) -> Bvh4 {
+        let leaf = leaf_choice(b, max_leaf);
+        let is_leaf = |i: usize| leaf[i];
+        let mut out = Bvh4 {
+            nodes: Vec::with_capacity(b.nodes.len() / 3 + 1),
+            root: 0,
+            leaves: Vec::new(),
+            prims: Vec::with_capacity(b.primitive_indices.len()),
+            stack_size: 1,
+            bounds: b.nodes[0].aabb,
+        };
+        // (binary node, depth, slot to fill: node and lane, or the root)
+        let mut todo = vec![(0usize, 1usize, None::<(usize, usize)>)];
+        let mut gather = Vec::new();
+        while let Some((i, depth, slot)) = todo.pop() {
+            out.stack_size = out.stack_size.max(3 * depth + 1);
+            let code = if is_leaf(i) {
+                let first = out.prims.len() as u32;
+                gather.push(i);
+                while let Some(j) = gather.pop() {
+                    let n = &b.nodes[j];
+                    if n.is_leaf() {
+                        let r = n.first_index as usize..(n.first_index + n.prim_count) as usize;
+                        out.prims.extend_from_slice(&b.primitive_indices[r]);
+                    } else {
+                        gather.push(n.first_index as usize + 1);
+                        gather.push(n.first_index as usize);
+                    }
+                }
+                out.leaves.push((first, out.prims.len() as u32 - first));
+                LEAF | (out.leaves.len() as u32 - 1)
+            } else {
+                // Open the largest inner child until there are four.
+                let f = b.nodes[i].first_index as usize;
+                let (mut kids, mut len) = ([f, f + 1, 0, 0], 2);
+                while len < 4 {
+                    let widest = (0..len).filter(|&k| !is_leaf(kids[k])).max_by(|&a, &c| {
+                        let (sa, sc) = (b.nodes[kids[a]].aabb, b.nodes[kids[c]].aabb);
+                        sa.half_area().total_cmp(&sc.half_area())
+                    });
+                    let Some(w) = widest else { break };
+                    let f = b.nodes[kids[w]].first_index as usize;
+                    kids.copy_within(w + 1..len, w + 2);
+                    kids[w] = f;
+                    kids[w + 1] = f + 1;
+                    len += 1;
+                }
+                let mut node = Node::empty();
+                let at = out.nodes.len();
+                for (lane, &k) in kids[..len].iter().enumerate() {
+                    node.set(lane, &b.nodes[k].aabb, EMPTY);
+                    todo.push((k, depth + 1, Some((at, lane))));
+                }
+                out.nodes.push(node);
+                at as u32
+            };
+            match slot {
+                Some((n, lane)) => out.nodes[n].child[lane] = code,
+                None => out.root = code,
+            }
+        }
+        out
+    }
+
+    /// Input indices of leaf `l`.
+    pub fn leaf(&self, l: u32) -> &[u32] {
+        let (first, count) = self.leaves[l as usize];
+        &self.prims[first as usize..(first + count) as usize]
+    }
+
+    pub fn leaf_count(&self) -> u32 {
+        self.leaves.len() as u32
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// Levels of the tree (tests of deep scenes).
+    pub fn depth(&self) -> usize {
+        (self.stack_size - 1) / 3
+    }
+
+    /// Visits the leaves the ray enters with t in (tmin, `tmax`), nearest
+    /// box first. `leaf(l, &mut tmax)` may lower `tmax` (closest hit) or
+    /// return true to stop (any hit); the result is whether it stopped.
+    #[inline]
+    pub fn traverse(&self, ray: &Ray, tmax: f32, leaf: impl FnMut(u32, &mut f32) -> bool) -> bool {
+        if self.stack_size <= INLINE_STACK {
+            let mut stack = [(0u32, 0f32); INLINE_STACK];
+            self.walk(&mut stack, ray, tmax, leaf)
+        } else {
+            let mut stack = vec![(0u32, 0f32); self.stack_size];
+            self.walk(&mut stack, ray, tmax, leaf)
+        }
+    }
+
+    #[inline(always)]
+    fn walk(
+        &self,
+        stack: &mut [(u32, f32)],
+        ray: &Ray,
+        mut tmax: f32,
+        mut leaf: impl FnMut(u32, &mut f32) -> bool,
+    ) -> bool {
+        let (inv, oinv) = (ray.inv, ray.origin_inv);
+        let (ix, iy, iz) = (Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z));
+        let (ox, oy, oz) = (
+            Vec4::splat(oinv.x),
+            Vec4::splat(oinv.y),
+            Vec4::splat(oinv.z),
+        );
+        let tmin = Vec4::splat(ray.tmin);
+        let [nx, ny, nz] = ray.negative;
+        stack[0] = (self.root, ray.tmin);
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let (code, tnear) = stack[sp];
+            if tnear > tmax {
+                continue;
+            }
+            if code & LEAF != 0 {
+                if leaf(code & !LEAF, &mut tmax) {
+                    return true;
+                }
+                continue;
+            }
+            let n = &self.nodes[code as usize];
+            let pick = |neg: bool, a: usize| {
+                if neg {
+                    (n.max[a], n.min[a])
+                } else {
+                    (n.min[a], n.max[a])
+                }
+            };
+            let (near_x, far_x) = pick(nx, 0);
+            let (near_y, far_y) = pick(ny, 1);
+            let (near_z, far_z) = pick(nz, 2);
+            let t0 = (near_x * ix - ox)
+                .max(near_y * iy - oy)
+                .max(near_z * iz - oz)
+                .max(tmin);
+            let t1 = (far_x * ix - ox)
+                .min(far_y * iy - oy)
+                .min(far_z * iz - oz)
+                .min(Vec4::splat(tmax));
+            let mut mask = t0.cmple(t1).bitmask();
+            // Push the entered children farthest first, so the nearest is
+            // popped next (ties keep slot order: deterministic).
+            let base = sp;
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let e = (n.child[lane], t0[lane]);
+                let mut k = sp;
+                while k > base && stack[k - 1].1 < e.1 {
+                    stack[k] = stack[k - 1];
+                    k -= 1;
+                }
+                stack[k] = e;
+                sp += 1;
+            }
+        }
+        false
+    }
+}

@@ -1,0 +1,97 @@
+//! Four triangles tested against one ray at once, as Embree's
+//! `Triangle4`: a BVH leaf of up to four triangles costs one test instead
+//! of four. The test is the watertight one of Woop, Benthin and Wald
+//! (JCGT 2013): vertices are moved into a frame where the ray runs along
+//! +z, and the 2-D edge functions decide, so a ray through a shared edge
+//! or vertex of a closed mesh always finds one of its triangles.
+
+use glam::{Vec3, Vec3A, Vec4};
+
+use super::bvh4::Ray;
+
+/// Up to four triangles, one `Vec4` per vertex coordinate. Unused lanes
+/// hold NaN, which fails every comparison.
+#[derive(Clone, Copy)]
+#[repr(C, align(16))]
+pub struct Tri4 {
+    v: [[Vec4; 3]; 3],
+    /// The triangles' indices in their geometry.
+    pub index: [u32; 4],
+}
+
+impl Tri4 {
+    /// Packs up to four triangles given as `(index, vertices)`.
+    pub fn pack(tris: &[(u32, [Vec3; 3])]) -> Tri4 {
+        let mut p = Tri4 {
+            v: [[Vec4::NAN; 3]; 3],
+            index: [u32::MAX; 4],
+        };
+        for (lane, (i, v)) in tris.iter().enumerate().take(4) {
+            for (corner, point) in v.iter().enumerate() {
+                for k in 0..3 {
+                    p.v[corner][k][lane] = point[k];
+                }
+            }
+            p.index[lane] = *i;
+        }
+        p
+    }
+
+    /// The nearest lane hit with t in (ray.tmin, tmax): `(t, lane)`.
+    #[inline(always)]
+    pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<(f32, usize)> {
+        let s = Vec4::splat;
+        let [kx, ky, kz] = ray.axes;
+        let (sx, sy, sz) = (s(ray.shear.x), s(ray.shear.y), s(ray.shear.z));
+        let o = ray.origin;
+        let rel = |p: &[Vec4; 3]| [p[0] - s(o.x), p[1] - s(o.y), p[2] - s(o.z)];
+        let (a, b, c) = (rel(&self.v[0]), rel(&self.v[1]), rel(&self.v[2]));
+        let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
+        let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
+        let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
+        let mut u = cx * by - cy * bx;
+        let mut w = ax * cy - ay * cx;
+        let mut x = bx * ay - by * ax;
+        let zero = Vec4::ZERO;
+        let mut exact = (u.cmpeq(zero) | w.cmpeq(zero) | x.cmpeq(zero)).bitmask();
+        // Exactly on an edge in f32: decide it in f64 so both neighbours
+        // agree (rare, so lane by lane).
+        while exact != 0 {
+            let l = exact.trailing_zeros() as usize;
+            exact &= exact - 1;
+            let f =
+                |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
+            u[l] = f(cx[l], by[l], cy[l], bx[l]);
+            w[l] = f(ax[l], cy[l], ay[l], cx[l]);
+            x[l] = f(bx[l], ay[l], by[l], ax[l]);
+        }
+        let negative = u.cmplt(zero) | w.cmplt(zero) | x.cmplt(zero);
+        let positive = u.cmpgt(zero) | w.cmpgt(zero) | x.cmpgt(zero);
+        let det = u + w + x;
+        let t = (u * (sz * a[kz]) + w * (sz * b[kz]) + x * (sz * c[kz])) / det;
+        let hit =
+            !(negative & positive) & det.cmpne(zero) & t.cmpgt(s(ray.tmin)) & t.cmplt(s(tmax));
+        let mut mask = hit.bitmask();
+        let mut best: Option<(f32, usize)> = None;
+        while mask != 0 {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            match best {
+                Some((bt, _)) if bt <= t[lane] => {}
+                _ => best = Some((t[lane], lane)),
+            }
+        }
+        best
+    }
+}
+
+/// One triangle's hit t in (tmin, tmax) for the ray `o + t·d` (tests and
+/// single queries; the BVH tests four at once).
+pub fn triangle(v: &[Vec3; 3], o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<f32> {
+    if !(o.is_finite() && d.is_finite()) || d == Vec3A::ZERO {
+        return None;
+    }
+    Tri4::pack(&[(0, *v)])
+        .intersect(&Ray::new(o, d, tmin), tmax)
+        .map(|(t, _)| t)
+}
