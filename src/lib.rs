@@ -1,4 +1,5 @@
 pub mod lsys;
 pub mod render;
 pub mod scene;
+pub mod sound;
 pub mod turtle;

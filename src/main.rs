@@ -11,6 +11,7 @@ use lmfilm::lsys::{Animation, NoSensors};
 use lmfilm::render::{self, Filter, Settings};
 use lmfilm::scene::obj;
 use lmfilm::scene::Scene;
+use lmfilm::sound::{self, Attenuation, SampleFormat};
 use lmfilm::turtle::{advance, build_scene, NoWorld, Options, Surfaces, Tables};
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.
@@ -86,6 +87,47 @@ enum Command {
         #[arg(long, default_value_t = 0.05)]
         segment_width: f64,
     },
+    /// Render a sound event log into a soundtrack WAV (thesis 2.4.3).
+    ///
+    /// Every microphone hears every source with the exact delay of sound
+    /// travelling between their moving positions, so Doppler shifts come
+    /// out right; one channel per microphone, in ascending number. A
+    /// folder DIR stands for DIR/soundtrack.events → DIR/soundtrack.wav.
+    /// The format is docs/sound-events.md. Example:
+    ///
+    ///     lmfilm sound scenes/examples/flyby.events -o renders/flyby.wav
+    Sound {
+        /// The sound event log, or a folder holding soundtrack.events.
+        #[arg(value_name = "EVENTS|DIR")]
+        events: PathBuf,
+        /// The WAV file to write (default: the events file's name, .wav).
+        #[arg(short, long, value_name = "OUT.wav")]
+        output: Option<PathBuf>,
+        /// Sample rate in Hz.
+        #[arg(long, default_value_t = 48_000)]
+        rate: u32,
+        /// Speed of sound in m/s.
+        #[arg(long, default_value_t = 343.0)]
+        speed_of_sound: f64,
+        /// `inverse`: 1/max(d, 1 m); `thesis`: (1/(1 + d))² (eq. 2.4.1);
+        /// `none`: delay and Doppler only.
+        #[arg(long, value_enum, default_value_t = AttenuationArg::Inverse)]
+        attenuation: AttenuationArg,
+        /// A folder of sound files, searched after the events file's folder
+        /// and before scenes/sounds/.
+        #[arg(long, value_name = "DIR")]
+        library: Option<PathBuf>,
+        /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
+        #[arg(long)]
+        float: bool,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum AttenuationArg {
+    Inverse,
+    Thesis,
+    None,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -329,6 +371,60 @@ fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> 
     Ok(())
 }
 
+fn sound(
+    events: &Path,
+    output: Option<&Path>,
+    rate: u32,
+    speed_of_sound: f64,
+    attenuation: AttenuationArg,
+    library: Option<&Path>,
+    float: bool,
+) -> Result<(), (u8, String)> {
+    if !(1..=768_000).contains(&rate) {
+        return Err((2, format!("--rate must be 1..768000 Hz, got {rate}")));
+    }
+    if !(speed_of_sound.is_finite() && speed_of_sound > 0.0) {
+        return Err((
+            2,
+            format!("--speed-of-sound must be > 0 m/s, got {speed_of_sound}"),
+        ));
+    }
+    let settings = sound::Settings {
+        rate,
+        speed_of_sound,
+        attenuation: match attenuation {
+            AttenuationArg::Inverse => Attenuation::Inverse,
+            AttenuationArg::Thesis => Attenuation::Thesis,
+            AttenuationArg::None => Attenuation::None,
+        },
+        format: if float {
+            SampleFormat::Float32
+        } else {
+            SampleFormat::Pcm16
+        },
+    };
+    let (events, output) = sound::paths(events, output);
+    let show = std::io::stderr().is_terminal();
+    let report = sound::render_file(&events, &output, &settings, library, &|done, total| {
+        // Every 5 % of the tasks, on a terminal only.
+        if show && done * 20 / total != (done - 1) * 20 / total {
+            eprint!("\rrendering sound {}%", done * 100 / total);
+        }
+    });
+    if show {
+        eprint!("\r\x1b[K");
+    }
+    let report = report.map_err(|e| (e.exit_code(), e.to_string()))?;
+    if report.clipped > 0 {
+        eprintln!(
+            "warning: {}: {} samples beyond full scale were clipped; try --float or --attenuation inverse",
+            output.display(),
+            report.clipped
+        );
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -355,6 +451,23 @@ fn main() -> ExitCode {
             preset,
             filter,
             segment_width,
+        ),
+        Command::Sound {
+            events,
+            output,
+            rate,
+            speed_of_sound,
+            attenuation,
+            library,
+            float,
+        } => sound(
+            &events,
+            output.as_deref(),
+            rate,
+            speed_of_sound,
+            attenuation,
+            library.as_deref(),
+            float,
         ),
     };
     match result {

@@ -1,0 +1,114 @@
+//! Sound (thesis ch. 2.4, table B7, appendix D): the event log written
+//! during an animation, the sound library, and the Doppler renderer that
+//! turns a log into a soundtrack with one channel per microphone.
+
+pub mod events;
+pub mod library;
+pub mod render;
+mod trajectory;
+pub mod wav;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+pub use events::{Event, EventLog, EventsFile, Frame, LogError};
+pub use library::{Library, Sounds};
+pub use render::{render, Attenuation, Settings, Soundtrack};
+pub use wav::{SampleFormat, Signal};
+
+use crate::lsys::{Diagnostic, Source};
+use crate::scene::atomic::write_atomic;
+
+/// Why a soundtrack could not be made.
+#[derive(Debug)]
+pub enum Error {
+    /// A line of the events file is wrong, or a sound it plays is missing.
+    At(Diagnostic),
+    /// Other bad input: a sound file's contents, a supersonic source, a
+    /// setting out of range.
+    Input(String),
+    /// The output could not be written.
+    Output(String),
+}
+
+impl Error {
+    /// The process exit code (DESIGN §5): 2 for bad input, 1 otherwise.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::Output(_) => 1,
+            _ => 2,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::At(d) => d.fmt(f),
+            Error::Input(m) | Error::Output(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+impl From<Diagnostic> for Error {
+    fn from(d: Diagnostic) -> Self {
+        Error::At(d)
+    }
+}
+
+/// The events file and soundtrack `lmfilm sound ARG [-o OUT]` means: a
+/// folder stands for its `soundtrack.events`; the soundtrack goes beside
+/// the events file with the extension `.wav` unless `output` is given.
+pub fn paths(arg: &Path, output: Option<&Path>) -> (PathBuf, PathBuf) {
+    let events = if arg.is_dir() {
+        arg.join("soundtrack.events")
+    } else {
+        arg.to_path_buf()
+    };
+    let wav = output.map_or_else(|| events.with_extension("wav"), Path::to_path_buf);
+    (events, wav)
+}
+
+/// What [`render_file`] wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Report {
+    pub channels: usize,
+    pub samples: usize,
+    pub rate: u32,
+    /// 16-bit samples beyond [-1, 1], clamped.
+    pub clipped: u64,
+}
+
+/// Renders the events file `events` into the WAV file `output` (written
+/// atomically), looking sounds up as [`library::search_path`] says.
+pub fn render_file(
+    events: &Path,
+    output: &Path,
+    settings: &Settings,
+    library: Option<&Path>,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Report, Error> {
+    let text = std::fs::read_to_string(events)
+        .map_err(|e| Error::Input(format!("{}: cannot read: {e}", events.display())))?;
+    let file = EventsFile::parse(Source::new(events.display().to_string(), text))?;
+    let search = library::search_path(events.parent(), library);
+    let sounds =
+        Sounds::load(&file.log, &search).map_err(|e| file.play_error(e.play, e.message))?;
+    let track = render::render_with(&file.log, &sounds, settings, progress)?;
+    let (bytes, clipped) =
+        wav::encode(&track.channels, track.rate, settings.format).map_err(Error::Output)?;
+    if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            Error::Output(format!("{}: cannot create the folder: {e}", dir.display()))
+        })?;
+    }
+    write_atomic(output, &bytes).map_err(|e| Error::Output(e.to_string()))?;
+    Ok(Report {
+        channels: track.channels.len(),
+        samples: track.channels.first().map_or(0, Vec::len),
+        rate: track.rate,
+        clipped,
+    })
+}
