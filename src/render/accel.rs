@@ -65,6 +65,8 @@ pub struct Accel<'a> {
     /// Instance index of each top-level primitive.
     tlas_inst: Vec<u32>,
     inst_inv: Vec<Affine3A>,
+    /// Each instance's normal matrix (inverse transpose).
+    inst_normal: Vec<Mat3A>,
     blas: Vec<Option<Blas>>,
 }
 
@@ -164,16 +166,18 @@ impl<'a> Accel<'a> {
                 .map(|l| inst[t.leaf(l)[0] as usize])
                 .collect()
         });
-        let inst_inv = scene
+        let inst_inv: Vec<Affine3A> = scene
             .instances
             .iter()
             .map(|i| i.transform.inverse())
             .collect();
+        let inst_normal = inst_inv.iter().map(|m| m.matrix3.transpose()).collect();
         Accel {
             scene,
             tlas,
             tlas_inst,
             inst_inv,
+            inst_normal,
             blas,
         }
     }
@@ -244,7 +248,7 @@ impl<'a> Accel<'a> {
         };
         let geo = &self.scene.geometries[g];
         let r = self.local_ray(k, r);
-        b.tree.traverse(&r, tmax, |l, tmax| {
+        b.tree.traverse_any(&r, tmax, |l, tmax| {
             let (from, to) = b.packs[l as usize];
             if b.tris[from as usize..to as usize]
                 .iter()
@@ -301,7 +305,7 @@ impl<'a> Accel<'a> {
         if let [k] = self.tlas_inst[..] {
             return self.instance_any(k as usize, &r, tmax);
         }
-        tlas.traverse(&r, tmax, |l, tmax| {
+        tlas.traverse_any(&r, tmax, |l, tmax| {
             self.instance_any(self.tlas_inst[l as usize] as usize, &r, *tmax)
         })
     }
@@ -330,7 +334,7 @@ impl<'a> Accel<'a> {
             instance: k,
             geometry: inst.geometry,
             prim,
-            normal: normal_to(&inst.transform.matrix3, n_geo).normalize_or(Vec3A::Y),
+            normal: (self.inst_normal[k as usize] * n_geo).normalize_or(Vec3A::Y),
             material,
             object: inst.object,
             symbol,

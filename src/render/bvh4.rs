@@ -125,27 +125,18 @@ pub struct Bvh4 {
 const NODE_COST: f32 = 1.0;
 const PACK_COST: f32 = 1.0;
 
-/// Which binary nodes become leaves: bottom-up without recursion, a
-/// subtree of at most `max_leaf` primitives is a leaf when the surface-area
-/// heuristic says testing all its primitives beats descending. A 4-wide
+/// Which binary nodes become leaves, bottom-up: a subtree of at most
+/// `max_leaf` primitives is a leaf when the surface-area heuristic says
+/// testing all its primitives beats descending. A 4-wide
 /// node stands for about three binary ones, so each binary node is
 /// charged a third of a node test.
 fn leaf_choice(b: &Bvh2, max_leaf: u32) -> Vec<bool> {
-    let mut order = Vec::with_capacity(b.nodes.len());
-    let mut todo = vec![0usize];
-    while let Some(i) = todo.pop() {
-        order.push(i);
-        let n = &b.nodes[i];
-        if !n.is_leaf() {
-            todo.push(n.first_index as usize);
-            todo.push(n.first_index as usize + 1);
-        }
-    }
     let mut count = vec![0u32; b.nodes.len()];
     let mut cost = vec![0f32; b.nodes.len()];
     let mut leaf = vec![false; b.nodes.len()];
-    for &i in order.iter().rev() {
-        let n = &b.nodes[i];
+    // Children come after their parent (depth-first order): a backward
+    // scan meets them first.
+    for (i, n) in b.nodes.iter().enumerate().rev() {
         let area = n.aabb.half_area();
         if n.is_leaf() {
             count[i] = n.prim_count;
@@ -154,6 +145,7 @@ fn leaf_choice(b: &Bvh2, max_leaf: u32) -> Vec<bool> {
             continue;
         }
         let (l, r) = (n.first_index as usize, n.first_index as usize + 1);
+        debug_assert!(l > i, "nodes in depth-first order");
         count[i] = count[l] + count[r];
         let split = area * NODE_COST / 3.0 + cost[l] + cost[r];
         let whole = area * PACK_COST * count[i].div_ceil(4) as f32;
@@ -180,6 +172,11 @@ impl Bvh4 {
             p.search_depth_threshold,
         );
         ReinsertionOptimizer::run(&mut b, p.reinsertion_batch_ratio, None);
+        // Depth-first order: children after parents, so the passes below
+        // read the nodes mostly in sequence instead of missing the cache.
+        if !b.nodes[0].is_leaf() {
+            b.reorder_in_stack_traversal_order();
+        }
         Some(Self::collapse(&b, max_leaf))
     }
 
@@ -268,20 +265,42 @@ impl Bvh4 {
 
     /// Visits the leaves the ray enters with t in (tmin, `tmax`), nearest
     /// box first. `leaf(l, &mut tmax)` may lower `tmax` (closest hit) or
-    /// return true to stop (any hit); the result is whether it stopped.
+    /// return true to stop; the result is whether it stopped.
     #[inline]
     pub fn traverse(&self, ray: &Ray, tmax: f32, leaf: impl FnMut(u32, &mut f32) -> bool) -> bool {
+        self.with_stack::<true>(ray, tmax, leaf)
+    }
+
+    /// As [`Self::traverse`] but in no particular order (still the same
+    /// every time): for any-hit queries, which stop at the first hit.
+    #[inline]
+    pub fn traverse_any(
+        &self,
+        ray: &Ray,
+        tmax: f32,
+        leaf: impl FnMut(u32, &mut f32) -> bool,
+    ) -> bool {
+        self.with_stack::<false>(ray, tmax, leaf)
+    }
+
+    #[inline(always)]
+    fn with_stack<const NEAREST_FIRST: bool>(
+        &self,
+        ray: &Ray,
+        tmax: f32,
+        leaf: impl FnMut(u32, &mut f32) -> bool,
+    ) -> bool {
         if self.stack_size <= INLINE_STACK {
             let mut stack = [(0u32, 0f32); INLINE_STACK];
-            self.walk(&mut stack, ray, tmax, leaf)
+            self.walk::<NEAREST_FIRST>(&mut stack, ray, tmax, leaf)
         } else {
             let mut stack = vec![(0u32, 0f32); self.stack_size];
-            self.walk(&mut stack, ray, tmax, leaf)
+            self.walk::<NEAREST_FIRST>(&mut stack, ray, tmax, leaf)
         }
     }
 
     #[inline(always)]
-    fn walk(
+    fn walk<const NEAREST_FIRST: bool>(
         &self,
         stack: &mut [(u32, f32)],
         ray: &Ray,
@@ -339,7 +358,7 @@ impl Bvh4 {
                 mask &= mask - 1;
                 let e = (n.child[lane], t0[lane]);
                 let mut k = sp;
-                while k > base && stack[k - 1].1 < e.1 {
+                while NEAREST_FIRST && k > base && stack[k - 1].1 < e.1 {
                     stack[k] = stack[k - 1];
                     k -= 1;
                 }

@@ -9,6 +9,7 @@ pub mod camera;
 pub mod material;
 pub mod mesh;
 pub mod obj;
+pub mod obj_parse;
 pub mod shape;
 pub mod snapshot;
 

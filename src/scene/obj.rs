@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write as _;
 use std::fs;
 use std::io;
-use std::panic::{self, AssertUnwindSafe};
+use std::panic;
 use std::path::Path;
 
 use glam::Vec3;
@@ -50,80 +50,58 @@ pub fn write_obj(scene: &Scene, obj_path: &Path) -> io::Result<()> {
 }
 
 /// Loads the triangles and materials of an OBJ file (and of the MTL files
-/// it names, looked up next to it) with `tobj`, polygons triangulated.
+/// it names, looked up next to it, read with `tobj`), polygons fanned into
+/// triangles. The geometry is parsed in parallel ([`super::obj_parse`]).
 ///
 /// Materials are returned in MTL order; a triangle's material is
 /// `material_base` + its index in the returned list. Faces without a usable
 /// material (no `usemtl`, an unknown name, or a missing MTL file) get the
 /// project's default grey, appended once at the end of the list — so a
 /// file without any materials gives `material_base + 0` and one material.
-/// Reflection is not part of MTL and comes back as 0. Errors name the file
-/// and the problem; malformed input never panics (a panic inside `tobj`
-/// is caught and reported, though its message still reaches stderr).
+/// Reflection is not part of MTL and comes back as 0. Errors name the file,
+/// the line and the problem; malformed input never panics (a panic inside
+/// `tobj` is caught and reported, though its message still reaches stderr).
 pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<Material>), String> {
     let fail = |what: String| format!("cannot read OBJ {}: {what}", path.display());
     let bytes = fs::read(path).map_err(|e| fail(e.to_string()))?;
-    // Other tobj features add options; keep them at their defaults.
-    #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
-    let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let loaded = panic::catch_unwind(AssertUnwindSafe(|| {
-        tobj::load_obj_buf(&mut &bytes[..], &options, |mtl| {
-            tobj::load_mtl(dir.join(mtl))
-        })
-    }))
-    .map_err(|_| fail("malformed file (the OBJ/MTL parser gave up)".into()))?;
-    let (models, mtl) = loaded.map_err(|e| fail(e.to_string()))?;
-    let mut materials: Vec<Material> = match mtl {
-        Ok(m) => m.iter().map(convert_material).collect(),
-        // A missing MTL leaves the faces grey rather than failing the import.
-        Err(tobj::LoadError::OpenFileFailed) => Vec::new(),
-        Err(e) => return Err(fail(format!("material library: {e}"))),
-    };
-    let known = materials.len();
-    let base = |i: usize| material_base.saturating_add(u32::try_from(i).unwrap_or(u32::MAX));
-
-    let mut tris = Vec::new();
-    let mut needs_grey = false;
-    for model in &models {
-        let m = &model.mesh;
-        let id = match m.material_id {
-            Some(i) if i < known => i,
-            _ => {
-                needs_grey = true;
-                known
-            }
-        };
-        let vertex = |i: u32| -> Result<Vec3, String> {
-            let i = i as usize * 3;
-            let p = m
-                .positions
-                .get(i..i + 3)
-                .ok_or_else(|| fail(format!("object {}: vertex index out of range", model.name)))?;
-            let v = Vec3::new(p[0], p[1], p[2]);
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(fail(format!(
-                    "object {}: non-finite vertex {v}",
-                    model.name
-                )))
-            }
-        };
-        for f in m.indices.chunks_exact(3) {
-            tris.push(Triangle {
-                v: [vertex(f[0])?, vertex(f[1])?, vertex(f[2])?],
-                material: base(id),
-                symbol: 0,
-            });
+    let obj = super::obj_parse::parse(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let mut materials = Vec::new();
+    for lib in &obj.libraries {
+        let loaded = panic::catch_unwind(|| tobj::load_mtl(dir.join(lib))).map_err(|_| {
+            fail(format!(
+                "material library {lib}: malformed (the MTL parser gave up)"
+            ))
+        })?;
+        match loaded {
+            Ok((m, _)) => materials.extend(m.iter().map(convert_material)),
+            // A missing MTL leaves the faces grey rather than failing the import.
+            Err(tobj::LoadError::OpenFileFailed) => {}
+            Err(e) => return Err(fail(format!("material library {lib}: {e}"))),
         }
     }
+    let known = materials.len();
+    // `usemtl` slots to material indices; unknown names fall to grey.
+    let slot: Vec<usize> = obj
+        .materials
+        .iter()
+        .map(|n| materials.iter().position(|m| m.name == *n).unwrap_or(known))
+        .collect();
+    let base = |i: usize| material_base.saturating_add(u32::try_from(i).unwrap_or(u32::MAX));
+    let mut needs_grey = false;
+    let tris: Vec<Triangle> = obj
+        .triangles
+        .iter()
+        .map(|&(v, m)| {
+            let id = m.map_or(known, |m| slot[m as usize]);
+            needs_grey |= id == known;
+            Triangle {
+                v: v.map(|i| obj.positions[i as usize]),
+                material: base(id),
+                symbol: 0,
+            }
+        })
+        .collect();
     if needs_grey {
         materials.push(material::table().swap_remove(0));
     }
