@@ -175,3 +175,193 @@ fn cloud_layer_is_see_through_and_casts_no_shadow() {
         .fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
     assert!(hi - lo > 0.1, "white clouds and blue sky: {lo} {hi}");
 }
+
+/// A small deterministic generator for the brute-force comparison.
+struct Lcg(u64);
+impl Lcg {
+    fn f(&mut self) -> f32 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn range(&mut self, a: f32, b: f32) -> f32 {
+        a + (b - a) * self.f()
+    }
+    fn vec(&mut self, r: f32) -> Vec3 {
+        Vec3::new(self.range(-r, r), self.range(-r, r), self.range(-r, r))
+    }
+    fn affine(&mut self, spread: f32) -> glam::Affine3A {
+        let q = glam::Quat::from_euler(
+            glam::EulerRot::XYZ,
+            self.f() * 6.3,
+            self.f() * 6.3,
+            self.f() * 6.3,
+        );
+        let s = Vec3::new(
+            self.range(0.3, 1.5),
+            self.range(0.3, 1.5),
+            self.range(0.3, 1.5),
+        );
+        glam::Affine3A::from_scale_rotation_translation(s, q, self.vec(spread))
+    }
+}
+
+/// Nearest hit over every primitive of every instance, by brute force:
+/// (t, instance, is shape, index).
+fn brute_force(s: &Scene, o: Vec3A, d: Vec3A, tmax: f32) -> Option<(f32, usize, bool, usize)> {
+    use lmfilm::render::intersect::shape;
+    use lmfilm::render::tri4::triangle;
+    let mut best: Option<(f32, usize, bool, usize)> = None;
+    let mut keep = |h: (f32, usize, bool, usize)| {
+        if best.map_or(true, |b| h.0 < b.0) {
+            best = Some(h);
+        }
+    };
+    for (k, inst) in s.instances.iter().enumerate() {
+        let inv = inst.transform.inverse();
+        let (lo, ld) = (inv.transform_point3a(o), inv.transform_vector3a(d));
+        let g = &s.geometries[inst.geometry as usize];
+        for (i, sh) in g.shapes.iter().enumerate() {
+            let si = sh.transform.inverse();
+            if let Some(h) = shape(
+                sh.kind,
+                si.transform_point3a(lo),
+                si.transform_vector3a(ld),
+                0.0,
+                tmax,
+            ) {
+                keep((h.t, k, true, i));
+            }
+        }
+        for (i, t) in g.triangles.iter().enumerate() {
+            if let Some(t) = triangle(&t.v, lo, ld, 0.0, tmax) {
+                keep((t, k, false, i));
+            }
+        }
+    }
+    best
+}
+
+#[test]
+fn two_level_bvh_matches_brute_force() {
+    use lmfilm::render::accel::Prim;
+    use lmfilm::scene::{Geometry, Instance, Shape, ShapeKind, Triangle};
+    let mut rng = Lcg(7);
+    let mut s = scene_of(SPHERE);
+    let kinds = [
+        ShapeKind::Sphere,
+        ShapeKind::Box,
+        ShapeKind::Cylinder,
+        ShapeKind::Capsule { length: 1.5 },
+    ];
+    let geometry = |shapes: usize, tris: usize, rng: &mut Lcg| Geometry {
+        name: String::new(),
+        shapes: (0..shapes)
+            .map(|i| Shape {
+                kind: kinds[i % 4],
+                transform: rng.affine(6.0) * glam::Affine3A::from_scale(Vec3::splat(0.3)),
+                material: 0,
+                symbol: i as u64,
+            })
+            .collect(),
+        triangles: (0..tris)
+            .map(|i| {
+                let c = rng.vec(6.0);
+                Triangle {
+                    v: [c + rng.vec(0.6), c + rng.vec(0.6), c + rng.vec(0.6)],
+                    material: 0,
+                    symbol: i as u64,
+                }
+            })
+            .collect(),
+        resolution: 8,
+    };
+    // A mixed geometry, a triangles-only one, and one with a single
+    // primitive (its tree is one leaf).
+    s.geometries = vec![
+        geometry(300, 300, &mut rng),
+        geometry(0, 200, &mut rng),
+        geometry(1, 0, &mut rng),
+    ];
+    s.instances = (0..40)
+        .map(|k| Instance {
+            geometry: k % 3,
+            transform: rng.affine(25.0),
+            object: k,
+        })
+        .collect();
+    for single in [false, true] {
+        if single {
+            s.instances.truncate(1);
+        }
+        let accel = Accel::new(&s);
+        let mut hits = 0;
+        for _ in 0..3000 {
+            let o = Vec3A::from(rng.vec(40.0));
+            let d = Vec3A::from(rng.vec(25.0)) - o;
+            let tmax = rng.range(0.5, 2.0);
+            let want = brute_force(&s, o, d, tmax);
+            let got = accel.cast(o, d, 0.0, tmax);
+            match (got, want) {
+                (Some(h), Some((t, k, is_shape, i))) => {
+                    hits += 1;
+                    assert!((h.t - t).abs() <= 1e-5 * t.max(1.0), "{} vs {t}", h.t);
+                    let prim = if is_shape {
+                        Prim::Shape(i as u32)
+                    } else {
+                        Prim::Triangle(i as u32)
+                    };
+                    // Exact ties may go either way.
+                    assert!(
+                        h.t != t || (h.instance as usize == k && h.prim == prim),
+                        "{h:?} vs {k} {prim:?}"
+                    );
+                }
+                (None, None) => {}
+                (g, w) => panic!("ray {o} {d} {tmax}: {g:?} vs {w:?}"),
+            }
+            assert_eq!(
+                accel.occluded(o, d, 0.0, tmax),
+                want.is_some(),
+                "occlusion of {o} {d}"
+            );
+        }
+        assert!(hits > if single { 30 } else { 600 }, "{hits} hits");
+    }
+}
+
+/// Every primitive lands in exactly one leaf, whatever the tree's shape
+/// after obvhs's reinsertion pass (which moves the root's children).
+#[test]
+fn bvh4_leaves_cover_every_primitive_once() {
+    use lmfilm::render::bvh4::Bvh4;
+    use obvhs::aabb::Aabb;
+    let mut rng = Lcg(3);
+    for n in [1usize, 2, 3, 5, 17, 100, 1000, 20000, 70000] {
+        for clustered in [false, true] {
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|i| {
+                    let c = if clustered && i % 2 == 0 {
+                        rng.vec(1.0)
+                    } else {
+                        rng.vec(100.0)
+                    };
+                    let e = Vec3A::from(rng.vec(0.5).abs()) + 0.01;
+                    Aabb::new(Vec3A::from(c) - e, Vec3A::from(c) + e)
+                })
+                .collect();
+            for max_leaf in [1, 16] {
+                let t = Bvh4::build(&boxes, max_leaf).unwrap();
+                let mut seen = vec![0u32; n];
+                for l in 0..t.leaf_count() {
+                    for &p in t.leaf(l) {
+                        seen[p as usize] += 1;
+                    }
+                }
+                assert!(seen.iter().all(|&c| c == 1), "n {n} clustered {clustered}");
+            }
+        }
+    }
+}

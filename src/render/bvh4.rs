@@ -13,7 +13,7 @@
 use glam::{Vec3A, Vec4};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
-use obvhs::bvh2::Bvh2;
+use obvhs::bvh2::{Bvh2, Bvh2Node};
 use obvhs::BvhBuildParams;
 
 /// Child slot tag: a leaf (index into `leaves`) rather than a node.
@@ -120,6 +120,34 @@ pub struct Bvh4 {
     bounds: Aabb,
 }
 
+/// The nodes renumbered depth-first from the root (at 0), sibling pairs
+/// kept together: children come after their parent, so the passes below
+/// read the nodes mostly in sequence instead of missing the cache.
+/// (obvhs's own reordering assumes the root's children sit at 1 and 2,
+/// which its reinsertion pass does not keep.)
+fn depth_first(nodes: &[Bvh2Node]) -> Vec<Bvh2Node> {
+    let mut out = Vec::with_capacity(nodes.len());
+    out.push(nodes[0]);
+    let mut todo = if nodes[0].is_leaf() {
+        vec![]
+    } else {
+        vec![0usize]
+    };
+    while let Some(p) = todo.pop() {
+        let old = out[p].first_index as usize;
+        let first = out.len();
+        out[p].first_index = first as u32;
+        out.push(nodes[old]);
+        out.push(nodes[old + 1]);
+        for k in [first + 1, first] {
+            if !out[k].is_leaf() {
+                todo.push(k);
+            }
+        }
+    }
+    out
+}
+
 /// Relative costs of one 4-wide node test and one packed leaf test (of
 /// up to four primitives) for the surface-area heuristic.
 const NODE_COST: f32 = 1.0;
@@ -172,11 +200,7 @@ impl Bvh4 {
             p.search_depth_threshold,
         );
         ReinsertionOptimizer::run(&mut b, p.reinsertion_batch_ratio, None);
-        // Depth-first order: children after parents, so the passes below
-        // read the nodes mostly in sequence instead of missing the cache.
-        if !b.nodes[0].is_leaf() {
-            b.reorder_in_stack_traversal_order();
-        }
+        b.nodes = depth_first(&b.nodes);
         Some(Self::collapse(&b, max_leaf))
     }
 
@@ -367,5 +391,59 @@ impl Bvh4 {
             }
         }
         false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn leaf(p: u32) -> Bvh2Node {
+        let b = Aabb::new(Vec3A::splat(p as f32), Vec3A::splat(p as f32 + 1.0));
+        Bvh2Node::new(b, 1, p)
+    }
+
+    fn inner(first: u32, lo: f32, hi: f32) -> Bvh2Node {
+        Bvh2Node::new(Aabb::new(Vec3A::splat(lo), Vec3A::splat(hi)), 0, first)
+    }
+
+    /// obvhs's reinsertion can leave the root's children anywhere (seen:
+    /// at 3 and 4); the depth-first renumbering must follow the links.
+    #[test]
+    fn root_children_anywhere() {
+        let b = Bvh2 {
+            nodes: depth_first(&[
+                inner(3, 0.0, 3.0),
+                leaf(0),
+                leaf(1),
+                inner(1, 0.0, 2.0),
+                leaf(2),
+            ]),
+            primitive_indices: vec![0, 1, 2],
+            max_depth: None,
+        };
+        for (i, n) in b.nodes.iter().enumerate() {
+            assert!(n.is_leaf() || n.first_index as usize > i);
+        }
+        for max_leaf in [1, 16] {
+            let t = Bvh4::collapse(&b, max_leaf);
+            let mut all: Vec<u32> = (0..t.leaf_count())
+                .flat_map(|l| t.leaf(l).to_vec())
+                .collect();
+            all.sort();
+            assert_eq!(all, [0, 1, 2]);
+        }
+    }
+
+    #[test]
+    fn root_leaf() {
+        let nodes = depth_first(&[leaf(0)]);
+        assert_eq!(nodes.len(), 1);
+        let b = Bvh2 {
+            nodes,
+            primitive_indices: vec![0],
+            max_depth: None,
+        };
+        assert_eq!(Bvh4::collapse(&b, 4).leaf(0), [0]);
     }
 }
