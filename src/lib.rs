@@ -1,3 +1,4 @@
+pub mod film;
 pub mod lsys;
 pub mod render;
 pub mod scene;

@@ -7,13 +7,13 @@ use std::time::{Duration, Instant};
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+use lmfilm::film::Film;
 use lmfilm::lsys::print::{self, Format};
-use lmfilm::lsys::{Animation, NoSensors};
 use lmfilm::render::{self, Filter, Settings};
 use lmfilm::scene::obj;
 use lmfilm::scene::Scene;
 use lmfilm::sound::{self, Attenuation, SampleFormat};
-use lmfilm::turtle::{advance, build_scene, NoWorld, Options, Surfaces, Tables};
+use lmfilm::turtle::Options;
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.
 ///
@@ -94,14 +94,19 @@ enum Command {
     /// travelling between their moving positions, so Doppler shifts come
     /// out right; one channel per microphone, in ascending number. A
     /// folder DIR stands for DIR/soundtrack.events → DIR/soundtrack.wav.
-    /// The format is docs/sound-events.md. Example:
+    /// A scene SCENE.lm is derived first and its log (the `T` symbol's
+    /// events) written as soundtrack.events beside the WAV (default
+    /// renders/<name>/). The format is docs/sound-events.md. Examples:
     ///
     ///     lmfilm sound scenes/examples/flyby.events -o renders/flyby.wav
+    ///     lmfilm sound scenes/examples/airplane.lm
     Sound {
-        /// The sound event log, or a folder holding soundtrack.events.
-        #[arg(value_name = "EVENTS|DIR")]
+        /// The sound event log, a folder holding soundtrack.events, or a
+        /// scene (.lm) to derive.
+        #[arg(value_name = "EVENTS|DIR|SCENE.lm")]
         events: PathBuf,
-        /// The WAV file to write (default: the events file's name, .wav).
+        /// The WAV file to write (default: the events file's name, .wav;
+        /// for a scene, renders/<name>/soundtrack.wav).
         #[arg(short, long, value_name = "OUT.wav")]
         output: Option<PathBuf>,
         /// Sample rate in Hz.
@@ -191,61 +196,32 @@ impl Progress {
     }
 }
 
-/// An animation derived to the frame `--frame`/`--time` names, every frame
-/// interpreted on the way, with what its scene needs.
-struct Derived {
-    anim: Animation,
-    surfaces: Surfaces,
-    tables: Vec<Tables>,
+/// The film derived to the frame `--frame`/`--time` names, every frame
+/// interpreted on the way (sound events and `?` queries included).
+fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film, (u8, String)> {
+    let mut film = Film::load(&at.scenes, opts).map_err(|e| (2, e))?;
+    let target = match (at.frame, at.time) {
+        (_, Some(t)) if !t.is_finite() || t < 0.0 => {
+            return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
+        }
+        (_, Some(t)) => film.anim.frame_at(t),
+        (Some(n), None) => n,
+        (None, None) => 0,
+    };
+    let mut progress = Progress::new();
+    film.advance_to(target, |k, n| progress.tick(k, n))
+        .map_err(|e| (2, e))?;
+    progress.done();
+    Ok(film)
 }
 
-impl Derived {
-    fn new(at: &FrameArgs, opts: Options, sensors: &mut NoSensors) -> Result<Self, (u8, String)> {
-        let mut anim = Animation::load(&at.scenes, sensors).map_err(|e| (2, e.to_string()))?;
-        let target = match (at.frame, at.time) {
-            (_, Some(t)) if !t.is_finite() || t < 0.0 => {
-                return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
-            }
-            (_, Some(t)) => anim.frame_at(t),
-            (Some(n), None) => n,
-            (None, None) => 0,
-        };
-        let surfaces = Surfaces::load(&anim).map_err(|e| (2, e))?;
-        let mut tables = Vec::new();
-        let mut progress = Progress::new();
-        advance(
-            &mut anim,
-            target,
-            &surfaces,
-            &mut tables,
-            sensors,
-            &mut NoWorld,
-            opts,
-            |k, n| progress.tick(k, n),
-        );
-        progress.done();
-        Ok(Derived {
-            anim,
-            surfaces,
-            tables,
-        })
+/// The scene of the film's current frame; warnings go to stderr.
+fn frame_scene(film: &mut Film) -> Result<Scene, (u8, String)> {
+    let (scene, messages) = film.scene().map_err(|e| (2, e))?;
+    for m in messages {
+        eprintln!("{m}");
     }
-
-    /// The scene of the current frame; warnings go to stderr.
-    fn scene(&mut self, opts: Options, sensors: &mut NoSensors) -> Scene {
-        let (scene, messages) = build_scene(
-            &mut self.anim,
-            &self.surfaces,
-            &mut self.tables,
-            sensors,
-            &mut NoWorld,
-            opts,
-        );
-        for m in messages {
-            eprintln!("{m}");
-        }
-        scene
-    }
+    Ok(scene)
 }
 
 fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, String)> {
@@ -255,9 +231,8 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
             format!("--segment-width must be > 0, got {segment_width}"),
         ));
     }
-    let mut sensors = NoSensors;
     let opts = Options { segment_width };
-    let scene = Derived::new(at, opts, &mut sensors)?.scene(opts, &mut sensors);
+    let scene = frame_scene(&mut derive_to(at, opts)?)?;
     if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| {
             (
@@ -296,10 +271,9 @@ fn still(
             format!("--segment-width must be > 0, got {segment_width}"),
         ));
     }
-    let mut sensors = NoSensors;
     let opts = Options { segment_width };
-    let mut derived = Derived::new(at, opts, &mut sensors)?;
-    let scene = derived.scene(opts, &mut sensors);
+    let mut film = derive_to(at, opts)?;
+    let scene = frame_scene(&mut film)?;
     let w = size.0.unwrap_or(scene.camera.width);
     let h = size.1.unwrap_or(scene.camera.height);
     if !(1..=32768).contains(&w) || !(1..=32768).contains(&h) {
@@ -322,7 +296,7 @@ fn still(
         FilterArg::Box => Filter::Box,
         FilterArg::Gaussian => Filter::Gaussian,
     };
-    settings.frame = derived.anim.frame;
+    settings.frame = film.anim.frame;
     // PNG holds colour only: no need for the layer rays.
     settings.layers = ext.as_deref() == Some("exr");
     let accel = render::Accel::new(&scene);
@@ -348,11 +322,10 @@ fn still(
 }
 
 fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {
-    let mut sensors = NoSensors;
-    let mut derived = Derived::new(at, Options::default(), &mut sensors)?;
+    let mut film = derive_to(at, Options::default())?;
     // The turtle runs on the printed frame too, so `?` shows its position.
-    derived.scene(Options::default(), &mut sensors);
-    let anim = &mut derived.anim;
+    frame_scene(&mut film)?;
+    let (anim, sensors) = film.parts();
     let format = match format {
         PrintFormat::Symbols => Format::Symbols,
         PrintFormat::Full => Format::Full,
@@ -360,7 +333,7 @@ fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> 
     let (time, seed) = (anim.time(), anim.camera.seed);
     let mut out = std::io::stdout().lock();
     for ls in &mut anim.systems {
-        let line = print::word(ls, format, time, seed, &mut sensors);
+        let line = print::word(ls, format, time, seed, sensors);
         if let Err(e) = writeln!(out, "{line}") {
             // A closed pipe (`| head`) is not an error of ours.
             if e.kind() == std::io::ErrorKind::BrokenPipe {
@@ -370,6 +343,48 @@ fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> 
         }
     }
     Ok(())
+}
+
+/// Derives every frame of a scene and writes its sound event log,
+/// `soundtrack.events` beside the soundtrack (default folder
+/// `renders/<scene name>/`). Returns the log's and the WAV's paths.
+fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf), (u8, String)> {
+    let wav = output.map_or_else(
+        || {
+            let name = scene.file_stem().unwrap_or_default();
+            Path::new("renders").join(name).join("soundtrack.wav")
+        },
+        Path::to_path_buf,
+    );
+    let events = wav.with_file_name("soundtrack.events");
+    let mut film = Film::load(&[scene], Options::default()).map_err(|e| (2, e))?;
+    let frames = film.anim.frame_count();
+    let mut progress = Progress::new();
+    let mut warnings = std::collections::BTreeSet::new();
+    for k in 0..frames {
+        let (_, w) = film.scene().map_err(|e| (2, e))?;
+        warnings.extend(w);
+        if k + 1 < frames {
+            film.step();
+        }
+        progress.tick(k + 1, frames);
+    }
+    progress.done();
+    for w in warnings {
+        eprintln!("{w}");
+    }
+    if let Some(dir) = events.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            (
+                1,
+                format!("{}: cannot create the folder: {e}", dir.display()),
+            )
+        })?;
+    }
+    let text = sound::events::write(film.air.log());
+    lmfilm::scene::atomic::write_atomic(&events, text.as_bytes())
+        .map_err(|e| (1, format!("{}: cannot write: {e}", events.display())))?;
+    Ok((events, wav))
 }
 
 fn sound(
@@ -404,7 +419,11 @@ fn sound(
             SampleFormat::Pcm16
         },
     };
-    let (events, output) = sound::paths(events, output);
+    let (events, output) = if events.extension().is_some_and(|e| e == "lm") {
+        scene_events(events, output)?
+    } else {
+        sound::paths(events, output)
+    };
     let show = std::io::stderr().is_terminal();
     let report = sound::render_file(&events, &output, &settings, library, &|done, total| {
         // Every 5 % of the tasks, on a terminal only.

@@ -2,6 +2,7 @@
 //! during an animation, the sound library, and the Doppler renderer that
 //! turns a log into a soundtrack with one channel per microphone.
 
+pub mod air;
 pub mod events;
 pub mod library;
 pub mod render;

@@ -8,7 +8,7 @@ use glam::{Affine3A, DVec3, Vec3};
 use super::polygon::{newell, triangulate, PolygonStack};
 use super::special;
 use super::state::{bend, Turtle};
-use super::{Builder, TurtleWorld};
+use super::{Builder, SoundRequest, TurtleWorld};
 use crate::lsys::{LSystem, Sensors, Symbol, Who};
 use crate::scene::material;
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
@@ -456,6 +456,7 @@ impl Interpreter<'_> {
                 self.polygon(&s, &poly, [x, y, z], g[0]);
             }
             b'D' => special::d_symbol(self, &s),
+            b'T' => self.sound(&s, x),
             b'B' => {
                 let g = self.growth(&s);
                 if g.iter().all(|v| v.is_finite() && *v != 0.0) {
@@ -627,6 +628,34 @@ impl Interpreter<'_> {
             placed(t, scale[0], scale[1], scale[2]),
             material,
         );
+    }
+
+    /// `T` (C.6): par1 = 0 plays sound par4, 1 starts sound par4 from
+    /// source par5 at the turtle, 2 moves source par4 to the turtle.
+    fn sound(&mut self, s: &Symbol, mode: f64) {
+        let g = self.growth(s);
+        let whole =
+            |v: f64| (v.is_finite() && v >= 0.0 && v <= u32::MAX as f64).then_some(v as u32);
+        let at = self.t.pos;
+        let request = match mode as i64 {
+            0 => whole(g[0]).map(|sound| SoundRequest::Play { sound }),
+            1 => whole(g[0])
+                .zip(whole(g[1]))
+                .map(|(sound, source)| SoundRequest::Emit { sound, source, at }),
+            2 => whole(g[0]).map(|source| SoundRequest::Move { source, at }),
+            _ => {
+                self.b
+                    .warn(format!("`T` par1 = {mode} is not 0, 1 or 2: skipped"));
+                return;
+            }
+        };
+        match request {
+            Some(r) => self.world.sound(r),
+            None => self.b.warn(format!(
+                "`T` needs sound and source numbers ≥ 0, got {} {}: skipped",
+                g[0], g[1]
+            )),
+        }
     }
 
     pub(super) fn growth_of(&mut self, s: &Symbol) -> [f64; 3] {

@@ -43,6 +43,20 @@ pub trait TurtleWorld {
     }
     /// Microphone `mic` placed at `p` (`l` par3 = 8, 10).
     fn microphone(&mut self, _mic: i64, _p: DVec3) {}
+    /// A sound event of the `T` symbol, for the sound event handler.
+    fn sound(&mut self, _request: SoundRequest) {}
+}
+
+/// What a `T` symbol asks of the sound event handler (C.6), in world
+/// coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SoundRequest {
+    /// par1 = 0: play sound `sound` back (no place: heard as is).
+    Play { sound: u32 },
+    /// par1 = 1: source `source` starts sound `sound` at `at`.
+    Emit { sound: u32, source: u32, at: DVec3 },
+    /// par1 = 2: source `source` moves to `at`.
+    Move { source: u32, at: DVec3 },
 }
 
 /// A world with no particles, trajectories or sound log.
@@ -390,25 +404,4 @@ pub fn build_scene(
         background: b.background,
     };
     (scene, b.messages)
-}
-
-/// Derives `anim` up to frame `target`, interpreting every frame on the
-/// way as the animation loop does (code 2.1.1): the query symbol `?` and
-/// the state tables feed turtle positions back into the derivation.
-#[allow(clippy::too_many_arguments)]
-pub fn advance(
-    anim: &mut Animation,
-    target: u64,
-    surfaces: &Surfaces,
-    tables: &mut Vec<Tables>,
-    sensors: &mut dyn Sensors,
-    world: &mut dyn TurtleWorld,
-    opts: Options,
-    mut progress: impl FnMut(u64, u64),
-) {
-    while anim.frame < target {
-        build_scene(anim, surfaces, tables, sensors, world, opts);
-        anim.step(sensors);
-        progress(anim.frame, target);
-    }
 }

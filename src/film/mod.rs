@@ -1,0 +1,6 @@
+//! The film driver (DESIGN §1, §5): the frame loop that ties the
+//! L-systems, the turtle, the renderer and the sound log together, frame
+//! ranges and shards, the manifest, resume and mux.
+
+pub mod world;
+pub use world::Film;

@@ -1,0 +1,179 @@
+//! A film being derived frame by frame: the L-systems, the turtle's
+//! per-L-system state tables, and the sound event handler, wired
+//! together through the traits the lower layers define (DESIGN §2).
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+use crate::lsys::options::{Command, OptionItem};
+use crate::lsys::{Animation, Sensors};
+use crate::scene::Scene;
+use crate::sound::air::{Air, AMBIENT_SOURCE};
+use crate::sound::library::{self, Library};
+use crate::turtle::interpret::Tables;
+use crate::turtle::{build_scene, Options, SoundRequest, Surfaces, TurtleWorld};
+
+/// What the L-systems' expressions sense (`?60`–`?62`): the on-going
+/// sound events as they stood after the last interpretation.
+#[derive(Debug, Default, Clone)]
+struct Ears {
+    /// (sound, source), oldest first.
+    ongoing: Vec<(u32, u32)>,
+}
+
+impl Sensors for Ears {
+    fn sounds_playing(&mut self) -> f64 {
+        self.ongoing.len() as f64
+    }
+
+    fn sound_of_source(&mut self, source: f64) -> f64 {
+        let found = self.ongoing.iter().rev().find(|e| f64::from(e.1) == source);
+        found.map_or(-1.0, |e| f64::from(e.0))
+    }
+
+    fn source_of_sound(&mut self, sound: f64) -> f64 {
+        let found = self.ongoing.iter().rev().find(|e| f64::from(e.0) == sound);
+        found.map_or(-1.0, |e| f64::from(e.1))
+    }
+}
+
+/// The turtle's view of the world: microphones and sound events go to
+/// the handler; the first error stops the frame.
+struct Hooks<'a> {
+    air: &'a mut Air,
+    error: Option<String>,
+}
+
+impl TurtleWorld for Hooks<'_> {
+    fn microphone(&mut self, mic: i64, p: DVec3) {
+        match u32::try_from(mic) {
+            Ok(m) => self.air.microphone(m, p),
+            Err(_) => self.fail(format!("microphone number {mic} must be ≥ 0")),
+        }
+    }
+
+    fn sound(&mut self, request: SoundRequest) {
+        let r = match request {
+            SoundRequest::Play { sound } => {
+                let c = self.air.centre();
+                self.air.play(sound, AMBIENT_SOURCE, c)
+            }
+            SoundRequest::Emit { sound, source, at } => self.air.play(sound, source, at),
+            SoundRequest::Move { source, at } => self.air.move_source(source, at),
+        };
+        if let Err(e) = r {
+            self.fail(e);
+        }
+    }
+}
+
+impl Hooks<'_> {
+    fn fail(&mut self, e: String) {
+        self.error.get_or_insert(e);
+    }
+}
+
+/// A film in progress: frame `anim.frame` is next.
+pub struct Film {
+    pub anim: Animation,
+    surfaces: Surfaces,
+    tables: Vec<Tables>,
+    pub air: Air,
+    ears: Ears,
+    opts: Options,
+}
+
+/// The `Sound_event_file` initialisations of the first L-system that
+/// declares one.
+fn sound_inits(anim: &Animation) -> Vec<Command> {
+    anim.systems
+        .iter()
+        .flat_map(|s| &s.def.options)
+        .find_map(|o| match o {
+            OptionItem::SoundEventFile { items, .. } => Some(items.clone()),
+            _ => None,
+        })
+        .unwrap_or_default()
+}
+
+impl Film {
+    /// Loads the scene files; sound files are looked up in the first
+    /// file's folder, then `scenes/sounds/`.
+    pub fn load<P: AsRef<Path>>(paths: &[P], opts: Options) -> Result<Film, String> {
+        let mut ears = Ears::default();
+        let anim = Animation::load(paths, &mut ears).map_err(|e| e.to_string())?;
+        let surfaces = Surfaces::load(&anim)?;
+        let dir: Option<PathBuf> = paths
+            .first()
+            .and_then(|p| p.as_ref().parent())
+            .map(Path::to_path_buf);
+        let search = library::search_path(dir.as_deref(), None);
+        let air = Air::new(&sound_inits(&anim), Library::default(), search)?;
+        Ok(Film {
+            anim,
+            surfaces,
+            tables: Vec::new(),
+            air,
+            ears,
+            opts,
+        })
+    }
+
+    /// Interprets the current frame into its scene, logging its sound
+    /// events; returns the scene and the turtle's warnings. Call
+    /// [`Film::step`] to go on.
+    pub fn scene(&mut self) -> Result<(Scene, Vec<String>), String> {
+        self.air.begin_frame(self.anim.time())?;
+        let mut hooks = Hooks {
+            air: &mut self.air,
+            error: None,
+        };
+        let (scene, mut warnings) = build_scene(
+            &mut self.anim,
+            &self.surfaces,
+            &mut self.tables,
+            &mut self.ears,
+            &mut hooks,
+            self.opts,
+        );
+        if let Some(e) = hooks.error {
+            return Err(format!("frame {}: {e}", self.anim.frame));
+        }
+        // The camera may have moved (`l`): microphone 0 follows it.
+        self.air.end_frame(scene.camera.eye.as_dvec3())?;
+        warnings.extend(self.air.take_warnings());
+        self.ears.ongoing = self
+            .air
+            .ongoing()
+            .iter()
+            .map(|e| (e.sound, e.source))
+            .collect();
+        Ok((scene, warnings))
+    }
+
+    /// The animation and what its expressions sense (to print a word).
+    pub fn parts(&mut self) -> (&mut Animation, &mut dyn Sensors) {
+        (&mut self.anim, &mut self.ears)
+    }
+
+    /// The step function S from this frame's time to the next.
+    pub fn step(&mut self) {
+        self.anim.step(&mut self.ears);
+    }
+
+    /// Derives up to frame `target` (its scene not yet interpreted),
+    /// calling `progress(frame, target)` after each step.
+    pub fn advance_to(
+        &mut self,
+        target: u64,
+        mut progress: impl FnMut(u64, u64),
+    ) -> Result<(), String> {
+        while self.anim.frame < target {
+            self.scene()?;
+            self.step();
+            progress(self.anim.frame, target);
+        }
+        Ok(())
+    }
+}

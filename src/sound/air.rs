@@ -1,0 +1,250 @@
+//! The sound event handler of 2.4.2 ("air"): the table of on-going sound
+//! events the actors hear (`?60`–`?62`), and the frame-by-frame event log
+//! the soundtrack is rendered from (table B7).
+//!
+//! Each frame the log gets `TIME t`, the position of every microphone
+//! (`MP`) and of every source that moved (`SP`), and a `PLAY` for each
+//! event started. Microphones are declared by `Sound_event_file`'s
+//! `INIT_mic`; `l` par3 = 8/10 moves them. A scene that declares none
+//! gets microphone 0 at the camera, as the thesis rendered its films.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use glam::DVec3;
+
+use super::events::{Event, EventLog, LogError};
+use super::library::{self, Library};
+use crate::lsys::options::Command;
+
+/// Source of the sounds `T` par1 = 0 plays back with no place: it sits
+/// at the microphones' centre, so it is heard without delay or Doppler.
+pub const AMBIENT_SOURCE: u32 = 999_999;
+
+/// One on-going sound event.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ongoing {
+    pub sound: u32,
+    pub source: u32,
+    pub position: DVec3,
+    pub start: f64,
+    pub end: f64,
+}
+
+pub struct Air {
+    log: EventLog,
+    library: Library,
+    search: Vec<PathBuf>,
+    /// Length in seconds of each sound file met so far.
+    durations: BTreeMap<u32, Option<f64>>,
+    ongoing: Vec<Ongoing>,
+    mics: BTreeMap<u32, DVec3>,
+    /// Microphones that follow the camera (none declared: microphone 0).
+    follow_camera: bool,
+    sources: BTreeMap<u32, DVec3>,
+    /// Sources whose position changed this frame.
+    moved: BTreeMap<u32, DVec3>,
+    time: f64,
+    warnings: Vec<String>,
+}
+
+/// Numbers `at..at + 3` of a command (the options parser checked the
+/// count; a short list reads as zeros rather than panicking).
+fn vec3(c: &Command, at: usize) -> DVec3 {
+    let n = |i: usize| c.numbers.get(at + i).copied().unwrap_or(0.0);
+    DVec3::new(n(0), n(1), n(2))
+}
+
+impl Air {
+    /// A handler whose log starts with the initialisations of a
+    /// `Sound_event_file` option (`INIT_mic`, `INIT_source`, `CONST_S`,
+    /// `INIT_dist_matrix`); sound files are looked up along `search`.
+    pub fn new(inits: &[Command], library: Library, search: Vec<PathBuf>) -> Result<Air, String> {
+        let mut air = Air {
+            log: EventLog::new(),
+            library,
+            search,
+            durations: BTreeMap::new(),
+            ongoing: Vec::new(),
+            mics: BTreeMap::new(),
+            follow_camera: false,
+            sources: BTreeMap::new(),
+            moved: BTreeMap::new(),
+            time: 0.0,
+            warnings: Vec::new(),
+        };
+        let bad = |c: &Command, e: LogError| format!("Sound_event_file: {} {e}", c.name);
+        for c in inits {
+            let n = c.numbers.first().map_or(0, |&n| n as u32);
+            let (position, orientation) = (vec3(c, 1), vec3(c, 4));
+            let event = match c.name.to_ascii_uppercase().as_str() {
+                "INIT_MIC" => {
+                    air.mics.insert(n, position);
+                    Event::Mic { n, position, orientation }
+                }
+                "INIT_SOURCE" => {
+                    air.sources.insert(n, position);
+                    Event::Source { n, position, orientation }
+                }
+                "CONST_S" => {
+                    air.sources.insert(n, position);
+                    Event::ConstSource { n, position, orientation }
+                }
+                "INIT_DIST_MATRIX" => Event::DistMatrix,
+                _ => {
+                    return Err(format!(
+                        "Sound_event_file: `{}` is not an initialisation (INIT_mic, INIT_source, CONST_S, INIT_dist_matrix); the animation writes the rest",
+                        c.name
+                    ))
+                }
+            };
+            let r = air.log.push(event);
+            r.map_err(|e| bad(c, e))?;
+        }
+        if air.mics.is_empty() {
+            air.follow_camera = true;
+            air.mics.insert(0, DVec3::ZERO);
+            air.log
+                .declare_mic(0, DVec3::ZERO)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(air)
+    }
+
+    /// Starts frame time `t`; events that have ended leave the table.
+    pub fn begin_frame(&mut self, t: f64) -> Result<(), String> {
+        self.time = t;
+        self.log.frame(t).map_err(|e| e.to_string())?;
+        self.ongoing.retain(|e| e.end > t);
+        Ok(())
+    }
+
+    /// Microphone `mic` placed at `p` (`l` par3 = 8, 10).
+    pub fn microphone(&mut self, mic: u32, p: DVec3) {
+        self.mics.insert(mic, p);
+    }
+
+    /// Source `source` at `p` this frame.
+    fn place(&mut self, source: u32, p: DVec3) -> Result<(), String> {
+        match self.sources.insert(source, p) {
+            None => self
+                .log
+                .declare_source(source, p)
+                .map_err(|e| e.to_string()),
+            Some(old) if old != p => {
+                self.moved.insert(source, p);
+                Ok(())
+            }
+            Some(_) => Ok(()),
+        }
+    }
+
+    /// Length of sound `n`'s file, None when the library lacks it (warned
+    /// once).
+    fn duration(&mut self, n: u32) -> Option<(f64, String)> {
+        let Some(file) = self.library.file_name(n).map(str::to_string) else {
+            if self.durations.insert(n, None).is_none() {
+                self.warnings
+                    .push(format!("sound {n} is not in the sound library: skipped"));
+            }
+            return None;
+        };
+        if !self.durations.contains_key(&n) {
+            let d = library::resolve(&file, &self.search)
+                .and_then(|path| hound::WavReader::open(path).ok())
+                .map(|r| f64::from(r.duration()) / f64::from(r.spec().sample_rate));
+            if d.is_none() {
+                self.warnings.push(format!(
+                    "sound {n} ({file}) was not found or is not a WAV file: skipped"
+                ));
+            }
+            self.durations.insert(n, d);
+        }
+        self.durations[&n].map(|d| (d, file))
+    }
+
+    /// Carries out a `T` request at the current frame.
+    pub fn play(&mut self, sound: u32, source: u32, at: DVec3) -> Result<(), String> {
+        let Some((length, file)) = self.duration(sound) else {
+            return Ok(());
+        };
+        self.place(source, at)?;
+        self.ongoing.push(Ongoing {
+            sound,
+            source,
+            position: at,
+            start: self.time,
+            end: self.time + length,
+        });
+        self.log.play(source, file).map_err(|e| e.to_string())
+    }
+
+    /// Moves source `source` (`T` par1 = 2).
+    pub fn move_source(&mut self, source: u32, at: DVec3) -> Result<(), String> {
+        self.place(source, at)?;
+        for e in self.ongoing.iter_mut().filter(|e| e.source == source) {
+            e.position = at;
+        }
+        Ok(())
+    }
+
+    /// The microphones' centre: where sounds with no place are heard.
+    pub fn centre(&self) -> DVec3 {
+        self.mics.values().sum::<DVec3>() / self.mics.len().max(1) as f64
+    }
+
+    /// Writes the frame's microphone and moved source positions; the
+    /// camera ended the frame at `eye`.
+    pub fn end_frame(&mut self, eye: DVec3) -> Result<(), String> {
+        if self.follow_camera {
+            self.mics.insert(0, eye);
+        }
+        if self.ongoing.iter().any(|e| e.source == AMBIENT_SOURCE) {
+            let c = self.centre();
+            self.place(AMBIENT_SOURCE, c)?;
+        }
+        for (&m, &p) in &self.mics {
+            self.log.mic_position(m, p).map_err(|e| e.to_string())?;
+        }
+        for (s, p) in std::mem::take(&mut self.moved) {
+            self.log.source_position(s, p).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    /// `?60`: the number of on-going sound events.
+    pub fn playing(&self) -> usize {
+        self.ongoing.len()
+    }
+
+    /// `?61`: the sound the source emits (the latest started).
+    pub fn sound_of_source(&self, source: u32) -> Option<u32> {
+        self.ongoing
+            .iter()
+            .rev()
+            .find(|e| e.source == source)
+            .map(|e| e.sound)
+    }
+
+    /// `?62`: the source emitting the sound (the latest started).
+    pub fn source_of_sound(&self, sound: u32) -> Option<u32> {
+        self.ongoing
+            .iter()
+            .rev()
+            .find(|e| e.sound == sound)
+            .map(|e| e.source)
+    }
+
+    pub fn ongoing(&self) -> &[Ongoing] {
+        &self.ongoing
+    }
+
+    /// Warnings gathered so far (unknown sounds), each once.
+    pub fn take_warnings(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.warnings)
+    }
+
+    pub fn log(&self) -> &EventLog {
+        &self.log
+    }
+}

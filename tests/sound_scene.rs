@@ -1,0 +1,152 @@
+//! Sound events from the L-system (issue 5): the `T` symbol, the
+//! handler's table of on-going events behind `?60`–`?62`, the event log
+//! of a scene, and its soundtrack through the command line.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use lmfilm::film::Film;
+use lmfilm::sound::{self, Event};
+use lmfilm::turtle::Options;
+
+fn temp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lmfilm_sound_scene_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn airplane() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/examples/airplane.lm")
+}
+
+/// Derives every frame and returns the film.
+fn derive_all(scene: &Path) -> Film {
+    let mut film = Film::load(&[scene], Options::default()).unwrap();
+    let n = film.anim.frame_count();
+    for k in 0..n {
+        film.scene().unwrap();
+        if k + 1 < n {
+            film.step();
+        }
+    }
+    film
+}
+
+#[test]
+fn the_aeroplane_logs_its_path_and_its_engine() {
+    let film = derive_all(&airplane());
+    let log = film.air.log();
+    let frames = log.frames();
+    assert_eq!(frames.len(), 151, "0 … 6 s every 40 ms");
+    let mut plays = Vec::new();
+    for (k, f) in frames.iter().enumerate() {
+        assert!((f.time - k as f64 * 0.04).abs() < 1e-9);
+        for e in &f.events {
+            match e {
+                Event::Play { n, file } => plays.push((k, *n, file.clone())),
+                // The source follows x = 70 T − 210, 40 m up.
+                Event::SourcePosition { n: 1, position } => {
+                    let want = 70.0 * f.time - 210.0;
+                    assert!((position.x - want).abs() < 1e-9, "frame {k}: {position}");
+                    assert_eq!((position.y, position.z), (40.0, 0.0));
+                }
+                _ => {}
+            }
+        }
+    }
+    // Started at 0 and again when X reaches its age of 4 s.
+    assert_eq!(
+        plays,
+        [
+            (0, 1, "avion.wav".to_string()),
+            (100, 1, "avion.wav".to_string())
+        ]
+    );
+    assert_eq!(log.mic_numbers(), [0, 1]);
+    // The written log reads back the same.
+    let text = sound::events::write(log);
+    assert_eq!(&sound::events::parse(&text, "x.events").unwrap(), log);
+}
+
+#[test]
+fn audition_functions_see_the_ongoing_events() {
+    // Frame 0 starts sound 6 (start.wav, 10 ms) from source 3. At the step
+    // after frame 0 the listener's conditions ask ?60, ?61 and ?62.
+    let dir = temp("audition");
+    let scene = dir.join("listen.lm");
+    std::fs::write(
+        &scene,
+        "Camera_AnimationParameters\nt_final_interval 1 0.04\nAxiom\nT () (1) () () (6) (3) A () (3) B () (6) C () (4) D\n\
+         Productions\nT (0)\n1.0 EndProb\nEnd\n\
+         A (0) [(?60 1 -)=]\n1.0 a EndProb\nEnd\n\
+         B (0) [(?62 3 -)=]\n1.0 b EndProb\nEnd\n\
+         C (0) [(?61 1 +)=]\n1.0 c EndProb\nEnd\n\
+         D (0) [(?60)=]\n1.0 d EndProb\nEnd\nEndProductions\n",
+    )
+    .unwrap();
+    let mut film = Film::load(&[&scene], Options::default()).unwrap();
+    film.scene().unwrap();
+    assert_eq!(film.air.playing(), 1);
+    assert_eq!(film.air.sound_of_source(3), Some(6));
+    assert_eq!(film.air.source_of_sound(6), Some(3));
+    assert_eq!(film.air.sound_of_source(4), None);
+    film.step();
+    let word: String = film.anim.systems[0]
+        .word()
+        .iter()
+        .map(|s| s.ch as char)
+        .collect();
+    // One event on (A → a); sound 6 comes from source 3 (B → b);
+    // source 4 is silent, ?61 = −1 (C → c); D waits for silence.
+    assert_eq!(word, "abcD");
+    // 10 ms later the sound has ended: at the next frame D hears nothing.
+    film.scene().unwrap();
+    assert_eq!(film.air.playing(), 0);
+    film.step();
+    let word: String = film.anim.systems[0]
+        .word()
+        .iter()
+        .map(|s| s.ch as char)
+        .collect();
+    assert_eq!(word, "abcd");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn sound_of_a_scene_from_the_command_line() {
+    let dir = temp("cli");
+    let wav = dir.join("plane.wav");
+    let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args([
+            "sound",
+            airplane().to_str().unwrap(),
+            "-o",
+            wav.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("soundtrack.events").exists());
+    let r = hound::WavReader::open(&wav).unwrap();
+    assert_eq!(r.spec().channels, 2, "one channel per microphone");
+    // Exactly frames × Δt: 151 frames of 40 ms at 48 kHz.
+    assert_eq!(r.duration(), 151 * 1920);
+    let samples: Vec<i16> = r.into_samples::<i16>().map(Result::unwrap).collect();
+    assert!(
+        samples.iter().any(|&s| s.unsigned_abs() > 300),
+        "the engine is heard"
+    );
+    // Nothing before the sound can arrive: the plane starts ~210 m away.
+    let first = samples.iter().position(|&s| s != 0).unwrap() / 2;
+    let arrival = (210f64.powi(2) + 40f64.powi(2) + 30f64.powi(2)).sqrt() / 343.0;
+    assert!(
+        (first as f64 / 48_000.0 - arrival).abs() < 0.01,
+        "first sound at {first}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
