@@ -4,3 +4,7 @@
 
 pub mod world;
 pub use world::Film;
+
+pub mod frames;
+pub mod manifest;
+pub mod mux;

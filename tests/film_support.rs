@@ -1,0 +1,493 @@
+//! The film driver's support modules: frame ranges, shards, file names,
+//! the manifest with `verify`, and the ffmpeg mux.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use lmfilm::film::frames::{
+    frame_number, frame_path, frame_pattern, rs_switch, snapshot_path, FrameRange, FrameSelection,
+    RangeError, Shard, ShardError,
+};
+use lmfilm::film::manifest::{
+    sha256_bytes, sha256_file, verify, Error, Manifest, Problem, MANIFEST_FILE,
+};
+use lmfilm::film::mux::{ffmpeg_available, mux, FrameRate, MuxError};
+use lmfilm::lsys::options::OptionItem;
+
+/// A fresh empty folder for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("lmfilm-film-{name}-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn range(text: &str) -> FrameRange {
+    text.parse().unwrap()
+}
+
+// ---- frame ranges ----
+
+#[test]
+fn range_forms() {
+    let r = |start, end| FrameRange { start, end };
+    assert_eq!(range("10..20"), r(10, Some(20)));
+    assert_eq!(range("10..=20"), r(10, Some(21)));
+    assert_eq!(range("10.."), r(10, None));
+    assert_eq!(range("..5"), r(0, Some(5)));
+    assert_eq!(range("..=5"), r(0, Some(6)));
+    assert_eq!(range(".."), r(0, None));
+    assert_eq!(range("7"), r(7, Some(8)));
+    assert_eq!(range(" 3 .. 9 "), r(3, Some(9)));
+    assert_eq!(range("10..20").to_string(), "10..20");
+    assert_eq!(range("10..").to_string(), "10..");
+}
+
+#[test]
+fn range_end_is_exclusive_and_clipped_to_the_film() {
+    let r = range("2..5");
+    assert!(!r.contains(1) && r.contains(2) && r.contains(4) && !r.contains(5));
+    assert_eq!(r.within(100), 2..5);
+    assert_eq!(r.within(4), 2..4);
+    assert_eq!(r.within(1), 1..1);
+    assert_eq!(range("3..").within(10), 3..10);
+    assert_eq!(range("3..").within(0), 0..0);
+}
+
+#[test]
+fn range_errors_say_what_to_write() {
+    for text in ["", "abc", "3-10", "-3", "5..=", "x..3"] {
+        let err = text.parse::<FrameRange>().unwrap_err();
+        let msg = err.to_string();
+        assert!(
+            msg.contains("A..B") || msg.contains("frame number"),
+            "{text}: {msg}"
+        );
+    }
+    assert!(matches!(
+        "3-10".parse::<FrameRange>(),
+        Err(RangeError::Syntax { .. })
+    ));
+    let err = "a..9".parse::<FrameRange>().unwrap_err();
+    assert_eq!(
+        err,
+        RangeError::Number {
+            text: "a..9".into(),
+            bound: "a".into()
+        }
+    );
+    assert!(err.to_string().contains("`a` is not a frame number"));
+    assert!(matches!(
+        "99999999999999999999..".parse::<FrameRange>(),
+        Err(RangeError::Number { .. })
+    ));
+    for text in ["5..5", "7..3", "7..=6"] {
+        let err = text.parse::<FrameRange>().unwrap_err();
+        assert!(matches!(err, RangeError::Empty { .. }), "{text}");
+        assert!(err.to_string().contains("selects no frame"));
+    }
+}
+
+// ---- shards ----
+
+#[test]
+fn shards_cover_every_frame_exactly_once() {
+    for n in 1..=7 {
+        for count in 0..50 {
+            let mut seen = vec![0u32; count as usize];
+            for k in 1..=n {
+                let shard = Shard::new(k, n).unwrap();
+                for f in FrameSelection::all().frames(count, shard) {
+                    assert_eq!(f % n + 1, k, "frame {f} in shard {k}/{n}");
+                    seen[f as usize] += 1;
+                }
+            }
+            assert!(seen.iter().all(|&s| s == 1), "N = {n}, {count} frames");
+        }
+    }
+}
+
+#[test]
+fn shard_parsing_and_errors() {
+    let s: Shard = "2/4".parse().unwrap();
+    assert_eq!((s.index(), s.count(), s.to_string()), (2, 4, "2/4".into()));
+    assert!(s.contains(1) && s.contains(5) && !s.contains(2));
+    assert_eq!(Shard::all(), "1/1".parse().unwrap());
+    assert!(matches!(
+        "3".parse::<Shard>(),
+        Err(ShardError::Syntax { .. })
+    ));
+    assert!(matches!(
+        "a/3".parse::<Shard>(),
+        Err(ShardError::Number { .. })
+    ));
+    for (text, needle) in [
+        ("0/4", "write one of 1/4"),
+        ("5/4", "write one of 1/4"),
+        ("1/0", "at least 1"),
+        ("2", "`K/N`"),
+        ("2/x", "not a whole number"),
+    ] {
+        let msg = text.parse::<Shard>().unwrap_err().to_string();
+        assert!(msg.contains(needle), "{text}: {msg}");
+    }
+}
+
+#[test]
+fn shards_split_a_range_selection() {
+    let sel = FrameSelection::range(range("3..=9"));
+    assert_eq!(sel.frames(100, "1/2".parse().unwrap()), [4, 6, 8]);
+    assert_eq!(sel.frames(100, "2/2".parse().unwrap()), [3, 5, 7, 9]);
+    assert_eq!(sel.frames(6, Shard::all()), [3, 4, 5]);
+    assert!(sel.frames(2, Shard::all()).is_empty());
+}
+
+// ---- rs_switch ----
+
+#[test]
+fn rs_switch_intervals_are_inclusive_and_may_overlap() {
+    let sel = FrameSelection::from_rs_switch(&[0, 2, 10, 12, 11, 13]);
+    assert_eq!(sel.frames(100, Shard::all()), [0, 1, 2, 10, 11, 12, 13]);
+    assert_eq!(sel.frames(12, Shard::all()), [0, 1, 2, 10, 11]);
+    assert!(sel.contains(13) && !sel.contains(14));
+}
+
+#[test]
+fn rs_switch_odd_reversed_and_negative_values() {
+    assert_eq!(
+        FrameSelection::from_rs_switch(&[5, 6, 9]).frames(100, Shard::all()),
+        [5, 6, 9]
+    );
+    // max < min switches an interval off; negative mins start at 0.
+    let sel = FrameSelection::from_rs_switch(&[4, 3, -1, -1, -5, 1]);
+    assert_eq!(sel.frames(100, Shard::all()), [0, 1]);
+    assert!(FrameSelection::from_rs_switch(&[])
+        .frames(10, Shard::all())
+        .is_empty());
+}
+
+#[test]
+fn command_line_overrides_rs_switch() {
+    let options = vec![
+        OptionItem::MaxPart(10),
+        OptionItem::RsSwitch(vec![0, 1]),
+        OptionItem::RsSwitch(vec![5, 6]),
+    ];
+    let switch = rs_switch(&options);
+    assert_eq!(switch, Some(&[5i64, 6][..]), "the last rs_switch wins");
+    let all = Shard::all();
+    assert_eq!(
+        FrameSelection::resolve(None, switch).frames(10, all),
+        [5, 6]
+    );
+    assert_eq!(
+        FrameSelection::resolve(Some(range("1..3")), switch).frames(10, all),
+        [1, 2]
+    );
+    assert_eq!(
+        FrameSelection::resolve(None, None).frames(4, all),
+        [0, 1, 2, 3]
+    );
+    assert_eq!(rs_switch(&[OptionItem::MaxPart(1)]), None);
+}
+
+// ---- names ----
+
+#[test]
+fn frame_and_snapshot_names() {
+    assert_eq!(frame_number(0), "0000");
+    assert_eq!(frame_number(42), "0042");
+    assert_eq!(frame_number(9999), "9999");
+    assert_eq!(frame_number(12345), "12345");
+    assert_eq!(
+        frame_path("tree", 7, "png"),
+        Path::new("frames/tree.0007.png")
+    );
+    assert_eq!(
+        frame_path("tree", 10000, "exr"),
+        Path::new("frames/tree.10000.exr")
+    );
+    assert_eq!(snapshot_path(3), Path::new("scene/0003.snap"));
+    assert_eq!(snapshot_path(123456), Path::new("scene/123456.snap"));
+    assert_eq!(frame_pattern("tree", "png"), "frames/tree.%04d.png");
+    assert_eq!(frame_pattern("100%", "png"), "frames/100%%.%04d.png");
+}
+
+// ---- manifest ----
+
+/// A small output folder: two frames, a snapshot and a soundtrack.
+fn fake_outputs(dir: &Path) -> Vec<PathBuf> {
+    let files = [
+        (frame_path("f", 1, "png"), b"frame one".to_vec()),
+        (frame_path("f", 0, "png"), b"frame zero".to_vec()),
+        (snapshot_path(0), b"snapshot".to_vec()),
+        (PathBuf::from("soundtrack.wav"), vec![7u8; 200_003]),
+    ];
+    for (rel, bytes) in &files {
+        fs::create_dir_all(dir.join(rel).parent().unwrap()).unwrap();
+        fs::write(dir.join(rel), bytes).unwrap();
+    }
+    files.into_iter().map(|(rel, _)| rel).collect()
+}
+
+fn manifest_of(dir: &Path) -> Manifest {
+    let mut m = Manifest::new(0.04, 2);
+    m.add_scene("scenes/tree.lm", b"Axiom A");
+    m.add_scene("scenes/field.lm", b"Axiom B");
+    m.options.insert("width".into(), "320".into());
+    m.options.insert("preset".into(), "preview".into());
+    for rel in fake_outputs(dir) {
+        m.add_file(dir, &rel).unwrap();
+    }
+    m
+}
+
+#[test]
+fn sha256_of_bytes_and_streamed_files() {
+    assert_eq!(
+        sha256_bytes(b"abc"),
+        "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+    );
+    let dir = temp_dir("sha");
+    let big: Vec<u8> = (0..300_001u32).map(|i| (i * 31 % 251) as u8).collect();
+    fs::write(dir.join("big"), &big).unwrap();
+    assert_eq!(sha256_file(&dir.join("big")).unwrap(), sha256_bytes(&big));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn manifest_is_byte_identical_for_identical_inputs() {
+    let (a, b) = (temp_dir("man-a"), temp_dir("man-b"));
+    manifest_of(&a).write(&a).unwrap();
+    manifest_of(&b).write(&b).unwrap();
+    let bytes = fs::read(a.join(MANIFEST_FILE)).unwrap();
+    assert_eq!(bytes, fs::read(b.join(MANIFEST_FILE)).unwrap());
+    assert_eq!(Manifest::read(&a).unwrap(), manifest_of(&a));
+    let left: Vec<_> = fs::read_dir(&a)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n.to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+    fs::remove_dir_all(&a).unwrap();
+    fs::remove_dir_all(&b).unwrap();
+}
+
+/// The position of `"key"` in the JSON text.
+fn at(text: &str, key: &str) -> usize {
+    text.find(&format!("\"{key}\""))
+        .unwrap_or_else(|| panic!("no {key}"))
+}
+
+#[test]
+fn manifest_keys_are_sorted_and_relative() {
+    let dir = temp_dir("man-sorted");
+    let text = manifest_of(&dir).to_json();
+    let top = [
+        "dt",
+        "files",
+        "frame_count",
+        "lmfilm_version",
+        "options",
+        "scenes",
+    ];
+    assert!(
+        top.windows(2).all(|w| at(&text, w[0]) < at(&text, w[1])),
+        "{text}"
+    );
+    let files = [
+        "frames/f.0000.png",
+        "frames/f.0001.png",
+        "scene/0000.snap",
+        "soundtrack.wav",
+    ];
+    assert!(
+        files.windows(2).all(|w| at(&text, w[0]) < at(&text, w[1])),
+        "{text}"
+    );
+    assert!(at(&text, "preset") < at(&text, "width"));
+    // Scenes keep command-line order.
+    assert!(at(&text, "scenes/tree.lm") < at(&text, "scenes/field.lm"));
+    assert!(text.contains("\"dt\": 0.04"));
+    assert!(text.contains(&format!("\"{}\"", env!("CARGO_PKG_VERSION"))));
+    assert!(text.ends_with("}\n"));
+    assert!(!text.contains(&*dir.to_string_lossy()), "no absolute paths");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn manifest_refuses_paths_outside_the_folder() {
+    let dir = temp_dir("man-unsafe");
+    let mut m = Manifest::new(0.04, 1);
+    for bad in ["../x", "/etc/passwd", "", "./a/../b"] {
+        let err = m.add_file(&dir, Path::new(bad)).unwrap_err();
+        assert!(matches!(err, Error::UnsafePath { .. }), "{bad}: {err}");
+    }
+    m.files.insert("../../etc/passwd".into(), "00".into());
+    m.write(&dir).unwrap();
+    let err = verify(&dir).unwrap_err();
+    assert!(matches!(err, Error::UnsafePath { .. }));
+    assert!(err.to_string().contains("../../etc/passwd"));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn verify_passes_then_names_a_flipped_byte_and_a_missing_file() {
+    let dir = temp_dir("verify");
+    manifest_of(&dir).write(&dir).unwrap();
+    fs::write(dir.join("extra.txt"), b"not listed").unwrap();
+    let report = verify(&dir).unwrap();
+    assert!(report.is_ok(), "{:?}", report.problems);
+    assert_eq!(report.checked, 4);
+
+    let wav = dir.join("soundtrack.wav");
+    let mut bytes = fs::read(&wav).unwrap();
+    bytes[100_000] ^= 1;
+    fs::write(&wav, bytes).unwrap();
+    fs::remove_file(dir.join("frames/f.0001.png")).unwrap();
+    let report = verify(&dir).unwrap();
+    assert!(!report.is_ok());
+    let names: Vec<&str> = report.problems.iter().map(Problem::file).collect();
+    assert_eq!(names, ["frames/f.0001.png", "soundtrack.wav"]);
+    assert!(matches!(report.problems[0], Problem::Missing { .. }));
+    assert!(matches!(report.problems[1], Problem::Mismatch { .. }));
+    assert_eq!(report.problems[0].to_string(), "frames/f.0001.png: missing");
+    assert!(report.problems[1]
+        .to_string()
+        .starts_with("soundtrack.wav: sha256 mismatch"));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn verify_without_or_with_a_broken_manifest_is_an_error() {
+    let dir = temp_dir("verify-none");
+    let err = verify(&dir).unwrap_err();
+    assert!(matches!(err, Error::Io { .. }));
+    assert!(err.to_string().contains(MANIFEST_FILE), "{err}");
+    fs::write(dir.join(MANIFEST_FILE), "{ not json").unwrap();
+    let err = verify(&dir).unwrap_err();
+    assert!(matches!(err, Error::Json { .. }));
+    assert!(
+        err.to_string().contains("not a valid lmfilm manifest"),
+        "{err}"
+    );
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+// ---- mux ----
+
+#[test]
+fn frame_rates_are_exact_fractions() {
+    let rate = |dt| FrameRate::from_dt(dt).unwrap();
+    assert_eq!(rate(0.04), FrameRate { num: 25, den: 1 });
+    assert_eq!(rate(0.04).to_string(), "25/1");
+    assert_eq!(rate(1.0 / 30.0), FrameRate { num: 30, den: 1 });
+    assert_eq!(
+        rate(1001.0 / 30000.0),
+        FrameRate {
+            num: 30000,
+            den: 1001
+        }
+    );
+    assert_eq!(
+        rate(1001.0 / 24000.0),
+        FrameRate {
+            num: 24000,
+            den: 1001
+        }
+    );
+    assert_eq!(rate(10.0), FrameRate { num: 1, den: 10 });
+    assert_eq!(rate(0.4), FrameRate { num: 5, den: 2 });
+    assert_eq!(rate(0.0416667), FrameRate { num: 24, den: 1 });
+    for dt in [0.0, -0.04, f64::NAN, f64::INFINITY, 1e-12] {
+        let err = FrameRate::from_dt(dt).unwrap_err();
+        assert!(matches!(err, MuxError::FrameRate { .. }), "{dt}");
+    }
+}
+
+#[test]
+fn missing_ffmpeg_says_to_install_it_and_where_the_outputs_are() {
+    let msg = MuxError::FfmpegMissing {
+        dir: PathBuf::from("renders/tree"),
+    }
+    .to_string();
+    assert!(msg.contains("apt-get install ffmpeg"), "{msg}");
+    assert!(msg.contains("already in renders/tree"), "{msg}");
+    assert!(msg.contains("lmfilm mux renders/tree"), "{msg}");
+}
+
+#[test]
+fn mux_refuses_a_missing_folder_or_soundtrack() {
+    let rate = FrameRate { num: 25, den: 1 };
+    let nowhere = std::env::temp_dir().join("lmfilm-film-no-such-folder");
+    let err = mux(&nowhere, "f", rate, "frames/f.%04d.png", None).unwrap_err();
+    assert!(
+        matches!(err, MuxError::Io { ref path, .. } if *path == nowhere),
+        "{err}"
+    );
+    let dir = temp_dir("mux-nosound");
+    let err = mux(&dir, "f", rate, "x", Some(Path::new("gone.wav"))).unwrap_err();
+    assert!(err.to_string().contains("gone.wav"), "{err}");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Three 17×9 PNG frames (odd sizes, which yuv420p cannot take unpadded)
+/// and a mono soundtrack of exactly three frames at 25 fps.
+fn tiny_film(dir: &Path) {
+    fs::create_dir_all(dir.join("frames")).unwrap();
+    for n in 0..3u8 {
+        image::RgbImage::from_pixel(17, 9, image::Rgb([80 * n, 100, 200]))
+            .save(dir.join(frame_path("tiny", n.into(), "png")))
+            .unwrap();
+    }
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: 48_000,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let mut wav = hound::WavWriter::create(dir.join("soundtrack.wav"), spec).unwrap();
+    for i in 0..5_760i32 {
+        wav.write_sample(((i % 100) * 300 - 15_000) as i16).unwrap();
+    }
+    wav.finalize().unwrap();
+}
+
+#[test]
+fn mux_makes_an_mp4_or_explains_the_missing_ffmpeg() {
+    let dir = temp_dir("mux");
+    tiny_film(&dir);
+    let rate = FrameRate::from_dt(0.04).unwrap();
+    let pattern = frame_pattern("tiny", "png");
+    let result = mux(
+        &dir,
+        "tiny",
+        rate,
+        &pattern,
+        Some(Path::new("soundtrack.wav")),
+    );
+    if !ffmpeg_available() {
+        eprintln!("ffmpeg is not installed: skipping the real mux, checking the message");
+        let err = result.unwrap_err();
+        assert!(matches!(err, MuxError::FfmpegMissing { .. }), "{err}");
+        assert!(err.to_string().contains("apt-get install ffmpeg"));
+        assert!(!dir.join("tiny.mp4").exists());
+    } else {
+        let out = result.unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(out, dir.join("tiny.mp4"));
+        let bytes = fs::read(&out).unwrap();
+        assert!(bytes.len() > 100 && &bytes[4..8] == b"ftyp", "not an MP4");
+    }
+    let temps = fs::read_dir(&dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .ends_with(".tmp")
+        })
+        .count();
+    assert_eq!(temps, 0, "a temporary file was left behind");
+    fs::remove_dir_all(&dir).unwrap();
+}
