@@ -6,5 +6,6 @@ pub mod world;
 pub use world::Film;
 
 pub mod frames;
+pub mod job;
 pub mod manifest;
 pub mod mux;

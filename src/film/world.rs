@@ -2,12 +2,12 @@
 //! per-L-system state tables, and the sound event handler, wired
 //! together through the traits the lower layers define (DESIGN §2).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::DVec3;
 
 use crate::lsys::options::{Command, OptionItem};
-use crate::lsys::{Animation, Sensors};
+use crate::lsys::{Animation, Sensors, Source};
 use crate::scene::Scene;
 use crate::sound::air::{Air, AMBIENT_SOURCE};
 use crate::sound::library::{self, Library};
@@ -101,14 +101,27 @@ impl Film {
     /// Loads the scene files; sound files are looked up in the first
     /// file's folder, then `scenes/sounds/`.
     pub fn load<P: AsRef<Path>>(paths: &[P], opts: Options) -> Result<Film, String> {
+        let mut sources = Vec::new();
+        for p in paths {
+            let name = p.as_ref().display().to_string();
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{name}: {e}"))?;
+            sources.push(Source::new(name, text));
+        }
+        let dir = paths.first().and_then(|p| p.as_ref().parent());
+        Film::from_sources(&sources, dir, opts)
+    }
+
+    /// A film from scene texts (the built-in film); `dir` is where their
+    /// sound files and surfaces would be.
+    pub fn from_sources(
+        sources: &[Source],
+        dir: Option<&Path>,
+        opts: Options,
+    ) -> Result<Film, String> {
         let mut ears = Ears::default();
-        let anim = Animation::load(paths, &mut ears).map_err(|e| e.to_string())?;
+        let anim = Animation::from_sources(sources, &mut ears).map_err(|e| e.to_string())?;
         let surfaces = Surfaces::load(&anim)?;
-        let dir: Option<PathBuf> = paths
-            .first()
-            .and_then(|p| p.as_ref().parent())
-            .map(Path::to_path_buf);
-        let search = library::search_path(dir.as_deref(), None);
+        let search = library::search_path(dir, None);
         let air = Air::new(&sound_inits(&anim), Library::default(), search)?;
         Ok(Film {
             anim,
