@@ -216,7 +216,7 @@ pub fn render_frames(
                 dir.display()
             ))
         })?;
-        let mut st = settings.clone();
+        let mut st = *settings;
         st.frame = k;
         st.layers = formats != Formats::Png;
         let img = render::render(&scene, &st);
