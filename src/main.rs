@@ -7,6 +7,10 @@ use std::time::{Duration, Instant};
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+mod film_commands;
+
+use film_commands::RenderArgs;
+use lmfilm::film::frames::{FrameRange, Shard};
 use lmfilm::film::Film;
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::render::{self, Filter, Settings};
@@ -87,6 +91,83 @@ enum Command {
         /// Diameter of the thin cylinders drawn for segments `R S`.
         #[arg(long, default_value_t = 0.05)]
         segment_width: f64,
+    },
+    /// Make a whole film: derive, render every frame, the soundtrack, the
+    /// manifest, and an MP4 when ffmpeg is installed.
+    ///
+    /// With no scene, the built-in film (a tree growing in the wind, a
+    /// field of flowers, an aeroplane with its Doppler sound) goes to
+    /// renders/lmfilm/. A re-run skips finished frames. Examples:
+    ///
+    ///     lmfilm run
+    ///     lmfilm run scenes/examples/airplane.lm -o renders/plane --preset preview
+    Run {
+        /// Definition files derived together (none: the built-in film).
+        #[arg(value_name = "SCENE.lm")]
+        scenes: Vec<PathBuf>,
+        /// Output folder (default renders/<first scene's name>/).
+        #[arg(short, long, value_name = "DIR")]
+        output: Option<PathBuf>,
+        #[command(flatten)]
+        render: RenderArgs,
+        /// Let the scene run its `command_file` scripts.
+        #[arg(long)]
+        allow_commands: bool,
+    },
+    /// The simulation alone: DIR/scene/NNNN.snap per frame,
+    /// DIR/soundtrack.events and DIR/manifest.json. Example:
+    ///
+    ///     lmfilm derive scenes/examples/airplane.lm -o renders/plane
+    Derive {
+        #[arg(required = true, value_name = "SCENE.lm")]
+        scenes: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(short, long, value_name = "DIR")]
+        output: PathBuf,
+        /// Let the scene run its `command_file` scripts.
+        #[arg(long)]
+        allow_commands: bool,
+    },
+    /// Ray-trace a derived folder's snapshots into DIR/frames/; shard K/N
+    /// takes every N-th frame, so N processes (on N machines) cover the
+    /// film once. Finished frames are skipped. Example:
+    ///
+    ///     lmfilm render renders/plane --shard 1/2
+    Render {
+        #[arg(value_name = "DIR")]
+        dir: PathBuf,
+        #[command(flatten)]
+        render: RenderArgs,
+        /// This process's share of the frames: K/N.
+        #[arg(long, value_name = "K/N")]
+        shard: Option<Shard>,
+    },
+    /// Frames and soundtrack of a film folder into DIR/<name>.mp4 (H.264 +
+    /// AAC) through ffmpeg. Example:
+    ///
+    ///     lmfilm mux renders/lmfilm
+    Mux {
+        #[arg(value_name = "DIR")]
+        dir: PathBuf,
+    },
+    /// Re-hash every file of a film folder against its manifest.json;
+    /// exit code 1 and each bad or missing file named. Example:
+    ///
+    ///     lmfilm verify renders/lmfilm
+    Verify {
+        #[arg(value_name = "DIR")]
+        dir: PathBuf,
+    },
+    /// JSON Lines on stdout, one object per frame: frame, time, particles,
+    /// actors, the sound events started. Example:
+    ///
+    ///     lmfilm trace scenes/examples/airplane.lm --frames 0..3
+    Trace {
+        #[arg(required = true, value_name = "SCENE.lm")]
+        scenes: Vec<PathBuf>,
+        /// Frames to list: A..B (B excluded), A..=B, A.. or N.
+        #[arg(long, value_name = "A..B")]
+        frames: Option<FrameRange>,
     },
     /// Render a sound event log into a soundtrack WAV (thesis 2.4.3).
     ///
@@ -419,6 +500,9 @@ fn sound(
             SampleFormat::Pcm16
         },
     };
+    if events.is_dir() && output.is_none() && events.join("manifest.json").exists() {
+        return film_commands::sound_dir(events, &settings);
+    }
     let (events, output) = if events.extension().is_some_and(|e| e == "lm") {
         scene_events(events, output)?
     } else {
@@ -490,6 +574,21 @@ fn main() -> ExitCode {
             filter,
             segment_width,
         ),
+        Command::Run {
+            scenes,
+            output,
+            render,
+            allow_commands,
+        } => film_commands::run(&scenes, output.as_deref(), &render, allow_commands),
+        Command::Derive {
+            scenes,
+            output,
+            allow_commands,
+        } => film_commands::derive(&scenes, &output, allow_commands),
+        Command::Render { dir, render, shard } => film_commands::render(&dir, &render, shard),
+        Command::Mux { dir } => film_commands::mux_command(&dir),
+        Command::Verify { dir } => film_commands::verify(&dir),
+        Command::Trace { scenes, frames } => film_commands::trace(&scenes, frames),
         Command::Sound {
             events,
             output,

@@ -217,6 +217,10 @@ pub fn render_frames(
             ))
         })?;
         let mut st = *settings;
+        // 0 × 0: the camera's own size.
+        if st.width == 0 || st.height == 0 {
+            (st.width, st.height) = (scene.camera.width, scene.camera.height);
+        }
         st.frame = k;
         st.layers = formats != Formats::Png;
         let img = render::render(&scene, &st);

@@ -165,6 +165,19 @@ impl Film {
         Ok((scene, warnings))
     }
 
+    /// What in the scene would run a script on this machine (a
+    /// `command_file` declaration), if anything.
+    pub fn wants_commands(&self) -> Option<String> {
+        self.anim.systems.iter().find_map(|s| {
+            s.def.options.iter().find_map(|o| match o {
+                OptionItem::CommandFile { number, script, .. } => {
+                    Some(format!("command_file {number} {script}"))
+                }
+                _ => None,
+            })
+        })
+    }
+
     /// The animation and what its expressions sense (to print a word).
     pub fn parts(&mut self) -> (&mut Animation, &mut dyn Sensors) {
         (&mut self.anim, &mut self.ears)
