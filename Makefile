@@ -1,20 +1,18 @@
 # lmfilm — the main job and the checks. `make help` lists the targets.
 CARGO ?= cargo
-SCENE ?= scenes/examples/cours_tree3.lm
-TIME ?= 4
 
-.PHONY: film test check lint bench bench-render help
+.PHONY: film test check lint bench bench-render clean help
 
 help:
-	@echo "make film   derive the default scene and ray-trace it to renders/film.png (SCENE=…, TIME=…)"
+	@echo "make film   the built-in film: frames, soundtrack and manifest in renders/lmfilm/ (an MP4 too with ffmpeg)"
 	@echo "make test   build and run the whole test suite"
 	@echo "make lint   cargo fmt --check and cargo clippy --all-targets"
 	@echo "make bench  criterion benchmarks of the step function and the turtle"
 	@echo "make bench-render  the forest against Embree and Mitsuba 3 (../shared/anchors)"
+	@echo "make clean  remove build products and renders (but renders/README.md)"
 
 film:
-	$(CARGO) run --release -- still $(SCENE) --time $(TIME) -o renders/film.png
-	@echo "wrote renders/film.png"
+	$(CARGO) run --release -- run
 
 test:
 	$(CARGO) test --all-targets
@@ -28,6 +26,11 @@ check: lint test
 bench:
 	$(CARGO) bench --bench step
 	$(CARGO) bench --bench scene
+	$(CARGO) bench --bench sound
 
 bench-render:
 	sh scripts/bench_render.sh
+
+clean:
+	$(CARGO) clean
+	find renders -mindepth 1 ! -name README.md -exec rm -rf {} +

@@ -1,0 +1,212 @@
+//! The film driver end to end (issue 6): run, derive, render shards,
+//! sound, verify, resume after a kill, thread-count independence.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+const SCENE: &str = "/* a short film for the tests: 1 s, a box flying past with its sound */
+Camera_AnimationParameters
+prefpos_x1_x2_y1_y2 0 64 0 36
+observer 0 2 20
+lookatPoint 0 2 0
+viewAngle 500
+t_final_interval 1.0 0.04
+Axiom
+D () (15) m () (1) D () (2) () () (0)
+[ f () () () (2) (T 20 * 10 -) (3) (0) T () (1) () () (6) (1) m () (4) c () () () () (2) (1) (1) ]
+Productions
+T (0)
+1.0 T () (2) () () (1) EndProb
+End
+EndProductions
+";
+
+fn temp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lmfilm_film_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn lmfilm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn ok(args: &[&str]) -> Output {
+    let out = lmfilm(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn scene_in(dir: &Path) -> String {
+    let p = dir.join("flight.lm");
+    std::fs::write(&p, SCENE).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+fn manifest(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join("manifest.json")).unwrap()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn any_thread_count_and_any_shard_split_give_the_same_film() {
+    let root = temp("same");
+    let scene = scene_in(&root);
+    let (one, two, split) = (root.join("one"), root.join("two"), root.join("split"));
+    ok(&["run", &scene, "-o", s(&one), "--threads", "1"]);
+    ok(&["run", &scene, "-o", s(&two), "--threads", "2"]);
+    assert_eq!(manifest(&one), manifest(&two));
+    // derive + two shards (in any order) + sound = run.
+    ok(&["derive", &scene, "-o", s(&split)]);
+    ok(&["render", s(&split), "--shard", "2/2"]);
+    ok(&["render", s(&split), "--shard", "1/2"]);
+    ok(&["sound", s(&split)]);
+    assert_eq!(manifest(&one), manifest(&split));
+    let m = manifest(&one);
+    assert_eq!(m.matches("frames/flight.").count(), 26, "{m}");
+    assert_eq!(m.matches("scene/").count(), 26);
+    assert!(m.contains("soundtrack.wav") && m.contains("soundtrack.events"));
+    // frames × Δt × rate samples, one channel (the camera's microphone).
+    let wav = hound::WavReader::open(one.join("soundtrack.wav")).unwrap();
+    assert_eq!(wav.duration(), 26 * 1920);
+    ok(&["verify", s(&one)]);
+    // With ffmpeg installed, run ends with the MP4.
+    if lmfilm::film::mux::ffmpeg_available() {
+        assert!(one.join("flight.mp4").exists());
+    }
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn a_killed_run_resumes_to_the_same_bytes() {
+    let root = temp("kill");
+    let scene = scene_in(&root);
+    let (clean, killed) = (root.join("clean"), root.join("killed"));
+    let big = ["--width", "320", "--height", "180"];
+    ok(&[&["run", &scene, "-o", s(&clean)], &big[..]].concat());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args([&["run", &scene, "-o", s(&killed)], &big[..]].concat())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Kill it once a few frames are on disk (or when it is done).
+    let start = Instant::now();
+    loop {
+        let n = std::fs::read_dir(killed.join("frames")).map_or(0, |d| d.count());
+        if n >= 3 || start.elapsed() > Duration::from_secs(60) {
+            break;
+        }
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().ok(); // SIGKILL
+    child.wait().unwrap();
+    ok(&[&["run", &scene, "-o", s(&killed)], &big[..]].concat());
+    assert_eq!(manifest(&clean), manifest(&killed));
+    // No temporary files are left behind.
+    for d in ["frames", "scene"] {
+        for e in std::fs::read_dir(killed.join(d)).unwrap() {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            assert!(name.ends_with(".png") || name.ends_with(".snap"), "{name}");
+        }
+    }
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn verify_names_a_flipped_byte_and_a_missing_frame() {
+    let root = temp("verify");
+    let scene = scene_in(&root);
+    let dir = root.join("film");
+    ok(&["run", &scene, "-o", s(&dir), "--preset", "preview"]);
+    let frame = dir.join("frames/flight.0003.png");
+    let mut bytes = std::fs::read(&frame).unwrap();
+    let k = bytes.len() / 2;
+    bytes[k] ^= 1;
+    std::fs::write(&frame, bytes).unwrap();
+    std::fs::remove_file(dir.join("frames/flight.0007.png")).unwrap();
+    let out = lmfilm(&["verify", s(&dir)]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("flight.0003.png") && err.contains("flight.0007.png"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn bad_input_says_what_to_do() {
+    let root = temp("bad");
+    let scene = scene_in(&root);
+    // A missing scene.
+    let out = lmfilm(&["run", s(&root.join("nope.lm")), "-o", s(&root.join("x"))]);
+    assert_eq!(out.status.code(), Some(2));
+    // A folder that was never derived.
+    let out = lmfilm(&["render", s(&root)]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("lmfilm derive"));
+    // A snapshot from another program version.
+    let dir = root.join("film");
+    ok(&["derive", &scene, "-o", s(&dir)]);
+    let snap = dir.join("scene/0002.snap");
+    let mut bytes = std::fs::read(&snap).unwrap();
+    bytes[8] = bytes[8].wrapping_add(1); // the version field after the magic
+    std::fs::write(&snap, bytes).unwrap();
+    let out = lmfilm(&["render", s(&dir), "--frames", "2..3"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("0002.snap") && err.contains("derive the film again"),
+        "{err}"
+    );
+    // Bad ranges and shards.
+    for bad in [["--frames", "3..1"], ["--shard", "3/2"]] {
+        let out = lmfilm(&[&["render", s(&dir)], &bad[..]].concat());
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+    }
+    // A scene that declares a script does not run without consent.
+    let cmd = root.join("cmd.lm");
+    std::fs::write(
+        &cmd,
+        SCENE.replace("Axiom", "Options\ncommand_file 1 touch.sh a b\nAxiom"),
+    )
+    .unwrap();
+    let out = lmfilm(&["derive", s(&cmd), "-o", s(&root.join("c"))]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--allow-commands"));
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn trace_lists_each_frame_as_json() {
+    let root = temp("trace");
+    let scene = scene_in(&root);
+    let out = ok(&["trace", &scene, "--frames", "0..3"]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 3);
+    assert_eq!(lines[1]["frame"], 1);
+    assert_eq!(lines[1]["time"], 0.04);
+    assert_eq!(lines[0]["sound_events"][0]["sound"], 6);
+    assert_eq!(lines[0]["sound_events"][0]["pos"][0], -10.0);
+    assert!(lines[1]["sound_events"].as_array().unwrap().is_empty());
+    std::fs::remove_dir_all(&root).unwrap();
+}
