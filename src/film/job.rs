@@ -22,7 +22,8 @@ use super::frames::{frame_path, snapshot_path, SCENE_DIR};
 use super::manifest::{self, Manifest};
 use super::Film;
 use crate::render::{self, output, Settings};
-use crate::scene::{atomic::write_atomic, snapshot};
+use crate::scene::atomic::{remove_stale_temps, write_atomic};
+use crate::scene::snapshot;
 use crate::sound;
 
 /// The log and soundtrack names inside the folder.
@@ -119,6 +120,8 @@ pub fn derive(
     let frames = film.anim.frame_count();
     let scene_dir = dir.join(SCENE_DIR);
     std::fs::create_dir_all(&scene_dir).map_err(|e| io(&scene_dir, e))?;
+    remove_stale_temps(&scene_dir);
+    remove_stale_temps(dir);
     let mut warnings = std::collections::BTreeSet::new();
     for k in 0..frames {
         let (scene, w) = film.scene().map_err(Error::input)?;
@@ -196,8 +199,9 @@ pub fn render_frames(
 ) -> Result<u64, Error> {
     let mut m = open(dir)?;
     let name = film_name(&m);
-    std::fs::create_dir_all(dir.join(super::frames::FRAMES_DIR))
-        .map_err(|e| io(&dir.join(super::frames::FRAMES_DIR), e))?;
+    let frames_dir = dir.join(super::frames::FRAMES_DIR);
+    std::fs::create_dir_all(&frames_dir).map_err(|e| io(&frames_dir, e))?;
+    remove_stale_temps(&frames_dir);
     let mut rendered = 0;
     for (i, &k) in frames.iter().enumerate() {
         let outs: Vec<PathBuf> = formats

@@ -34,3 +34,33 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
         io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
     })
 }
+
+/// Removes the temporary files that writers killed in the middle left in
+/// `dir` (`NAME.PID.N.tmp` whose process no longer runs on this machine),
+/// so a re-run leaves nothing half-written behind. Where processes cannot
+/// be checked (not Linux), temporary files are left alone.
+pub fn remove_stale_temps(dir: &Path) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(stem) = name.strip_suffix(".tmp") else {
+            continue;
+        };
+        let pid = stem.rsplit('.').nth(1).and_then(|p| p.parse::<u32>().ok());
+        if pid.is_some_and(|p| p != std::process::id() && !running(p)) {
+            let _ = fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Whether process `pid` runs on this machine (Linux: /proc); elsewhere
+/// assumed so, which keeps every file.
+fn running(pid: u32) -> bool {
+    if cfg!(target_os = "linux") {
+        Path::new("/proc").join(pid.to_string()).exists()
+    } else {
+        true
+    }
+}
