@@ -192,8 +192,15 @@ fn load(
             .map_or("film".into(), |s| s.to_string_lossy().into_owned());
         (film, texts, name)
     };
+    let mut film = film;
     if let Some(what) = film.wants_commands() {
-        if !allow_commands {
+        if allow_commands {
+            let dir = scenes
+                .first()
+                .and_then(|p| p.parent())
+                .unwrap_or(Path::new("."));
+            film.allow_commands(dir);
+        } else {
             return Err((
                 2,
                 format!(

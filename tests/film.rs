@@ -210,3 +210,34 @@ fn trace_lists_each_frame_as_json() {
     assert!(lines[1]["sound_events"].as_array().unwrap().is_empty());
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// With consent, `E` runs its script each frame with the thesis's
+/// arguments: frame number, the two declared words, three integers.
+#[cfg(unix)]
+#[test]
+fn allowed_scripts_run_with_the_frame_number() {
+    use std::os::unix::fs::PermissionsExt;
+    let root = temp("script");
+    let script = root.join("log.sh");
+    std::fs::write(&script, "#!/bin/sh\necho \"$@\" >> calls.txt\n").unwrap();
+    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let scene = root.join("e.lm");
+    std::fs::write(
+        &scene,
+        "Camera_AnimationParameters\nt_final_interval 0.12 0.04\nOptions\ncommand_file 1 log.sh tape one\nAxiom\nE () (1) (1) () (4) (5.7) (6)\n",
+    )
+    .unwrap();
+    ok(&[
+        "derive",
+        s(&scene),
+        "-o",
+        s(&root.join("out")),
+        "--allow-commands",
+    ]);
+    let calls = std::fs::read_to_string(root.join("calls.txt")).unwrap();
+    assert_eq!(
+        calls,
+        "0 tape one 4 5 6\n1 tape one 4 5 6\n2 tape one 4 5 6\n3 tape one 4 5 6\n"
+    );
+    std::fs::remove_dir_all(&root).unwrap();
+}

@@ -2,7 +2,7 @@
 //! per-L-system state tables, and the sound event handler, wired
 //! together through the traits the lower layers define (DESIGN §2).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
@@ -43,7 +43,14 @@ impl Sensors for Ears {
 struct Hooks<'a> {
     air: &'a mut Air,
     error: Option<String>,
+    /// Scripts the scene may run (only with the user's consent), the
+    /// folder they live in, and the frame.
+    scripts: Option<&'a (Vec<Script>, PathBuf)>,
+    frame: u64,
 }
+
+/// A `command_file` declaration: number, script, two text arguments.
+type Script = (i64, String, String, String);
 
 impl TurtleWorld for Hooks<'_> {
     fn microphone(&mut self, mic: i64, p: DVec3) {
@@ -66,11 +73,43 @@ impl TurtleWorld for Hooks<'_> {
             self.fail(e);
         }
     }
+
+    fn command(&mut self, number: i64, values: [i64; 3]) {
+        self.run_script(number, values);
+    }
 }
 
 impl Hooks<'_> {
     fn fail(&mut self, e: String) {
         self.error.get_or_insert(e);
+    }
+
+    /// Runs script `number` as the thesis did: the frame number, the two
+    /// declared arguments and the three values.
+    fn run_script(&mut self, number: i64, values: [i64; 3]) {
+        let Some((scripts, dir)) = self.scripts else {
+            return;
+        };
+        let Some((_, script, a1, a2)) = scripts.iter().find(|s| s.0 == number) else {
+            return self.fail(format!(
+                "`E` runs script {number}, which no command_file declares"
+            ));
+        };
+        let status = std::process::Command::new(dir.join(script))
+            .current_dir(dir)
+            .arg(self.frame.to_string())
+            .args([a1, a2])
+            .args(values.map(|v| v.to_string()))
+            .status();
+        match status {
+            Ok(s) if s.success() => {}
+            Ok(s) => self.fail(format!(
+                "script {script} (command_file {number}) failed: {s}"
+            )),
+            Err(e) => self.fail(format!(
+                "script {script} (command_file {number}) cannot run: {e}"
+            )),
+        }
     }
 }
 
@@ -82,6 +121,7 @@ pub struct Film {
     pub air: Air,
     ears: Ears,
     opts: Options,
+    scripts: Option<(Vec<Script>, PathBuf)>,
 }
 
 /// The `Sound_event_file` initialisations of the first L-system that
@@ -104,7 +144,8 @@ impl Film {
         let mut sources = Vec::new();
         for p in paths {
             let name = p.as_ref().display().to_string();
-            let text = std::fs::read_to_string(p).map_err(|e| format!("{name}: {e}"))?;
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("{name}: cannot read the file: {e}"))?;
             sources.push(Source::new(name, text));
         }
         let dir = paths.first().and_then(|p| p.as_ref().parent());
@@ -130,6 +171,7 @@ impl Film {
             air,
             ears,
             opts,
+            scripts: None,
         })
     }
 
@@ -141,6 +183,8 @@ impl Film {
         let mut hooks = Hooks {
             air: &mut self.air,
             error: None,
+            scripts: self.scripts.as_ref(),
+            frame: self.anim.frame,
         };
         let (scene, mut warnings) = build_scene(
             &mut self.anim,
@@ -176,6 +220,27 @@ impl Film {
                 _ => None,
             })
         })
+    }
+
+    /// Lets the `E` symbols run the declared scripts, found in `dir` (the
+    /// user's consent: `--allow-commands`).
+    pub fn allow_commands(&mut self, dir: &Path) {
+        let scripts = self
+            .anim
+            .systems
+            .iter()
+            .flat_map(|s| &s.def.options)
+            .filter_map(|o| match o {
+                OptionItem::CommandFile {
+                    number,
+                    script,
+                    arg1,
+                    arg2,
+                } => Some((*number, script.clone(), arg1.clone(), arg2.clone())),
+                _ => None,
+            })
+            .collect();
+        self.scripts = Some((scripts, dir.to_path_buf()));
     }
 
     /// The animation and what its expressions sense (to print a word).

@@ -457,6 +457,12 @@ impl Interpreter<'_> {
             }
             b'D' => special::d_symbol(self, &s),
             b'T' => self.sound(&s, x),
+            // C.6: script par1; par2 = 0 only for the interactive window,
+            // so a film runs it only when par2 ≠ 0.
+            b'E' if y != 0.0 => {
+                let g = self.growth(&s).map(|v| v as i64);
+                self.world.command(x as i64, g);
+            }
             b'B' => {
                 let g = self.growth(&s);
                 if g.iter().all(|v| v.is_finite() && *v != 0.0) {

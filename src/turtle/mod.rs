@@ -45,6 +45,8 @@ pub trait TurtleWorld {
     fn microphone(&mut self, _mic: i64, _p: DVec3) {}
     /// A sound event of the `T` symbol, for the sound event handler.
     fn sound(&mut self, _request: SoundRequest) {}
+    /// The `E` symbol: run script `number` with the integer growth values.
+    fn command(&mut self, _number: i64, _values: [i64; 3]) {}
 }
 
 /// What a `T` symbol asks of the sound event handler (C.6), in world
