@@ -192,6 +192,8 @@ fn load(
             .map_or("film".into(), |s| s.to_string_lossy().into_owned());
         (film, texts, name)
     };
+    // `rs_file_path_name PATH NAME` names the frames.
+    let name = rs_file(&film).map_or(name, |(_, n)| n);
     let mut film = film;
     if let Some(what) = film.wants_commands() {
         if allow_commands {
@@ -212,8 +214,27 @@ fn load(
     Ok((film, texts, name))
 }
 
-fn default_dir(name: &str) -> PathBuf {
-    Path::new("renders").join(name)
+/// The scene's `rs_file_path_name` (table B1): the folder and the name
+/// of its ray-traced images.
+fn rs_file(film: &Film) -> Option<(PathBuf, String)> {
+    film.anim.systems[0]
+        .def
+        .options
+        .iter()
+        .find_map(|o| match o {
+            lmfilm::lsys::options::OptionItem::RsFilePathName { path, name } => {
+                Some((PathBuf::from(path), name.clone()))
+            }
+            _ => None,
+        })
+}
+
+/// The output folder: `-o`, else the scene's `rs_file_path_name` folder,
+/// else `renders/<name>/`.
+fn output_dir(out: Option<&Path>, film: &Film, name: &str) -> PathBuf {
+    out.map(Path::to_path_buf)
+        .or_else(|| rs_file(film).map(|(p, _)| p))
+        .unwrap_or_else(|| Path::new("renders").join(name))
 }
 
 fn derive_into(
@@ -255,7 +276,7 @@ pub fn run(
     args.threads()?;
     let (mut film, texts, name) = load(scenes, allow)?;
     let rs = rs_switch(&film.anim.systems[0].def.options).map(<[i64]>::to_vec);
-    let dir = out.map_or_else(|| default_dir(&name), Path::to_path_buf);
+    let dir = output_dir(out, &film, &name);
     derive_into(&mut film, &texts, &name, &dir)?;
     let rendered = render_into(&dir, args, Shard::all(), rs)?;
     job::soundtrack(&dir, &sound::Settings::default()).map_err(fail)?;

@@ -241,3 +241,46 @@ fn allowed_scripts_run_with_the_frame_number() {
     );
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// `rs_file_path_name` names the folder and the frames, `rs_switch` picks
+/// the frames to ray-trace; the command line overrides both.
+#[test]
+fn rs_options_choose_folder_name_and_frames() {
+    let root = temp("rs");
+    let out = root.join("shots");
+    let scene = root.join("rs.lm");
+    std::fs::write(
+        &scene,
+        SCENE.replace(
+            "Axiom",
+            &format!(
+                "Options\nrs_file_path_name {} shot\nrs_switch 2 4\nAxiom",
+                out.display()
+            ),
+        ),
+    )
+    .unwrap();
+    ok(&["run", s(&scene), "--preset", "preview"]);
+    let mut frames: Vec<String> = std::fs::read_dir(out.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    frames.sort();
+    assert_eq!(frames, ["shot.0002.png", "shot.0003.png", "shot.0004.png"]);
+    // Every frame is still derived: 26 snapshots, the whole soundtrack.
+    assert_eq!(std::fs::read_dir(out.join("scene")).unwrap().count(), 26);
+    let other = root.join("other");
+    ok(&[
+        "run",
+        s(&scene),
+        "--preset",
+        "preview",
+        "-o",
+        s(&other),
+        "--frames",
+        "0..=1",
+    ]);
+    assert!(other.join("frames/shot.0000.png").exists());
+    assert_eq!(std::fs::read_dir(other.join("frames")).unwrap().count(), 2);
+    std::fs::remove_dir_all(&root).unwrap();
+}
