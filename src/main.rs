@@ -3,7 +3,6 @@
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
 
 use clap::{Parser, Subcommand, ValueEnum};
 
@@ -249,34 +248,6 @@ enum PrintFormat {
     Full,
 }
 
-/// Shows `frame k/N` on a terminal while long derivations run.
-struct Progress {
-    enabled: bool,
-    last: Instant,
-}
-
-impl Progress {
-    fn new() -> Self {
-        Progress {
-            enabled: std::io::stderr().is_terminal(),
-            last: Instant::now(),
-        }
-    }
-
-    fn tick(&mut self, k: u64, n: u64) {
-        if self.enabled && self.last.elapsed() > Duration::from_millis(250) {
-            self.last = Instant::now();
-            eprint!("\rderiving frame {k}/{n}");
-        }
-    }
-
-    fn done(&self) {
-        if self.enabled {
-            eprint!("\r\x1b[K");
-        }
-    }
-}
-
 /// The film derived to the frame `--frame`/`--time` names, every frame
 /// interpreted on the way (sound events and `?` queries included).
 fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film, (u8, String)> {
@@ -289,7 +260,7 @@ fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film, (u8, String)> {
         (Some(n), None) => n,
         (None, None) => 0,
     };
-    let mut progress = Progress::new();
+    let mut progress = film_commands::Progress::new("deriving frame");
     film.advance_to(target, |k, n| progress.tick(k, n))
         .map_err(|e| (2, e))?;
     progress.done();
@@ -440,7 +411,7 @@ fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf
     let events = wav.with_file_name("soundtrack.events");
     let mut film = Film::load(&[scene], Options::default()).map_err(|e| (2, e))?;
     let frames = film.anim.frame_count();
-    let mut progress = Progress::new();
+    let mut progress = film_commands::Progress::new("deriving frame");
     let mut warnings = std::collections::BTreeSet::new();
     for k in 0..frames {
         let (_, w) = film.scene().map_err(|e| (2, e))?;
