@@ -28,7 +28,8 @@ fn fail(e: job::Error) -> Failure {
 }
 
 /// Frames done, frames per second and time left: one rewritten line on a
-/// terminal, a plain line every tenth of the work otherwise.
+/// terminal, a plain line every tenth of the work otherwise (once the
+/// stage has run for 2 s).
 pub struct Progress {
     label: &'static str,
     terminal: bool,
@@ -62,7 +63,11 @@ impl Progress {
                 self.last = now;
                 eprint!("\r\x1b[K{}", line());
             }
-        } else if total > 0 && (done * 10 / total != (done - 1) * 10 / total || done == total) {
+        } else if total > 0
+            && self.start.elapsed().as_secs() >= 2
+            && (done * 10 / total != (done - 1) * 10 / total || done == total)
+        {
+            // Long work only: a quick stage stays silent in logs.
             eprintln!("{}", line());
         }
     }
