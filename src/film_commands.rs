@@ -369,6 +369,15 @@ pub fn sound_dir(dir: &Path, settings: &sound::Settings) -> Result<(), Failure> 
     Ok(())
 }
 
+/// A number for JSON, which has no NaN or infinity: those are `null`.
+fn json_number(v: f64) -> String {
+    if v.is_finite() {
+        v.to_string()
+    } else {
+        "null".into()
+    }
+}
+
 /// `lmfilm trace`: one JSON object per frame on stdout.
 pub fn trace(scenes: &[PathBuf], frames: Option<FrameRange>) -> Result<(), Failure> {
     let (mut film, _, _) = load(scenes, false)?;
@@ -391,8 +400,23 @@ pub fn trace(scenes: &[PathBuf], frames: Option<FrameRange>) -> Result<(), Failu
                     )
                 })
                 .collect();
+            let particles: Vec<String> = film
+                .particles()
+                .iter()
+                .filter(|p| p.is_placed())
+                .map(|p| {
+                    let [x, y, z] = p.pos.to_array().map(json_number);
+                    let [u, v, w] = p.vel.to_array().map(json_number);
+                    format!(
+                        "{{\"id\": {}, \"pos\": [{x}, {y}, {z}], \"vel\": [{u}, {v}, {w}], \"mass\": {}}}",
+                        p.id,
+                        json_number(p.mass)
+                    )
+                })
+                .collect();
             let line = format!(
-                "{{\"frame\": {k}, \"time\": {time}, \"particles\": [], \"actors\": [], \"sound_events\": [{}]}}",
+                "{{\"frame\": {k}, \"time\": {time}, \"particles\": [{}], \"actors\": [], \"sound_events\": [{}]}}",
+                particles.join(", "),
                 events.join(", ")
             );
             if let Err(e) = writeln!(out, "{line}") {
@@ -403,7 +427,7 @@ pub fn trace(scenes: &[PathBuf], frames: Option<FrameRange>) -> Result<(), Failu
             }
         }
         if k + 1 < range.end {
-            film.step();
+            film.step().map_err(|e| (2, e))?;
         }
     }
     Ok(())

@@ -417,7 +417,7 @@ fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf
         let (_, w) = film.scene().map_err(|e| (2, e))?;
         warnings.extend(w);
         if k + 1 < frames {
-            film.step();
+            film.step().map_err(|e| (2, e))?;
         }
         progress.tick(k + 1, frames);
     }

@@ -27,7 +27,7 @@ fn derive_all(scene: &Path) -> Film {
     for k in 0..n {
         film.scene().unwrap();
         if k + 1 < n {
-            film.step();
+            film.step().unwrap();
         }
     }
     film
@@ -91,7 +91,7 @@ fn audition_functions_see_the_ongoing_events() {
     assert_eq!(film.air.sound_of_source(3), Some(6));
     assert_eq!(film.air.source_of_sound(6), Some(3));
     assert_eq!(film.air.sound_of_source(4), None);
-    film.step();
+    film.step().unwrap();
     let word: String = film.anim.systems[0]
         .word()
         .iter()
@@ -103,7 +103,7 @@ fn audition_functions_see_the_ongoing_events() {
     // 10 ms later the sound has ended: at the next frame D hears nothing.
     film.scene().unwrap();
     assert_eq!(film.air.playing(), 0);
-    film.step();
+    film.step().unwrap();
     let word: String = film.anim.systems[0]
         .word()
         .iter()

@@ -131,7 +131,7 @@ pub fn derive(
             snapshot::write(&scene, &path).map_err(|e| io(&path, e))?;
         }
         if k + 1 < frames {
-            film.step();
+            film.step().map_err(Error::input)?;
         }
         progress(k + 1, frames);
     }

@@ -7,22 +7,31 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 
 use crate::lsys::options::{Command, OptionItem};
-use crate::lsys::{Animation, Sensors, Source};
+use crate::lsys::{Animation, Sensors, Source, Who};
+use crate::physics::{Mode, Particle, Physics};
 use crate::scene::Scene;
 use crate::sound::air::{Air, AMBIENT_SOURCE};
 use crate::sound::library::{self, Library};
 use crate::turtle::interpret::Tables;
-use crate::turtle::{build_scene, Options, SoundRequest, Surfaces, TurtleWorld};
+use crate::turtle::{build_scene, Options, ParticleMapping, SoundRequest, Surfaces, TurtleWorld};
 
-/// What the L-systems' expressions sense (`?60`–`?62`): the on-going
-/// sound events as they stood after the last interpretation.
+/// What the L-systems' expressions sense (`?40`, `?60`–`?62`): the
+/// on-going sound events and the particles as they stood after the last
+/// interpretation.
 #[derive(Debug, Default, Clone)]
 struct Ears {
     /// (sound, source), oldest first.
     ongoing: Vec<(u32, u32)>,
+    /// The particle table, when there are particles.
+    touch: Option<Physics>,
 }
 
 impl Sensors for Ears {
+    fn force(&mut self, p: [f64; 3]) -> f64 {
+        let at = DVec3::from_array(p);
+        self.touch.as_ref().map_or(0.0, |t| t.field_at(at).length())
+    }
+
     fn sounds_playing(&mut self) -> f64 {
         self.ongoing.len() as f64
     }
@@ -39,9 +48,14 @@ impl Sensors for Ears {
 }
 
 /// The turtle's view of the world: microphones and sound events go to
-/// the handler; the first error stops the frame.
+/// the handler, `C` and tropism to the particles; the first error stops
+/// the frame.
 struct Hooks<'a> {
     air: &'a mut Air,
+    physics: &'a mut Physics,
+    /// The particle of the last `C` interpreted: the one `$` par2 = 4 and
+    /// `l` par3 = 4, 5 of the same L-system refer to.
+    current: Option<Who>,
     error: Option<String>,
     /// Scripts the scene may run (only with the user's consent), the
     /// folder they live in, and the frame.
@@ -53,6 +67,41 @@ struct Hooks<'a> {
 type Script = (i64, String, String, String);
 
 impl TurtleWorld for Hooks<'_> {
+    fn force(&mut self, p: DVec3) -> DVec3 {
+        self.physics.field_at(p)
+    }
+
+    fn particle(&mut self, who: Who, mapping: ParticleMapping) -> Option<DVec3> {
+        let id = who.symbol;
+        let to = match mapping {
+            ParticleMapping::Start { at, mass, velocity } => {
+                self.physics.start(id, at, mass, velocity);
+                None
+            }
+            ParticleMapping::Follow => self.physics.get(id).map(|p| p.pos),
+            ParticleMapping::Place { at } => {
+                self.physics.place(id, at, Mode::Placed);
+                Some(at)
+            }
+            ParticleMapping::Turtle { at } => {
+                self.physics.place(id, at, Mode::Turtle);
+                None
+            }
+        };
+        if self.physics.get(id).is_some() {
+            self.current = Some(who);
+        }
+        to
+    }
+
+    fn particle_velocity(&mut self, who: Who) -> Option<DVec3> {
+        self.particle_of(who).map(|p| p.vel)
+    }
+
+    fn particle_position(&mut self, who: Who) -> Option<DVec3> {
+        self.particle_of(who).map(|p| p.pos)
+    }
+
     fn microphone(&mut self, mic: i64, p: DVec3) {
         match u32::try_from(mic) {
             Ok(m) => self.air.microphone(m, p),
@@ -80,6 +129,14 @@ impl TurtleWorld for Hooks<'_> {
 }
 
 impl Hooks<'_> {
+    /// The particle of symbol `who`, or else the current one.
+    fn particle_of(&self, who: Who) -> Option<&Particle> {
+        self.physics.get(who.symbol).or_else(|| {
+            let c = self.current.filter(|c| c.lsys == who.lsys)?;
+            self.physics.get(c.symbol)
+        })
+    }
+
     fn fail(&mut self, e: String) {
         self.error.get_or_insert(e);
     }
@@ -120,6 +177,7 @@ pub struct Film {
     tables: Vec<Tables>,
     pub air: Air,
     ears: Ears,
+    physics: Physics,
     opts: Options,
     scripts: Option<(Vec<Script>, PathBuf)>,
 }
@@ -164,12 +222,15 @@ impl Film {
         let surfaces = Surfaces::load(&anim)?;
         let search = library::search_path(dir, None);
         let air = Air::new(&sound_inits(&anim), Library::default(), search)?;
+        let mut physics = Physics::new(&anim);
+        physics.register(&anim)?;
         Ok(Film {
             anim,
             surfaces,
             tables: Vec::new(),
             air,
             ears,
+            physics,
             opts,
             scripts: None,
         })
@@ -182,6 +243,8 @@ impl Film {
         self.air.begin_frame(self.anim.time())?;
         let mut hooks = Hooks {
             air: &mut self.air,
+            physics: &mut self.physics,
+            current: None,
             error: None,
             scripts: self.scripts.as_ref(),
             frame: self.anim.frame,
@@ -206,6 +269,7 @@ impl Film {
             .iter()
             .map(|e| (e.sound, e.source))
             .collect();
+        self.ears.touch = (!self.physics.particles().is_empty()).then(|| self.physics.clone());
         Ok((scene, warnings))
     }
 
@@ -248,9 +312,21 @@ impl Film {
         (&mut self.anim, &mut self.ears)
     }
 
-    /// The step function S from this frame's time to the next.
-    pub fn step(&mut self) {
+    /// The particle table (code C.4.1) at the current time.
+    pub fn particles(&self) -> &[Particle] {
+        self.physics.particles()
+    }
+
+    /// The step function S from this frame's time to the next, then the
+    /// particles: those the step declared join the table, and the table
+    /// evolves over Δt (DESIGN §1, steps 6–7).
+    pub fn step(&mut self) -> Result<(), String> {
         self.anim.step(&mut self.ears);
+        self.physics
+            .register(&self.anim)
+            .map_err(|e| format!("frame {}: {e}", self.anim.frame))?;
+        self.physics.evolve(self.anim.time());
+        Ok(())
     }
 
     /// Derives up to frame `target` (its scene not yet interpreted),
@@ -262,7 +338,7 @@ impl Film {
     ) -> Result<(), String> {
         while self.anim.frame < target {
             self.scene()?;
-            self.step();
+            self.step()?;
             progress(self.anim.frame, target);
         }
         Ok(())

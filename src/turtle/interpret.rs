@@ -8,7 +8,7 @@ use glam::{Affine3A, DVec3, Vec3};
 use super::polygon::{newell, triangulate, PolygonStack};
 use super::special;
 use super::state::{bend, Turtle};
-use super::{Builder, SoundRequest, TurtleWorld};
+use super::{Builder, ParticleMapping, SoundRequest, TurtleWorld};
 use crate::lsys::{LSystem, Sensors, Symbol, Who};
 use crate::scene::material;
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
@@ -235,6 +235,31 @@ impl Interpreter<'_> {
         bend(&mut self.t, f * self.tropism.mass, self.tropism.elasticity);
     }
 
+    /// `C`: maps the particle of this symbol and the turtle (C.4).
+    fn particle(&mut self, s: &Symbol) {
+        let dt = self.ls.dt;
+        let [x, y, _] = s.par;
+        let mapping = match x as i64 {
+            // Ages are compared with a tolerance far below Δt (DESIGN §3).
+            0 if s.age(dt) < dt * (1.0 - 1e-9) => ParticleMapping::Start {
+                at: self.t.pos,
+                mass: y,
+                velocity: DVec3::from_array(self.growth(s)),
+            },
+            0 => ParticleMapping::Follow,
+            1 => ParticleMapping::Place {
+                at: DVec3::from_array(self.growth(s)),
+            },
+            6 => ParticleMapping::Turtle { at: self.t.pos },
+            _ => return,
+        };
+        if let Some(p) = self.world.particle(self.who(s), mapping) {
+            if p.is_finite() {
+                self.t.pos = p;
+            }
+        }
+    }
+
     fn forward(&mut self, d: f64) {
         if d.is_finite() {
             self.t.pos += d * self.t.h;
@@ -357,6 +382,7 @@ impl Interpreter<'_> {
                 2 => self.tropism.on = false,
                 _ => {}
             },
+            b'C' => self.particle(&s),
             b'l' => {
                 let g = DVec3::from_array(self.growth(&s));
                 self.b.camera_symbol(s.par, g, self.who(&s), self.world);

@@ -29,6 +29,11 @@ pub trait TurtleWorld {
     fn force(&mut self, _p: DVec3) -> DVec3 {
         DVec3::ZERO
     }
+    /// The `C` symbol `who` maps its particle and the turtle (C.4);
+    /// returns where the turtle goes, if it moves.
+    fn particle(&mut self, _who: Who, _mapping: ParticleMapping) -> Option<DVec3> {
+        None
+    }
     /// Velocity of the particle mapped to symbol `who` (`$` par2 = 4).
     fn particle_velocity(&mut self, _who: Who) -> Option<DVec3> {
         None
@@ -47,6 +52,25 @@ pub trait TurtleWorld {
     fn sound(&mut self, _request: SoundRequest) {}
     /// The `E` symbol: run script `number` with the integer growth values.
     fn command(&mut self, _number: i64, _values: [i64; 3]) {}
+}
+
+/// What a `C` symbol asks of the particle layer (C.4), in world
+/// coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ParticleMapping {
+    /// par1 = 0 at local age < Δt: the particle starts at the turtle with
+    /// mass par2 and velocity par4..6.
+    Start {
+        at: DVec3,
+        mass: f64,
+        velocity: DVec3,
+    },
+    /// par1 = 0 later: the turtle goes to the evolved particle.
+    Follow,
+    /// par1 = 1: the particle, and the turtle, at par4..6.
+    Place { at: DVec3 },
+    /// par1 = 6: the particle at the turtle.
+    Turtle { at: DVec3 },
 }
 
 /// What a `T` symbol asks of the sound event handler (C.6), in world

@@ -1,0 +1,330 @@
+//! The particle system of thesis 2.3.1: particles that carry force fields
+//! and feel everyone else's (eq. 2.3.1), evolved by RK4 (appendix H).
+//!
+//! Particles are declared by the ephemeral `e` symbols at derivation
+//! ([`Physics::register`]) and mapped to the turtle by `C` at
+//! interpretation ([`Physics::start`], [`Physics::place`]). See
+//! `docs/physics.md`.
+
+pub mod particles;
+pub mod rk4;
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::lsys::eval::{Frame, Machine, State};
+use crate::lsys::options::OptionItem;
+use crate::lsys::random::{self, Stream};
+use crate::lsys::{Animation, Definition, Sensors, Who};
+pub use particles::{Law, Mode, Particle};
+
+/// Size of the particle table when no `MaxPart` is declared.
+pub const DEFAULT_MAX_PART: usize = 100_000;
+
+/// `e` par1 values that declare a particle's laws (C.6).
+const FIELD: f64 = 10.0;
+const OWN: f64 = 11.0;
+
+/// The global interaction table and what its laws need to be evaluated.
+#[derive(Debug, Clone)]
+pub struct Physics {
+    /// The definitions the laws are compiled in, by L-system index.
+    defs: Arc<[Definition]>,
+    /// Their `fConst` and memories. Laws evaluate on copies, so what a
+    /// law stores never depends on evaluation order or threads.
+    states: Vec<State>,
+    particles: Vec<Particle>,
+    /// Row of each particle id.
+    rows: BTreeMap<u64, usize>,
+    max: usize,
+    seed: u64,
+    substeps: u32,
+    /// Global time of the particles' positions.
+    time: f64,
+}
+
+/// Answers `?18` (gravity force of the current particle) while a law of
+/// a particle of mass `mass` is evaluated; the other sensors keep their
+/// defaults.
+struct Body {
+    mass: f64,
+}
+
+impl Sensors for Body {
+    fn particle(&mut self, code: u8, _who: Who) -> f64 {
+        match code {
+            18 => -9.81 * self.mass,
+            _ => 0.0,
+        }
+    }
+}
+
+impl Physics {
+    /// An empty table for the animation's definitions: `MaxPart` of the
+    /// first file that declares it, `nbrCalcStep_seed` sub-steps.
+    pub fn new(anim: &Animation) -> Self {
+        let defs: Arc<[Definition]> = anim.systems.iter().map(|s| s.def.clone()).collect();
+        let max = defs
+            .iter()
+            .flat_map(|d| &d.options)
+            .find_map(|o| match o {
+                OptionItem::MaxPart(n) => Some((*n).max(0) as usize),
+                _ => None,
+            })
+            .unwrap_or(DEFAULT_MAX_PART);
+        Physics {
+            states: defs.iter().map(State::new).collect(),
+            defs,
+            particles: Vec::new(),
+            rows: BTreeMap::new(),
+            max,
+            seed: anim.camera.seed,
+            substeps: anim.camera.nbr_calc_step.clamp(1, 1 << 20) as u32,
+            time: anim.time(),
+        }
+    }
+
+    /// Every particle of the table, placed or not, in declaration order.
+    pub fn particles(&self) -> &[Particle] {
+        &self.particles
+    }
+
+    /// The particle of `C` symbol `id`, if it has been placed.
+    pub fn get(&self, id: u64) -> Option<&Particle> {
+        let p = &self.particles[*self.rows.get(&id)?];
+        p.is_placed().then_some(p)
+    }
+
+    /// Global time of the particles' state.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Reads the `e` events of the last derivation step (or the axioms):
+    /// each declares the field (par1 = 10) or the individual part
+    /// (par1 = 11) of the particle of the symbol that follows it.
+    pub fn register(&mut self, anim: &Animation) -> Result<(), String> {
+        for ls in &anim.systems {
+            for e in ls.events() {
+                if e.par[0] != FIELD && e.par[0] != OWN {
+                    continue;
+                }
+                let (Some(s), Some(g)) = (
+                    ls.word().get(e.position),
+                    ls.def.growth.get(e.growth as usize),
+                ) else {
+                    continue;
+                };
+                let row = match self.rows.get(&s.id) {
+                    Some(&r) => r,
+                    None => {
+                        if self.particles.len() >= self.max {
+                            return Err(format!(
+                                "{}: more particles than MaxPart = {} (declare a larger `MaxPart` in the Options section)",
+                                ls.def.name, self.max
+                            ));
+                        }
+                        self.rows.insert(s.id, self.particles.len());
+                        self.particles.push(Particle::new(s.id, ls.index));
+                        self.particles.len() - 1
+                    }
+                };
+                let law = Law {
+                    f: g.f,
+                    key: random::key(self.seed, Stream::Growth, e.id, 0),
+                };
+                let p = &mut self.particles[row];
+                if e.par[0] == FIELD {
+                    p.field = Some(law);
+                } else {
+                    p.own = Some(law);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `C` par1 = 0 at local age < Δt: the particle starts at `at` with
+    /// `mass` (≤ 0 or not a number: 1, as code 7.1.1 leaves it empty) and
+    /// velocity `vel`. Returns false if `id` declares no particle.
+    pub fn start(&mut self, id: u64, at: DVec3, mass: f64, vel: DVec3) -> bool {
+        let Some(&row) = self.rows.get(&id) else {
+            return false;
+        };
+        let p = &mut self.particles[row];
+        p.mode = Mode::Integrated;
+        p.mass = if mass > 0.0 && mass.is_finite() {
+            mass
+        } else {
+            1.0
+        };
+        p.pos = at;
+        p.vel = vel;
+        p.born = self.time;
+        p.placed = self.time;
+        true
+    }
+
+    /// `C` par1 = 1 (`mode` [`Mode::Placed`]) or 6 ([`Mode::Turtle`]):
+    /// the particle is at `at`; its velocity comes from its previous
+    /// placement, one frame or more ago.
+    pub fn place(&mut self, id: u64, at: DVec3, mode: Mode) {
+        let Some(&row) = self.rows.get(&id) else {
+            return;
+        };
+        let time = self.time;
+        let p = &mut self.particles[row];
+        if p.mode != mode {
+            p.mode = mode;
+            p.vel = DVec3::ZERO;
+            p.born = time;
+        } else if time > p.placed {
+            p.vel = (at - p.pos) / (time - p.placed);
+        }
+        p.pos = at;
+        p.placed = time;
+    }
+
+    /// The global field Σ f_k at `at` (tropism, `?40`): every placed
+    /// particle's field, in table order.
+    pub fn field_at(&self, at: DVec3) -> DVec3 {
+        if self.particles.is_empty() {
+            return DVec3::ZERO;
+        }
+        let pos: Vec<DVec3> = self.particles.iter().map(|p| p.pos).collect();
+        let vel: Vec<DVec3> = self.particles.iter().map(|p| p.vel).collect();
+        let mut laws = Laws::new(self);
+        let mut f = DVec3::ZERO;
+        for (k, q) in self.particles.iter().enumerate() {
+            if let (true, Some(law)) = (q.is_placed(), q.field) {
+                f += laws.field(q, law, at, pos[k], vel[k], self.time);
+            }
+        }
+        f
+    }
+
+    /// Evolves the integrated particles from the current time to `to`
+    /// with `nbrCalcStep` RK4 sub-steps; the others stay where `C` put
+    /// them and act through their fields.
+    pub fn evolve(&mut self, to: f64) {
+        let from = self.time;
+        let moving: Vec<usize> = (0..self.particles.len())
+            .filter(|&i| self.particles[i].mode == Mode::Integrated)
+            .collect();
+        let forward = to > from && (to - from).is_finite();
+        if moving.is_empty() || !forward {
+            self.time = to;
+            return;
+        }
+        let mut pos: Vec<DVec3> = self.particles.iter().map(|p| p.pos).collect();
+        let mut vel: Vec<DVec3> = self.particles.iter().map(|p| p.vel).collect();
+        let mut y = vec![0.0; 6 * moving.len()];
+        for (j, &i) in moving.iter().enumerate() {
+            y[6 * j..6 * j + 3].copy_from_slice(&pos[i].to_array());
+            y[6 * j + 3..6 * j + 6].copy_from_slice(&vel[i].to_array());
+        }
+        let h = (to - from) / f64::from(self.substeps);
+        for s in 0..self.substeps {
+            let t = from + f64::from(s) * h;
+            rk4::step(&mut y, t, h, |t, y, dy| {
+                for (j, &i) in moving.iter().enumerate() {
+                    pos[i] = DVec3::from_slice(&y[6 * j..6 * j + 3]);
+                    vel[i] = DVec3::from_slice(&y[6 * j + 3..6 * j + 6]);
+                }
+                // One task per particle, each summing in table order: the
+                // same numbers whatever the thread count.
+                let acc: Vec<DVec3> = moving
+                    .par_iter()
+                    .map(|&i| self.acceleration(i, &pos, &vel, t))
+                    .collect();
+                for (j, &i) in moving.iter().enumerate() {
+                    dy[6 * j..6 * j + 3].copy_from_slice(&vel[i].to_array());
+                    dy[6 * j + 3..6 * j + 6].copy_from_slice(&acc[j].to_array());
+                }
+            });
+        }
+        for (j, &i) in moving.iter().enumerate() {
+            let p = &mut self.particles[i];
+            p.pos = DVec3::from_slice(&y[6 * j..6 * j + 3]);
+            p.vel = DVec3::from_slice(&y[6 * j + 3..6 * j + 6]);
+        }
+        self.time = to;
+    }
+
+    /// Eq. 2.3.1: (g_i + Σ_{k≠i} f_k) / m_i with the positions and
+    /// velocities of an RK4 stage.
+    fn acceleration(&self, i: usize, pos: &[DVec3], vel: &[DVec3], t: f64) -> DVec3 {
+        let mut laws = Laws::new(self);
+        let p = &self.particles[i];
+        let mut f = match p.own {
+            Some(law) => laws.own(p, law, pos[i], vel[i], t),
+            None => DVec3::ZERO,
+        };
+        for (k, q) in self.particles.iter().enumerate() {
+            if let (true, true, Some(law)) = (k != i, q.is_placed(), q.field) {
+                f += laws.field(q, law, pos[i], pos[k], vel[k], t);
+            }
+        }
+        f / p.mass
+    }
+}
+
+/// Evaluates laws on private copies of the L-systems' states.
+struct Laws<'a> {
+    defs: &'a [Definition],
+    states: Vec<State>,
+    seed: u64,
+}
+
+impl<'a> Laws<'a> {
+    fn new(ph: &'a Physics) -> Self {
+        Laws {
+            defs: &ph.defs,
+            states: ph.states.clone(),
+            seed: ph.seed,
+        }
+    }
+
+    /// Field `law` of carrier `q` (at `from`, velocity `u`) felt at `at`:
+    /// x y z = `at`, X Y Z = `from`, u v w = the carrier's velocity
+    /// (eq. 2.3.1: f_k depends on ẋ_k), r = the distance.
+    fn field(&mut self, q: &Particle, law: Law, at: DVec3, from: DVec3, u: DVec3, t: f64) -> DVec3 {
+        let r = at.distance(from);
+        let field = [from.x, from.y, from.z, u.x, u.y, u.z, r];
+        self.eval(q, law, at, field, t)
+    }
+
+    /// Individual part `law` of `p` at `at` with velocity `u`: x y z and
+    /// u v w are its own, X Y Z and r are 0.
+    fn own(&mut self, p: &Particle, law: Law, at: DVec3, u: DVec3, t: f64) -> DVec3 {
+        self.eval(p, law, at, [0.0, 0.0, 0.0, u.x, u.y, u.z, 0.0], t)
+    }
+
+    fn eval(&mut self, p: &Particle, law: Law, at: DVec3, field: [f64; 7], t: f64) -> DVec3 {
+        let (Some(def), Some(state)) = (self.defs.get(p.lsys), self.states.get_mut(p.lsys)) else {
+            return DVec3::ZERO;
+        };
+        let frame = Frame {
+            time: t,
+            age: t - p.born,
+            par: at.to_array(),
+            field,
+            key: law.key,
+            who: Who {
+                lsys: p.lsys,
+                symbol: p.id,
+            },
+            growth: 0,
+        };
+        let mut body = Body { mass: p.mass };
+        let mut m = Machine::new(def, state, &mut body, self.seed);
+        DVec3::new(
+            m.eval_or(law.f[0], &frame, 0.0),
+            m.eval_or(law.f[1], &frame, 0.0),
+            m.eval_or(law.f[2], &frame, 0.0),
+        )
+    }
+}

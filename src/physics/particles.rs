@@ -1,0 +1,72 @@
+//! The particle table of code C.4.1.
+
+use glam::DVec3;
+
+use crate::lsys::expr::Expr;
+
+/// Three compiled expressions of an `e` symbol: a field `f` (par1 = 10)
+/// or an individual part `g` (par1 = 11) of eq. 2.3.1.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Law {
+    pub f: [Option<Expr>; 3],
+    /// Key of the random numbers `!`, `#`: the `e`'s id, so they are
+    /// fixed for the particle's life as growth functions are.
+    pub key: u64,
+}
+
+/// How a particle moves (symbol `C`, par1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Declared by `e` symbols, its `C` not yet interpreted: no position.
+    Waiting,
+    /// par1 = 0: evolved by eq. 2.3.1.
+    Integrated,
+    /// par1 = 1: placed at par4..6 each frame, velocity from positions.
+    Placed,
+    /// par1 = 6: placed at the turtle each frame, velocity from positions.
+    Turtle,
+}
+
+/// One row of the particle table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Particle {
+    /// Identifier of the `C` symbol that follows the particle's `e`s.
+    pub id: u64,
+    /// The L-system whose expressions the laws are.
+    pub lsys: usize,
+    pub mass: f64,
+    pub pos: DVec3,
+    pub vel: DVec3,
+    pub mode: Mode,
+    /// The field it exerts on the others (and on the turtle).
+    pub field: Option<Law>,
+    /// Its individual part g.
+    pub own: Option<Law>,
+    /// Global time of its initialisation: `t` in its laws is T − born.
+    pub born: f64,
+    /// Global time of its last placement (modes 1 and 6), for the
+    /// velocity from successive positions.
+    pub placed: f64,
+}
+
+impl Particle {
+    pub fn new(id: u64, lsys: usize) -> Self {
+        Particle {
+            id,
+            lsys,
+            mass: 1.0,
+            pos: DVec3::ZERO,
+            vel: DVec3::ZERO,
+            mode: Mode::Waiting,
+            field: None,
+            own: None,
+            born: 0.0,
+            placed: 0.0,
+        }
+    }
+
+    /// Whether it has a position (its `C` was interpreted).
+    pub fn is_placed(&self) -> bool {
+        self.mode != Mode::Waiting
+    }
+}
