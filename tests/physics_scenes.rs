@@ -1,0 +1,83 @@
+//! The force-field films of scenes/physics (issue 7) derive, and do what
+//! their headers say.
+
+use std::path::{Path, PathBuf};
+
+use lmfilm::film::Film;
+use lmfilm::turtle::Options;
+
+fn scene(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/physics")
+        .join(name)
+}
+
+/// Derives `files` to time `t` and returns the film at that frame.
+fn at(files: &[&str], t: f64) -> Film {
+    let paths: Vec<PathBuf> = files.iter().map(|f| scene(f)).collect();
+    let mut film = Film::load(&paths, Options::default()).unwrap();
+    let target = film.anim.frame_at(t);
+    film.advance_to(target, |_, _| {}).unwrap();
+    film
+}
+
+/// Mean x of the shapes of the tree (its first L-system's geometry).
+fn mean_x(film: &mut Film) -> f64 {
+    let (scene, _) = film.scene().unwrap();
+    let g = &scene.geometries[0];
+    let xs: Vec<f64> = g
+        .shapes
+        .iter()
+        .map(|s| f64::from(s.transform.translation.x))
+        .collect();
+    xs.iter().sum::<f64>() / xs.len() as f64
+}
+
+#[test]
+fn the_ball_s_wind_bends_the_tree_its_way() {
+    // The ball flies towards +x: its velocity field pushes the crown +x.
+    let calm = mean_x(&mut at(&["tree.lm"], 7.0));
+    let mut windy = at(&["tree.lm", "ball.lm"], 7.0);
+    let bent = mean_x(&mut windy);
+    assert!(bent > calm + 1.0, "calm {calm} bent {bent}");
+    let p = windy
+        .particles()
+        .iter()
+        .find(|p| p.pos.is_finite())
+        .map(|p| p.pos)
+        .unwrap();
+    // Launched at 4 s from x = −70 at 20 m/s, 45 m up, nothing else on it.
+    assert!(
+        (p.x - (-70.0 + 20.0 * 3.0)).abs() < 1e-6 && (p.y - 45.0).abs() < 1e-9,
+        "{p}"
+    );
+}
+
+#[test]
+fn the_fish_school_follows_the_bait() {
+    let film = at(&["fish.lm"], 8.0);
+    let ps = film.particles();
+    let bait = ps[0].pos;
+    let fish: Vec<_> = ps[1..].iter().filter(|p| p.pos.is_finite()).collect();
+    assert!(fish.len() >= 6, "{} fish", fish.len());
+    for f in &fish {
+        let d = f.pos.distance(bait);
+        assert!(d < 120.0, "a fish strayed {d} from the bait");
+    }
+    // Fish keep apart: the short-range repulsion prevents collisions.
+    for (i, a) in fish.iter().enumerate() {
+        for b in &fish[i + 1..] {
+            assert!(a.pos.distance(b.pos) > 2.0, "{} {}", a.pos, b.pos);
+        }
+    }
+}
+
+#[test]
+fn the_trees_bend_with_their_tropism_force() {
+    // Gravity pulls the crown down (y), the strong wind along −x.
+    let mut gravity = at(&["tree_gravity.lm"], 5.0);
+    let mut weak = at(&["tree_weak_wind.lm"], 5.0);
+    let mut strong = at(&["tree_strong_wind.lm"], 5.0);
+    let (g, w, s) = (mean_x(&mut gravity), mean_x(&mut weak), mean_x(&mut strong));
+    assert!(s < w && w < g + 1.0, "gravity {g} weak {w} strong {s}");
+}
