@@ -81,3 +81,25 @@ fn the_trees_bend_with_their_tropism_force() {
     let (g, w, s) = (mean_x(&mut gravity), mean_x(&mut weak), mean_x(&mut strong));
     assert!(s < w && w < g + 1.0, "gravity {g} weak {w} strong {s}");
 }
+
+#[test]
+fn butterflies_circle_the_flower() {
+    let film = at(&["butterflies.lm"], 9.0);
+    let ps = film.particles();
+    let flower = ps[0].pos;
+    let flying: Vec<_> = ps[1..].iter().filter(|p| p.pos.is_finite()).collect();
+    assert_eq!(flying.len(), 8);
+    for b in flying {
+        let d = b.pos.distance(flower);
+        assert!(
+            (3.0..20.0).contains(&d),
+            "a butterfly at {d} from the flower"
+        );
+        // Turning about the stem: mostly horizontal speed, not at rest.
+        assert!(
+            b.vel.length() > 1.0 && b.vel.y.abs() < b.vel.length() / 2.0,
+            "{}",
+            b.vel
+        );
+    }
+}
