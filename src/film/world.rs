@@ -170,6 +170,9 @@ impl Hooks<'_> {
     }
 }
 
+/// Sound source of particle row 0's collisions; row k uses this + k.
+pub const PARTICLE_SOURCE: u32 = 1000;
+
 /// A film in progress: frame `anim.frame` is next.
 pub struct Film {
     pub anim: Animation,
@@ -241,6 +244,7 @@ impl Film {
     /// [`Film::step`] to go on.
     pub fn scene(&mut self) -> Result<(Scene, Vec<String>), String> {
         self.air.begin_frame(self.anim.time())?;
+        self.sound_collisions()?;
         let mut hooks = Hooks {
             air: &mut self.air,
             physics: &mut self.physics,
@@ -271,6 +275,24 @@ impl Film {
             .collect();
         self.ears.touch = (!self.physics.particles().is_empty()).then(|| self.physics.clone());
         Ok((scene, warnings))
+    }
+
+    /// The collisions the peak detectors found while the particles
+    /// evolved to this frame (7.4), as sound events of this frame: each
+    /// at the particle's position then, from source
+    /// [`PARTICLE_SOURCE`] + the particle's row.
+    fn sound_collisions(&mut self) -> Result<(), String> {
+        for c in self.physics.take_collisions() {
+            let source = u32::try_from(c.row)
+                .ok()
+                .and_then(|r| r.checked_add(PARTICLE_SOURCE))
+                .filter(|&s| s != AMBIENT_SOURCE);
+            // Rows too large for a source number stay silent.
+            if let Some(source) = source {
+                self.air.play(c.kind.sound(), source, c.at)?;
+            }
+        }
+        Ok(())
     }
 
     /// What in the scene would run a script on this machine (a

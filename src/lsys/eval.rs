@@ -265,19 +265,25 @@ impl<'a> Machine<'a> {
                 let h = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2];
                 let lat2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - h * h).max(0.0);
                 let radius = s.c(0, 3);
-                let force = if lat2 <= radius * radius {
-                    s.c(0, 4) * 3f64.powf(-s.c(0, 5) * h.abs().powf(s.c(0, 6))) * h.signum()
+                let level = if lat2 <= radius * radius {
+                    3f64.powf(-s.c(0, 5) * h.abs().powf(s.c(0, 6)))
                 } else {
                     0.0
                 };
+                let force = s.c(0, 4) * level * h.signum();
                 s.set_c(0, 7, force);
+                self.sensors.contact(15, level);
                 force * nrm[0]
             }
             16 | 17 => s.c(0, 7) * s.c(0, (n - 15) as usize),
             18 | 20 | 25 => self.sensors.particle(n, f.who),
             19 => {
                 let (a, b, c, d, e) = (s.c(1, 0), s.c(1, 1), s.c(1, 2), s.c(1, 3), s.c(1, 4));
-                ((x - a) - u * e) / (((x - a) / b).powf(c) + d)
+                let shape = ((x - a) / b).powf(c) + d;
+                // Closeness to the net: d / shape is 1 in the net's plane.
+                let level = if d > 0.0 { d / shape } else { 0.0 };
+                self.sensors.contact(19, level);
+                ((x - a) - u * e) / shape
             }
             21 => {
                 let key = random::key(
@@ -302,8 +308,18 @@ impl<'a> Machine<'a> {
                 v
             }
             24 => s.c(4, 7),
-            26 => hermite(s.c(5, 0) + s.c(5, 3) - y, s.c(5, 0), s.c(5, 1), s.c(5, 2)),
-            27 => hermite(s.c(6, 3) - y, s.c(6, 0), s.c(6, 1), s.c(6, 2)),
+            26 => {
+                let arg = s.c(5, 0) + s.c(5, 3) - y;
+                let v = hermite(arg, s.c(5, 0), s.c(5, 1), s.c(5, 2));
+                self.sensors.contact(26, hermite(arg, s.c(5, 0), 0.0, 1.0));
+                v
+            }
+            27 => {
+                let arg = s.c(6, 3) - y;
+                let v = hermite(arg, s.c(6, 0), s.c(6, 1), s.c(6, 2));
+                self.sensors.contact(27, hermite(arg, s.c(6, 0), 0.0, 1.0));
+                v
+            }
             28 => hermite(f.age + s.c(5, 3), s.c(5, 0), s.c(5, 1), s.c(5, 2)),
             34 => self.sensors.phase_degrees(f.who),
             30..=39 => self.sensors.actor(n, f.who),

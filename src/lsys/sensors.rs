@@ -41,6 +41,12 @@ pub trait Sensors {
         }
     }
 
+    /// `?15`, `?19`, `?26`, `?27` report how deep a particle is in a
+    /// repelling field (`level`, 1 at full contact, 0 outside), so the
+    /// integrator's peak detectors (thesis 7.4) can hear collisions.
+    /// Default: nobody listens.
+    fn contact(&mut self, _code: u8, _level: f64) {}
+
     /// `?34`: swim phase of the current particle in degrees. Default 0.
     fn phase_degrees(&mut self, _who: Who) -> f64 {
         0.0

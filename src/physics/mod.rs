@@ -6,7 +6,9 @@
 //! interpretation ([`Physics::start`], [`Physics::place`]). See
 //! `docs/physics.md`.
 
+mod grid;
 pub mod particles;
+pub mod peaks;
 pub mod rk4;
 
 use std::collections::BTreeMap;
@@ -19,7 +21,9 @@ use crate::lsys::eval::{Frame, Machine, State};
 use crate::lsys::options::OptionItem;
 use crate::lsys::random::{self, Stream};
 use crate::lsys::{Animation, Definition, Sensors, Who};
+use grid::Grid;
 pub use particles::{Law, Mode, Particle};
+pub use peaks::{Collision, Contact};
 
 /// Size of the particle table when no `MaxPart` is declared.
 pub const DEFAULT_MAX_PART: usize = 100_000;
@@ -44,6 +48,12 @@ pub struct Physics {
     substeps: u32,
     /// Global time of the particles' positions.
     time: f64,
+    /// Sum over every carrier even when fields are bounded (the thesis's
+    /// O(n²) loop): the reference the grid must match, and the baseline
+    /// of `benches/physics.rs`.
+    all_pairs: bool,
+    /// The peak detectors of 7.4.
+    peaks: peaks::Peaks,
 }
 
 /// Answers `?18` (gravity force of the current particle) while a law of
@@ -51,6 +61,8 @@ pub struct Physics {
 /// defaults.
 struct Body {
     mass: f64,
+    /// Contact levels the law reported, for the peak detectors.
+    levels: peaks::Levels,
 }
 
 impl Sensors for Body {
@@ -59,6 +71,10 @@ impl Sensors for Body {
             18 => -9.81 * self.mass,
             _ => 0.0,
         }
+    }
+
+    fn contact(&mut self, code: u8, level: f64) {
+        peaks::record(&mut self.levels, code, level);
     }
 }
 
@@ -84,7 +100,16 @@ impl Physics {
             seed: anim.camera.seed,
             substeps: anim.camera.nbr_calc_step.clamp(1, 1 << 20) as u32,
             time: anim.time(),
+            all_pairs: false,
+            peaks: peaks::Peaks::default(),
         }
+    }
+
+    /// Evaluates bounded fields by looking at every carrier (`true`) or
+    /// only at those in the grid cells around each particle (`false`, the
+    /// default). Both give the same bits; only the cost differs.
+    pub fn set_all_pairs(&mut self, on: bool) {
+        self.all_pairs = on;
     }
 
     /// Every particle of the table, placed or not, in declaration order.
@@ -104,8 +129,9 @@ impl Physics {
     }
 
     /// Reads the `e` events of the last derivation step (or the axioms):
-    /// each declares the field (par1 = 10) or the individual part
-    /// (par1 = 11) of the particle of the symbol that follows it.
+    /// each declares the field (par1 = 10, cutoff radius par2 when > 0)
+    /// or the individual part (par1 = 11) of the particle of the symbol
+    /// that follows it.
     pub fn register(&mut self, anim: &Animation) -> Result<(), String> {
         for ls in &anim.systems {
             for e in ls.events() {
@@ -139,6 +165,11 @@ impl Physics {
                 let p = &mut self.particles[row];
                 if e.par[0] == FIELD {
                     p.field = Some(law);
+                    p.reach = if e.par[1] > 0.0 {
+                        e.par[1]
+                    } else {
+                        f64::INFINITY
+                    };
                 } else {
                     p.own = Some(law);
                 }
@@ -189,18 +220,14 @@ impl Physics {
     }
 
     /// The global field Σ f_k at `at` (tropism, `?40`): every placed
-    /// particle's field, in table order.
+    /// particle's field that reaches `at`, in table order.
     pub fn field_at(&self, at: DVec3) -> DVec3 {
-        if self.particles.is_empty() {
-            return DVec3::ZERO;
-        }
-        let pos: Vec<DVec3> = self.particles.iter().map(|p| p.pos).collect();
-        let vel: Vec<DVec3> = self.particles.iter().map(|p| p.vel).collect();
         let mut laws = Laws::new(self);
         let mut f = DVec3::ZERO;
-        for (k, q) in self.particles.iter().enumerate() {
-            if let (true, Some(law)) = (q.is_placed(), q.field) {
-                f += laws.field(q, law, at, pos[k], vel[k], self.time);
+        for q in &self.particles {
+            let r = at.distance(q.pos);
+            if let (true, true, Some(law)) = (q.is_placed(), reaches(q.reach, r), q.field) {
+                f += laws.field(q, law, at, q.pos, q.vel, r, self.time);
             }
         }
         f
@@ -234,17 +261,24 @@ impl Physics {
                     pos[i] = DVec3::from_slice(&y[6 * j..6 * j + 3]);
                     vel[i] = DVec3::from_slice(&y[6 * j + 3..6 * j + 6]);
                 }
+                let carriers = self.carriers(&pos);
                 // One task per particle, each summing in table order: the
                 // same numbers whatever the thread count.
                 let acc: Vec<DVec3> = moving
                     .par_iter()
-                    .map(|&i| self.acceleration(i, &pos, &vel, t))
+                    .map_init(
+                        || (Laws::new(self), Vec::new()),
+                        |(laws, rows), &i| {
+                            self.acceleration(i, &pos, &vel, t, &carriers, laws, rows)
+                        },
+                    )
                     .collect();
                 for (j, &i) in moving.iter().enumerate() {
                     dy[6 * j..6 * j + 3].copy_from_slice(&vel[i].to_array());
                     dy[6 * j + 3..6 * j + 6].copy_from_slice(&acc[j].to_array());
                 }
             });
+            self.detect(&moving, &y, t + h);
         }
         for (j, &i) in moving.iter().enumerate() {
             let p = &mut self.particles[i];
@@ -254,22 +288,98 @@ impl Physics {
         self.time = to;
     }
 
+    /// The carriers of fields at the positions `pos` of an RK4 stage.
+    fn carriers(&self, pos: &[DVec3]) -> Carriers {
+        let mut far = Vec::new();
+        let mut near = Vec::new();
+        let mut reach = 0.0f64;
+        for (k, q) in self.particles.iter().enumerate() {
+            if !q.is_placed() || q.field.is_none() {
+                continue;
+            }
+            if self.all_pairs || q.reach == f64::INFINITY {
+                far.push(k as u32);
+            } else {
+                near.push((k, pos[k], q.reach));
+                reach = reach.max(q.reach);
+            }
+        }
+        let grid = (!near.is_empty()).then(|| Grid::new(reach, near.into_iter()));
+        Carriers { far, grid }
+    }
+
     /// Eq. 2.3.1: (g_i + Σ_{k≠i} f_k) / m_i with the positions and
-    /// velocities of an RK4 stage.
-    fn acceleration(&self, i: usize, pos: &[DVec3], vel: &[DVec3], t: f64) -> DVec3 {
-        let mut laws = Laws::new(self);
+    /// velocities of an RK4 stage, f_k summed in table order over the
+    /// carriers that reach x_i. `laws` and `rows` are the task's scratch,
+    /// reset here so the result does not depend on what ran before.
+    #[allow(clippy::too_many_arguments)]
+    fn acceleration(
+        &self,
+        i: usize,
+        pos: &[DVec3],
+        vel: &[DVec3],
+        t: f64,
+        carriers: &Carriers,
+        laws: &mut Laws,
+        rows: &mut Vec<(u32, f64)>,
+    ) -> DVec3 {
+        laws.reset(self);
         let p = &self.particles[i];
+        let at = pos[i];
         let mut f = match p.own {
-            Some(law) => laws.own(p, law, pos[i], vel[i], t),
+            Some(law) => laws.own(p, law, at, vel[i], t),
             None => DVec3::ZERO,
         };
-        for (k, q) in self.particles.iter().enumerate() {
-            if let (true, true, Some(law)) = (k != i, q.is_placed(), q.field) {
-                f += laws.field(q, law, pos[i], pos[k], vel[k], t);
+        let mut pull = |k: usize, r: f64| {
+            let q = &self.particles[k];
+            if let (true, Some(law)) = (k != i, q.field) {
+                f += laws.field(q, law, at, pos[k], vel[k], r, t);
+            }
+        };
+        match &carriers.grid {
+            None => {
+                for &k in &carriers.far {
+                    let k = k as usize;
+                    let r = at.distance(pos[k]);
+                    if reaches(self.particles[k].reach, r) {
+                        pull(k, r);
+                    }
+                }
+            }
+            Some(grid) => {
+                // Unbounded carriers and the bounded ones within reach,
+                // back in table order.
+                rows.clear();
+                rows.extend(
+                    carriers
+                        .far
+                        .iter()
+                        .map(|&k| (k, at.distance(pos[k as usize]))),
+                );
+                grid.near(at, |k, r| rows.push((k as u32, r)));
+                rows.sort_unstable_by_key(|&(k, _)| k);
+                for &(k, r) in rows.iter() {
+                    pull(k as usize, r);
+                }
             }
         }
         f / p.mass
     }
+}
+
+/// Whether a field of cutoff `reach` acts at distance `r`: always when
+/// unbounded (as in the thesis, even for a NaN distance), else r < reach.
+fn reaches(reach: f64, r: f64) -> bool {
+    reach == f64::INFINITY || r < reach
+}
+
+/// Who acts on whom during one RK4 stage.
+struct Carriers {
+    /// Placed carriers summed without the grid, in table order: the
+    /// unbounded fields, or every field in all-pairs mode.
+    far: Vec<u32>,
+    /// The placed carriers of bounded fields, if any.
+    grid: Option<Grid>,
 }
 
 /// Evaluates laws on private copies of the L-systems' states.
@@ -277,6 +387,8 @@ struct Laws<'a> {
     defs: &'a [Definition],
     states: Vec<State>,
     seed: u64,
+    /// Deepest contact levels the evaluated laws reported.
+    levels: peaks::Levels,
 }
 
 impl<'a> Laws<'a> {
@@ -285,14 +397,35 @@ impl<'a> Laws<'a> {
             defs: &ph.defs,
             states: ph.states.clone(),
             seed: ph.seed,
+            levels: [0.0; 3],
+        }
+    }
+
+    /// Back to the L-systems' states, reusing the copies' memory instead
+    /// of allocating a fresh clone per particle and RK4 stage. The
+    /// destructuring makes a new `State` field a compile error here.
+    fn reset(&mut self, ph: &Physics) {
+        for (mine, theirs) in self.states.iter_mut().zip(&ph.states) {
+            let State { fconst, memory } = theirs;
+            mine.fconst.clone_from(fconst);
+            mine.memory = *memory;
         }
     }
 
     /// Field `law` of carrier `q` (at `from`, velocity `u`) felt at `at`:
     /// x y z = `at`, X Y Z = `from`, u v w = the carrier's velocity
-    /// (eq. 2.3.1: f_k depends on ẋ_k), r = the distance.
-    fn field(&mut self, q: &Particle, law: Law, at: DVec3, from: DVec3, u: DVec3, t: f64) -> DVec3 {
-        let r = at.distance(from);
+    /// (eq. 2.3.1: f_k depends on ẋ_k), r = their distance.
+    #[allow(clippy::too_many_arguments)]
+    fn field(
+        &mut self,
+        q: &Particle,
+        law: Law,
+        at: DVec3,
+        from: DVec3,
+        u: DVec3,
+        r: f64,
+        t: f64,
+    ) -> DVec3 {
         let field = [from.x, from.y, from.z, u.x, u.y, u.z, r];
         self.eval(q, law, at, field, t)
     }
@@ -319,12 +452,17 @@ impl<'a> Laws<'a> {
             },
             growth: 0,
         };
-        let mut body = Body { mass: p.mass };
+        let mut body = Body {
+            mass: p.mass,
+            levels: self.levels,
+        };
         let mut m = Machine::new(def, state, &mut body, self.seed);
-        DVec3::new(
+        let f = DVec3::new(
             m.eval_or(law.f[0], &frame, 0.0),
             m.eval_or(law.f[1], &frame, 0.0),
             m.eval_or(law.f[2], &frame, 0.0),
-        )
+        );
+        self.levels = body.levels;
+        f
     }
 }

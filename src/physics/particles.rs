@@ -40,6 +40,10 @@ pub struct Particle {
     pub mode: Mode,
     /// The field it exerts on the others (and on the turtle).
     pub field: Option<Law>,
+    /// Cutoff radius of the field (`e` par1 = 10, par2 > 0): it acts only
+    /// where r < reach, which lets [`super::grid`] skip far carriers.
+    /// Infinite for an unbounded field.
+    pub reach: f64,
     /// Its individual part g.
     pub own: Option<Law>,
     /// Global time of its initialisation: `t` in its laws is T − born.
@@ -59,6 +63,7 @@ impl Particle {
             vel: DVec3::ZERO,
             mode: Mode::Waiting,
             field: None,
+            reach: f64::INFINITY,
             own: None,
             born: 0.0,
             placed: 0.0,
