@@ -103,3 +103,37 @@ fn butterflies_circle_the_flower() {
         );
     }
 }
+
+/// `?34` and `?20`: the swim phase of code 4.1.1 grows by 0.2·speed per
+/// second, so a particle at 10 m/s has phase 2T radians at time T.
+#[test]
+fn the_swim_motor_follows_the_speed() {
+    let dir = std::env::temp_dir().join(format!("lmfilm_swim_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("swim.lm");
+    std::fs::write(
+        &scene,
+        "Camera_AnimationParameters\nt_final_interval 2 0.04\nAxiom\ne () (11) () () (0) (0) (0) C () () (1) () (10) (0) (0) Y () () () () (?34) (?20)\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args([
+            "print",
+            scene.to_str().unwrap(),
+            "--frame",
+            "13",
+            "--format",
+            "full",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    let phase = 2.0f64 * 0.52;
+    let want = format!(
+        "Y(0.52,0,0,0,{:.6},{:.6},0)",
+        phase.to_degrees(),
+        phase.sin() * 5.0
+    );
+    assert!(text.contains(&want), "{text} lacks {want}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -2,7 +2,9 @@
 //! per-L-system state tables, and the sound event handler, wired
 //! together through the traits the lower layers define (DESIGN §2).
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use glam::DVec3;
 
@@ -24,9 +26,38 @@ struct Ears {
     ongoing: Vec<(u32, u32)>,
     /// The particle table, when there are particles.
     touch: Option<Physics>,
+    /// The particle of the last `C` the turtle interpreted (shared with
+    /// [`Hooks`]): the "current particle" of `?20` and `?34`.
+    current: Rc<Cell<Option<Who>>>,
+}
+
+impl Ears {
+    /// Swim phase (radians) of `who`'s particle, or the current one's.
+    fn phase(&self, who: Who) -> f64 {
+        let Some(t) = &self.touch else { return 0.0 };
+        let p = t.get(who.symbol).or_else(|| {
+            let c = self.current.get().filter(|c| c.lsys == who.lsys)?;
+            t.get(c.symbol)
+        });
+        p.map_or(0.0, |p| p.phase)
+    }
 }
 
 impl Sensors for Ears {
+    /// `?20`: the swim motor, sin(phase)·5 (table B5); `?18` as default.
+    fn particle(&mut self, code: u8, who: Who) -> f64 {
+        match code {
+            20 => self.phase(who).sin() * 5.0,
+            18 => -9.81,
+            _ => 0.0,
+        }
+    }
+
+    /// `?34`: the swim phase in degrees.
+    fn phase_degrees(&mut self, who: Who) -> f64 {
+        self.phase(who).to_degrees()
+    }
+
     fn force(&mut self, p: [f64; 3]) -> f64 {
         let at = DVec3::from_array(p);
         self.touch.as_ref().map_or(0.0, |t| t.field_at(at).length())
@@ -56,6 +87,8 @@ struct Hooks<'a> {
     /// The particle of the last `C` interpreted: the one `$` par2 = 4 and
     /// `l` par3 = 4, 5 of the same L-system refer to.
     current: Option<Who>,
+    /// The same, for the expressions' `?20` and `?34` ([`Ears`]).
+    shared: Rc<Cell<Option<Who>>>,
     error: Option<String>,
     /// Scripts the scene may run (only with the user's consent), the
     /// folder they live in, and the frame.
@@ -90,6 +123,7 @@ impl TurtleWorld for Hooks<'_> {
         };
         if self.physics.get(id).is_some() {
             self.current = Some(who);
+            self.shared.set(Some(who));
         }
         to
     }
@@ -245,10 +279,12 @@ impl Film {
     pub fn scene(&mut self) -> Result<(Scene, Vec<String>), String> {
         self.air.begin_frame(self.anim.time())?;
         self.sound_collisions()?;
+        self.ears.current.set(None);
         let mut hooks = Hooks {
             air: &mut self.air,
             physics: &mut self.physics,
             current: None,
+            shared: Rc::clone(&self.ears.current),
             error: None,
             scripts: self.scripts.as_ref(),
             frame: self.anim.frame,

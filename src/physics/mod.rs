@@ -284,6 +284,8 @@ impl Physics {
             let p = &mut self.particles[i];
             p.pos = DVec3::from_slice(&y[6 * j..6 * j + 3]);
             p.vel = DVec3::from_slice(&y[6 * j + 3..6 * j + 6]);
+            // Code 4.1.1's swim motor: the tail beats faster as it swims.
+            p.phase += 0.2 * p.vel.length() * (to - from);
         }
         self.time = to;
     }

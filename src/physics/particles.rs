@@ -51,6 +51,9 @@ pub struct Particle {
     /// Global time of its last placement (modes 1 and 6), for the
     /// velocity from successive positions.
     pub placed: f64,
+    /// Swim phase in radians (code 4.1.1: phase += 0.2 · speed per
+    /// second), read by `?20` and `?34`.
+    pub phase: f64,
 }
 
 impl Particle {
@@ -67,6 +70,7 @@ impl Particle {
             own: None,
             born: 0.0,
             placed: 0.0,
+            phase: 0.0,
         }
     }
 
