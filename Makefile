@@ -27,6 +27,7 @@ bench:
 	$(CARGO) bench --bench step
 	$(CARGO) bench --bench scene
 	$(CARGO) bench --bench sound
+	$(CARGO) bench --bench physics
 
 bench-render:
 	sh scripts/bench_render.sh
