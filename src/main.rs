@@ -113,11 +113,14 @@ enum Command {
         #[arg(long)]
         allow_commands: bool,
     },
-    /// The simulation alone: DIR/scene/NNNN.snap per frame,
-    /// DIR/soundtrack.events and DIR/manifest.json. Example:
+    /// The simulation alone: snapshots, sound event log and manifest.
+    ///
+    /// Writes DIR/scene/NNNN.snap per frame, DIR/soundtrack.events and
+    /// DIR/manifest.json. Example:
     ///
     ///     lmfilm derive scenes/examples/airplane.lm -o renders/plane
     Derive {
+        /// Definition files derived together as one animation.
         #[arg(required = true, value_name = "SCENE.lm")]
         scenes: Vec<PathBuf>,
         /// Output folder.
@@ -127,12 +130,15 @@ enum Command {
         #[arg(long)]
         allow_commands: bool,
     },
-    /// Ray-trace a derived folder's snapshots into DIR/frames/; shard K/N
-    /// takes every N-th frame, so N processes (on N machines) cover the
-    /// film once. Finished frames are skipped. Example:
+    /// Ray-trace a derived folder's snapshots into DIR/frames/.
+    ///
+    /// Shard K/N takes the frames f with f mod N = K − 1, so N processes
+    /// (on N machines) cover the film once. Finished frames are skipped.
+    /// Example:
     ///
     ///     lmfilm render renders/plane --shard 1/2
     Render {
+        /// A folder made by `lmfilm derive` (or `run`).
         #[arg(value_name = "DIR")]
         dir: PathBuf,
         #[command(flatten)]
@@ -141,27 +147,34 @@ enum Command {
         #[arg(long, value_name = "K/N")]
         shard: Option<Shard>,
     },
-    /// Frames and soundtrack of a film folder into DIR/<name>.mp4 (H.264 +
-    /// AAC) through ffmpeg. Example:
+    /// Frames and soundtrack of a film folder into an MP4 through ffmpeg.
+    ///
+    /// Writes DIR/<name>.mp4 (H.264 + AAC). Example:
     ///
     ///     lmfilm mux renders/lmfilm
     Mux {
+        /// A film folder with frames/<name>.NNNN.png.
         #[arg(value_name = "DIR")]
         dir: PathBuf,
     },
-    /// Re-hash every file of a film folder against its manifest.json;
-    /// exit code 1 and each bad or missing file named. Example:
+    /// Re-hash every file of a film folder against its manifest.json.
+    ///
+    /// Exit code 1, and each changed or missing file named. Example:
     ///
     ///     lmfilm verify renders/lmfilm
     Verify {
+        /// A film folder with its manifest.json.
         #[arg(value_name = "DIR")]
         dir: PathBuf,
     },
-    /// JSON Lines on stdout, one object per frame: frame, time, particles,
-    /// actors, the sound events started. Example:
+    /// JSON Lines on stdout, one object per frame.
+    ///
+    /// Each object holds the frame, its time, the particles (id, pos, vel,
+    /// mass), the actors and the sound events started. Example:
     ///
     ///     lmfilm trace scenes/examples/airplane.lm --frames 0..3
     Trace {
+        /// Definition files derived together as one animation.
         #[arg(required = true, value_name = "SCENE.lm")]
         scenes: Vec<PathBuf>,
         /// Frames to list: A..B (B excluded), A..=B, A.. or N.
