@@ -150,3 +150,34 @@ fn sound_of_a_scene_from_the_command_line() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `sound_file N FILE` gives a scene its own sound for number N; the
+/// event's length is that file's.
+#[test]
+fn a_scene_declares_its_own_sound_file() {
+    let dir = temp("own");
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: 8000,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let mut w = hound::WavWriter::create(dir.join("bell.wav"), spec).unwrap();
+    for k in 0..4000 {
+        w.write_sample(((k as f64 * 0.3).sin() * 9000.0) as i16)
+            .unwrap();
+    }
+    w.finalize().unwrap();
+    let scene = dir.join("bell.lm");
+    std::fs::write(
+        &scene,
+        "Camera_AnimationParameters\nt_final_interval 1 0.04\nOptions\nsound_file 6 bell.wav\nAxiom\nT () (1) () () (6) (2)\nProductions\nT (0)\n1.0 EndProb\nEnd\nEndProductions\n",
+    )
+    .unwrap();
+    let mut film = Film::load(&[&scene], Options::default()).unwrap();
+    film.scene().unwrap();
+    assert_eq!(film.air.ongoing()[0].end, 0.5, "bell.wav lasts 0.5 s");
+    let text = sound::events::write(film.air.log());
+    assert!(text.contains("PLAY 2 bell.wav"), "{text}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -232,6 +232,18 @@ fn sound_inits(anim: &Animation) -> Vec<Command> {
         .unwrap_or_default()
 }
 
+/// The sound library of table D.1 with the scene's own `sound_file`
+/// entries in place of the library's.
+fn scene_library(anim: &Animation) -> Library {
+    let mut lib = Library::default();
+    for o in anim.systems.iter().flat_map(|s| &s.def.options) {
+        if let OptionItem::SoundFile { number, file } = o {
+            lib.set(*number as u32, file.clone());
+        }
+    }
+    lib
+}
+
 impl Film {
     /// Loads the scene files; sound files are looked up in the first
     /// file's folder, then `scenes/sounds/`.
@@ -258,7 +270,7 @@ impl Film {
         let anim = Animation::from_sources(sources, &mut ears).map_err(|e| e.to_string())?;
         let surfaces = Surfaces::load(&anim)?;
         let search = library::search_path(dir, None);
-        let air = Air::new(&sound_inits(&anim), Library::default(), search)?;
+        let air = Air::new(&sound_inits(&anim), scene_library(&anim), search)?;
         let mut physics = Physics::new(&anim);
         physics.register(&anim)?;
         Ok(Film {

@@ -49,6 +49,12 @@ pub enum OptionItem {
         file: String,
         items: Vec<Command>,
     },
+    /// `sound_file N FILE` (an extension): this scene's file for sound
+    /// number N, in place of the library's (table D.1).
+    SoundFile {
+        number: i64,
+        file: String,
+    },
     RsFilePathName {
         path: String,
         name: String,
@@ -123,7 +129,7 @@ const SOUND: &[Spec] = &[
     ("INIT_dist_matrix", 0, 0, false),
 ];
 
-const KEYWORDS: &str = "MaxPart, command_file, fConst, VLNETdeclare, AUDIOport_host, NBR_actors, iVisionWinSize, actorNbr_automata, Sound_event_file, rs_file_path_name, rs_switch, NbrChannels_listOfNames, trace_actor, import_trace";
+const KEYWORDS: &str = "MaxPart, command_file, fConst, VLNETdeclare, AUDIOport_host, NBR_actors, iVisionWinSize, actorNbr_automata, Sound_event_file, sound_file, rs_file_path_name, rs_switch, NbrChannels_listOfNames, trace_actor, import_trace";
 
 fn commands(s: &mut Scanner, specs: &[Spec]) -> Result<Vec<Command>, Diagnostic> {
     let mut out = Vec::new();
@@ -260,6 +266,16 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             path: text(s, "the file path")?,
             name: text(s, "the file name")?,
         },
+        "sound_file" => {
+            let number = s.int("the sound number")?;
+            if !(0..=i64::from(u32::MAX)).contains(&number) {
+                return Err(s.error(at, "`sound_file` needs a sound number ≥ 0"));
+            }
+            OptionItem::SoundFile {
+                number,
+                file: text(s, "the sound file name")?,
+            }
+        }
         "rs_switch" => {
             let v = s.numbers(6, "a frame number")?;
             if v.len() < 2 {
