@@ -92,6 +92,22 @@ pub enum FormatArg {
     Both,
 }
 
+/// The preset's settings at `w` × `h`, with `--spp` if given (`still`,
+/// `run` and `render`).
+pub fn quality(preset: PresetArg, w: u32, h: u32, spp: Option<u32>) -> Result<Settings, Failure> {
+    let mut s = match preset {
+        PresetArg::Preview => Settings::preview(w, h),
+        PresetArg::Final => Settings::final_quality(w, h),
+    };
+    if let Some(n) = spp {
+        if n == 0 || n > 65536 {
+            return Err((2, format!("--spp must be 1..65536, got {n}")));
+        }
+        s.spp = n;
+    }
+    Ok(s)
+}
+
 /// How frames are rendered (`run` and `render`).
 #[derive(Args)]
 pub struct RenderArgs {
@@ -128,16 +144,7 @@ impl RenderArgs {
         }
         // 0 × 0: the size of each snapshot's camera.
         let (w, h) = (self.width.unwrap_or(0), self.height.unwrap_or(0));
-        let mut s = match self.preset {
-            PresetArg::Preview => Settings::preview(w, h),
-            PresetArg::Final => Settings::final_quality(w, h),
-        };
-        if let Some(n) = self.spp {
-            if n == 0 || n > 65536 {
-                return Err((2, format!("--spp must be 1..65536, got {n}")));
-            }
-            s.spp = n;
-        }
+        let s = quality(self.preset, w, h, self.spp)?;
         let f = match self.format {
             FormatArg::Png => Formats::Png,
             FormatArg::Exr => Formats::Exr,

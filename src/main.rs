@@ -8,11 +8,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 mod film_commands;
 
-use film_commands::RenderArgs;
+use film_commands::{PresetArg, RenderArgs};
 use lmfilm::film::frames::{FrameRange, Shard};
 use lmfilm::film::Film;
 use lmfilm::lsys::print::{self, Format};
-use lmfilm::render::{self, Filter, Settings};
+use lmfilm::render::{self, Filter};
 use lmfilm::scene::obj;
 use lmfilm::scene::Scene;
 use lmfilm::sound::{self, Attenuation, SampleFormat};
@@ -82,8 +82,8 @@ enum Command {
         #[arg(long)]
         spp: Option<u32>,
         /// `preview`: 1 sample, no shadows or reflections; `final`: all.
-        #[arg(long, value_enum, default_value_t = Preset::Final)]
-        preset: Preset,
+        #[arg(long, value_enum, default_value_t = PresetArg::Final)]
+        preset: PresetArg,
         /// Pixel filter.
         #[arg(long, value_enum, default_value_t = FilterArg::Box)]
         filter: FilterArg,
@@ -230,12 +230,6 @@ enum AttenuationArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum Preset {
-    Preview,
-    Final,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
 enum FilterArg {
     Box,
     Gaussian,
@@ -316,7 +310,7 @@ fn still(
     output: &Path,
     size: (Option<u32>, Option<u32>),
     spp: Option<u32>,
-    preset: Preset,
+    preset: PresetArg,
     filter: FilterArg,
     segment_width: f64,
 ) -> Result<(), (u8, String)> {
@@ -347,16 +341,7 @@ fn still(
             format!("the image size must be 1..32768 pixels a side, got {w}×{h}"),
         ));
     }
-    let mut settings = match preset {
-        Preset::Preview => Settings::preview(w, h),
-        Preset::Final => Settings::final_quality(w, h),
-    };
-    if let Some(n) = spp {
-        if n == 0 || n > 65536 {
-            return Err((2, format!("--spp must be 1..65536, got {n}")));
-        }
-        settings.spp = n;
-    }
+    let mut settings = film_commands::quality(preset, w, h, spp)?;
     settings.filter = match filter {
         FilterArg::Box => Filter::Box,
         FilterArg::Gaussian => Filter::Gaussian,
