@@ -30,6 +30,17 @@ struct ShapeLeaf {
     shadows: bool,
 }
 
+impl ShapeLeaf {
+    /// The ray `r` (in its geometry's space) against the shape, in its
+    /// local space.
+    #[inline(always)]
+    fn hit(&self, geo: &Geometry, r: &Ray, tmax: f32) -> Option<intersect::LocalHit> {
+        let o = self.inverse.transform_point3a(r.origin);
+        let d = self.inverse.transform_vector3a(r.direction);
+        intersect::shape(geo.shapes[self.index as usize].kind, o, d, r.tmin, tmax)
+    }
+}
+
 /// One geometry's tree; leaf `l` holds the triangle packs
 /// `tris[packs[l].0..packs[l].1]` and the shapes `shapes[..]` likewise.
 struct Blas {
@@ -38,6 +49,18 @@ struct Blas {
     tris: Vec<Tri4>,
     spans: Vec<(u32, u32)>,
     shapes: Vec<ShapeLeaf>,
+}
+
+impl Blas {
+    /// The triangle packs and the shapes of leaf `l`.
+    #[inline(always)]
+    fn leaf(&self, l: u32) -> (&[Tri4], &[ShapeLeaf]) {
+        let ((a, b), (c, d)) = (self.packs[l as usize], self.spans[l as usize]);
+        (
+            &self.tris[a as usize..b as usize],
+            &self.shapes[c as usize..d as usize],
+        )
+    }
 }
 
 /// The nearest surface a ray meets.
@@ -205,16 +228,13 @@ impl<'a> Accel<'a> {
         tmax: f32,
         best: &mut Option<(u32, Prim, intersect::LocalHit)>,
     ) -> f32 {
-        let g = self.scene.instances[k].geometry as usize;
-        let Some(b) = &self.blas[g] else {
+        let Some((b, geo, r)) = self.instance(k, r) else {
             return tmax;
         };
-        let geo = &self.scene.geometries[g];
-        let r = self.local_ray(k, r);
         let mut found = tmax;
         b.tree.traverse(&r, tmax, |l, tmax| {
-            let (from, to) = b.packs[l as usize];
-            for pack in &b.tris[from as usize..to as usize] {
+            let (packs, shapes) = b.leaf(l);
+            for pack in packs {
                 if let Some((t, lane)) = pack.intersect(&r, *tmax) {
                     let prim = Prim::Triangle(pack.index[lane]);
                     let normal = Vec3A::ZERO; // computed for the closest only
@@ -222,12 +242,8 @@ impl<'a> Accel<'a> {
                     *tmax = t;
                 }
             }
-            let (from, to) = b.spans[l as usize];
-            for s in &b.shapes[from as usize..to as usize] {
-                let o = s.inverse.transform_point3a(r.origin);
-                let d = s.inverse.transform_vector3a(r.direction);
-                let kind = geo.shapes[s.index as usize].kind;
-                if let Some(h) = intersect::shape(kind, o, d, r.tmin, *tmax) {
+            for s in shapes {
+                if let Some(h) = s.hit(geo, &r, *tmax) {
                     *best = Some((k as u32, Prim::Shape(s.index), h));
                     *tmax = h.t;
                 }
@@ -242,28 +258,25 @@ impl<'a> Accel<'a> {
     /// before `tmax`.
     #[inline]
     fn instance_any(&self, k: usize, r: &Ray, tmax: f32) -> bool {
-        let g = self.scene.instances[k].geometry as usize;
-        let Some(b) = &self.blas[g] else {
+        let Some((b, geo, r)) = self.instance(k, r) else {
             return false;
         };
-        let geo = &self.scene.geometries[g];
-        let r = self.local_ray(k, r);
         b.tree.traverse_any(&r, tmax, |l, tmax| {
-            let (from, to) = b.packs[l as usize];
-            if b.tris[from as usize..to as usize]
-                .iter()
-                .any(|p| p.intersect(&r, *tmax).is_some())
-            {
-                return true;
-            }
-            let (from, to) = b.spans[l as usize];
-            b.shapes[from as usize..to as usize].iter().any(|s| {
-                let o = s.inverse.transform_point3a(r.origin);
-                let d = s.inverse.transform_vector3a(r.direction);
-                let kind = geo.shapes[s.index as usize].kind;
-                s.shadows && intersect::shape(kind, o, d, r.tmin, *tmax).is_some()
-            })
+            let (packs, shapes) = b.leaf(l);
+            packs.iter().any(|p| p.intersect(&r, *tmax).is_some())
+                || shapes
+                    .iter()
+                    .any(|s| s.shadows && s.hit(geo, &r, *tmax).is_some())
         })
+    }
+
+    /// Instance `k`'s tree and geometry, and the ray in its space (same
+    /// t); None when its geometry has nothing to hit.
+    #[inline]
+    fn instance(&self, k: usize, r: &Ray) -> Option<(&Blas, &Geometry, Ray)> {
+        let g = self.scene.instances[k].geometry as usize;
+        let b = self.blas[g].as_ref()?;
+        Some((b, &self.scene.geometries[g], self.local_ray(k, r)))
     }
 
     /// The ray, or None when it cannot hit anything. Negative zeros in the
