@@ -12,7 +12,7 @@ use crate::lsys::options::{Command, OptionItem};
 use crate::lsys::{Animation, Sensors, Source, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::scene::Scene;
-use crate::sound::air::{Air, AMBIENT_SOURCE};
+use crate::sound::air::{self, Air, Ongoing, AMBIENT_SOURCE};
 use crate::sound::library::{self, Library};
 use crate::turtle::interpret::Tables;
 use crate::turtle::{build_scene, Options, ParticleMapping, SoundRequest, Surfaces, TurtleWorld};
@@ -22,8 +22,8 @@ use crate::turtle::{build_scene, Options, ParticleMapping, SoundRequest, Surface
 /// interpretation.
 #[derive(Debug, Default, Clone)]
 struct Ears {
-    /// (sound, source), oldest first.
-    ongoing: Vec<(u32, u32)>,
+    /// The on-going sound events, oldest first.
+    ongoing: Vec<Ongoing>,
     /// The particle table, when there are particles.
     touch: Option<Physics>,
     /// The particle of the last `C` the turtle interpreted (shared with
@@ -68,14 +68,20 @@ impl Sensors for Ears {
     }
 
     fn sound_of_source(&mut self, source: f64) -> f64 {
-        let found = self.ongoing.iter().rev().find(|e| f64::from(e.1) == source);
-        found.map_or(-1.0, |e| f64::from(e.0))
+        let found = whole(source).and_then(|n| air::sound_of_source(&self.ongoing, n));
+        found.map_or(-1.0, f64::from)
     }
 
     fn source_of_sound(&mut self, sound: f64) -> f64 {
-        let found = self.ongoing.iter().rev().find(|e| f64::from(e.0) == sound);
-        found.map_or(-1.0, |e| f64::from(e.1))
+        let found = whole(sound).and_then(|n| air::source_of_sound(&self.ongoing, n));
+        found.map_or(-1.0, f64::from)
     }
+}
+
+/// `v` as a sound or source number, when it is one exactly.
+fn whole(v: f64) -> Option<u32> {
+    let n = v as u32;
+    (f64::from(n) == v).then_some(n)
 }
 
 /// The turtle's view of the world: microphones and sound events go to
@@ -315,12 +321,7 @@ impl Film {
         // The camera may have moved (`l`): microphone 0 follows it.
         self.air.end_frame(scene.camera.eye.as_dvec3())?;
         warnings.extend(self.air.take_warnings());
-        self.ears.ongoing = self
-            .air
-            .ongoing()
-            .iter()
-            .map(|e| (e.sound, e.source))
-            .collect();
+        self.ears.ongoing = self.air.ongoing().to_vec();
         self.ears.touch = (!self.physics.particles().is_empty()).then(|| self.physics.clone());
         Ok((scene, warnings))
     }

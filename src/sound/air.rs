@@ -219,20 +219,12 @@ impl Air {
 
     /// `?61`: the sound the source emits (the latest started).
     pub fn sound_of_source(&self, source: u32) -> Option<u32> {
-        self.ongoing
-            .iter()
-            .rev()
-            .find(|e| e.source == source)
-            .map(|e| e.sound)
+        sound_of_source(&self.ongoing, source)
     }
 
     /// `?62`: the source emitting the sound (the latest started).
     pub fn source_of_sound(&self, sound: u32) -> Option<u32> {
-        self.ongoing
-            .iter()
-            .rev()
-            .find(|e| e.sound == sound)
-            .map(|e| e.source)
+        source_of_sound(&self.ongoing, sound)
     }
 
     pub fn ongoing(&self) -> &[Ongoing] {
@@ -247,4 +239,18 @@ impl Air {
     pub fn log(&self) -> &EventLog {
         &self.log
     }
+}
+
+/// `?61` over a table of on-going events: the sound `source` emits, the
+/// latest started.
+pub fn sound_of_source(ongoing: &[Ongoing], source: u32) -> Option<u32> {
+    let e = ongoing.iter().rev().find(|e| e.source == source)?;
+    Some(e.sound)
+}
+
+/// `?62` over a table of on-going events: the source emitting `sound`,
+/// the latest started.
+pub fn source_of_sound(ongoing: &[Ongoing], sound: u32) -> Option<u32> {
+    let e = ongoing.iter().rev().find(|e| e.sound == sound)?;
+    Some(e.source)
 }
