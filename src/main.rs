@@ -10,7 +10,7 @@ mod film_commands;
 
 use film_commands::{PresetArg, RenderArgs};
 use lmfilm::film::frames::{FrameRange, Shard};
-use lmfilm::film::Film;
+use lmfilm::film::{job, Film};
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::render::{self, Filter};
 use lmfilm::scene::obj;
@@ -408,32 +408,11 @@ fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf
     );
     let events = wav.with_file_name("soundtrack.events");
     let mut film = Film::load(&[scene], Options::default()).map_err(|e| (2, e))?;
-    let frames = film.anim.frame_count();
     let mut progress = film_commands::Progress::new("deriving frame");
-    let mut warnings = std::collections::BTreeSet::new();
-    for k in 0..frames {
-        let (_, w) = film.scene().map_err(|e| (2, e))?;
-        warnings.extend(w);
-        if k + 1 < frames {
-            film.step().map_err(|e| (2, e))?;
-        }
-        progress.tick(k + 1, frames);
-    }
+    let fail = |e: job::Error| (e.code, e.message);
+    job::every_frame(&mut film, &mut |k, n| progress.tick(k, n), |_, _| Ok(())).map_err(fail)?;
     progress.done();
-    for w in warnings {
-        eprintln!("{w}");
-    }
-    if let Some(dir) = events.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            (
-                1,
-                format!("{}: cannot create the folder: {e}", dir.display()),
-            )
-        })?;
-    }
-    let text = sound::events::write(film.air.log());
-    lmfilm::scene::atomic::write_atomic(&events, text.as_bytes())
-        .map_err(|e| (1, format!("{}: cannot write: {e}", events.display())))?;
+    job::write_events(&film, &events).map_err(fail)?;
     Ok((events, wav))
 }
 

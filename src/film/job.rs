@@ -23,7 +23,7 @@ use super::manifest::{self, Manifest};
 use super::Film;
 use crate::render::{self, output, Settings};
 use crate::scene::atomic::{remove_stale_temps, write_atomic};
-use crate::scene::snapshot;
+use crate::scene::{snapshot, Scene};
 use crate::sound;
 
 /// The log and soundtrack names inside the folder.
@@ -122,14 +122,36 @@ pub fn derive(
     std::fs::create_dir_all(&scene_dir).map_err(|e| io(&scene_dir, e))?;
     remove_stale_temps(&scene_dir);
     remove_stale_temps(dir);
+    every_frame(film, progress, |k, scene| {
+        let path = dir.join(snapshot_path(k));
+        if !path.exists() {
+            snapshot::write(scene, &path).map_err(|e| io(&path, e))?;
+        }
+        Ok(())
+    })?;
+    write_events(film, &dir.join(EVENTS_FILE))?;
+    let mut m = Manifest::new(film.anim.camera.dt, frames);
+    for s in scenes {
+        m.add_scene(&s.name, &s.bytes);
+    }
+    m.options.insert("name".into(), name.into());
+    finish(dir, m)
+}
+
+/// Derives every frame of the film from its current one (frame 0),
+/// handing each frame's scene to `each`; the turtle's warnings are shown
+/// once each at the end.
+pub fn every_frame(
+    film: &mut Film,
+    progress: Progress,
+    mut each: impl FnMut(u64, &Scene) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let frames = film.anim.frame_count();
     let mut warnings = std::collections::BTreeSet::new();
     for k in 0..frames {
         let (scene, w) = film.scene().map_err(Error::input)?;
         warnings.extend(w);
-        let path = dir.join(snapshot_path(k));
-        if !path.exists() {
-            snapshot::write(&scene, &path).map_err(|e| io(&path, e))?;
-        }
+        each(k, &scene)?;
         if k + 1 < frames {
             film.step().map_err(Error::input)?;
         }
@@ -138,15 +160,15 @@ pub fn derive(
     for w in warnings {
         eprintln!("{w}");
     }
-    let events = dir.join(EVENTS_FILE);
-    write_atomic(&events, sound::events::write(film.air.log()).as_bytes())
-        .map_err(|e| io(&events, e))?;
-    let mut m = Manifest::new(film.anim.camera.dt, frames);
-    for s in scenes {
-        m.add_scene(&s.name, &s.bytes);
+    Ok(())
+}
+
+/// Writes the film's sound event log to `path`, creating its folder.
+pub fn write_events(film: &Film, path: &Path) -> Result<(), Error> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     }
-    m.options.insert("name".into(), name.into());
-    finish(dir, m)
+    write_atomic(path, sound::events::write(film.air.log()).as_bytes()).map_err(|e| io(path, e))
 }
 
 /// The manifest of a derived folder (what `render` and `sound` start
