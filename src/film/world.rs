@@ -35,12 +35,18 @@ impl Ears {
     /// Swim phase (radians) of `who`'s particle, or the current one's.
     fn phase(&self, who: Who) -> f64 {
         let Some(t) = &self.touch else { return 0.0 };
-        let p = t.get(who.symbol).or_else(|| {
-            let c = self.current.get().filter(|c| c.lsys == who.lsys)?;
-            t.get(c.symbol)
-        });
-        p.map_or(0.0, |p| p.phase)
+        particle_of(t, self.current.get(), who).map_or(0.0, |p| p.phase)
     }
+}
+
+/// The particle of symbol `who`, or else `current` (the particle of the
+/// last `C` interpreted) when it belongs to the same L-system: the one
+/// `$` par2 = 4, `l` par3 = 4, 5, `?20` and `?34` refer to.
+fn particle_of(physics: &Physics, current: Option<Who>, who: Who) -> Option<&Particle> {
+    physics.get(who.symbol).or_else(|| {
+        let c = current.filter(|c| c.lsys == who.lsys)?;
+        physics.get(c.symbol)
+    })
 }
 
 impl Sensors for Ears {
@@ -90,11 +96,8 @@ fn whole(v: f64) -> Option<u32> {
 struct Hooks<'a> {
     air: &'a mut Air,
     physics: &'a mut Physics,
-    /// The particle of the last `C` interpreted: the one `$` par2 = 4 and
-    /// `l` par3 = 4, 5 of the same L-system refer to.
-    current: Option<Who>,
-    /// The same, for the expressions' `?20` and `?34` ([`Ears`]).
-    shared: Rc<Cell<Option<Who>>>,
+    /// The particle of the last `C` interpreted, shared with [`Ears`].
+    current: Rc<Cell<Option<Who>>>,
     error: Option<String>,
     /// Scripts the scene may run (only with the user's consent), the
     /// folder they live in, and the frame.
@@ -128,8 +131,7 @@ impl TurtleWorld for Hooks<'_> {
             }
         };
         if self.physics.get(id).is_some() {
-            self.current = Some(who);
-            self.shared.set(Some(who));
+            self.current.set(Some(who));
         }
         to
     }
@@ -171,10 +173,7 @@ impl TurtleWorld for Hooks<'_> {
 impl Hooks<'_> {
     /// The particle of symbol `who`, or else the current one.
     fn particle_of(&self, who: Who) -> Option<&Particle> {
-        self.physics.get(who.symbol).or_else(|| {
-            let c = self.current.filter(|c| c.lsys == who.lsys)?;
-            self.physics.get(c.symbol)
-        })
+        particle_of(self.physics, self.current.get(), who)
     }
 
     fn fail(&mut self, e: String) {
@@ -301,8 +300,7 @@ impl Film {
         let mut hooks = Hooks {
             air: &mut self.air,
             physics: &mut self.physics,
-            current: None,
-            shared: Rc::clone(&self.ears.current),
+            current: Rc::clone(&self.ears.current),
             error: None,
             scripts: self.scripts.as_ref(),
             frame: self.anim.frame,
