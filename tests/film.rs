@@ -1,6 +1,8 @@
 //! The film driver end to end (issue 6): run, derive, render shards,
 //! sound, verify, resume after a kill, thread-count independence.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
@@ -23,10 +25,7 @@ EndProductions
 ";
 
 fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lmfilm_film_{name}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("film", name)
 }
 
 fn lmfilm(args: &[&str]) -> Output {

@@ -1,6 +1,8 @@
 //! The film driver's support modules: frame ranges, shards, file names,
 //! the manifest with `verify`, and the ffmpeg mux.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -14,12 +16,8 @@ use lmfilm::film::manifest::{
 use lmfilm::film::mux::{ffmpeg_available, mux, FrameRate, MuxError};
 use lmfilm::lsys::options::OptionItem;
 
-/// A fresh empty folder for one test.
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("lmfilm-film-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
+    common::fresh_dir("film-support", name)
 }
 
 fn range(text: &str) -> FrameRange {

@@ -2,6 +2,8 @@
 //! handler's table of on-going events behind `?60`–`?62`, the event log
 //! of a scene, and its soundtrack through the command line.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -10,10 +12,7 @@ use lmfilm::sound::{self, Event};
 use lmfilm::turtle::Options;
 
 fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lmfilm_sound_scene_{name}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("sound-scene", name)
 }
 
 fn airplane() -> PathBuf {

@@ -4,6 +4,15 @@
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::lsys::{Animation, NoSensors, Source};
 
+/// A fresh, empty folder for one test: `group` keeps test files apart,
+/// the process id keeps concurrent runs apart.
+pub fn fresh_dir(group: &str, name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("lmfilm-{group}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 pub fn example(name: &str) -> String {
     format!("{}/scenes/examples/{name}", env!("CARGO_MANIFEST_DIR"))
 }
