@@ -6,9 +6,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use lmfilm::film::frames::{frame_pattern, rs_switch, FrameRange, FrameSelection, Shard};
+use std::collections::BTreeMap;
+
+use lmfilm::film::frames::{FrameRange, FrameSelection, Shard};
 use lmfilm::film::job::{self, Formats, SceneText, SOUNDTRACK_FILE};
-use lmfilm::film::{manifest, mux, Film};
+use lmfilm::film::{manifest, mux, verify, Film};
 use lmfilm::lsys::Source;
 use lmfilm::render::Settings;
 use lmfilm::sound;
@@ -127,8 +129,9 @@ pub struct RenderArgs {
     /// Samples per pixel (overrides the preset's).
     #[arg(long)]
     spp: Option<u32>,
-    /// `png` (8-bit sRGB), `exr` (RGBA, Z, normal, object id) or `both`.
-    #[arg(long, value_enum, default_value_t = FormatArg::Png)]
+    /// `both` (the EXR master and its PNG), `png` (8-bit sRGB) or `exr`
+    /// (RGBA, Z, normal, object id).
+    #[arg(long, value_enum, default_value_t = FormatArg::Both)]
     format: FormatArg,
     /// Worker threads (default: all cores); the images do not depend on it.
     #[arg(long)]
@@ -167,8 +170,44 @@ impl RenderArgs {
     }
 }
 
+/// Loads the scene files as one film. A scene that wants to run scripts
+/// (`command_file`) is refused unless the user consents
+/// (`--allow-commands`), by every command alike; scripts are found in the
+/// first scene's folder.
+pub fn load_film(scenes: &[PathBuf], allow_commands: bool, opts: Options) -> Result<Film, Failure> {
+    let mut film = Film::load(scenes, opts).map_err(|e| (2, e))?;
+    consent(
+        &mut film,
+        scenes.first().map(PathBuf::as_path),
+        allow_commands,
+    )?;
+    Ok(film)
+}
+
+/// Lets the film run its scripts with consent, refuses it without.
+fn consent(film: &mut Film, first: Option<&Path>, allow: bool) -> Result<(), Failure> {
+    let Some(what) = film.wants_commands() else {
+        return Ok(());
+    };
+    if !allow {
+        return Err((
+            2,
+            format!(
+                "{what}: this scene wants to run scripts on this machine; a scene never runs anything by default. If you trust it, run again with --allow-commands"
+            ),
+        ));
+    }
+    // A bare file name's folder is the current one.
+    let dir = first
+        .and_then(Path::parent)
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    film.allow_commands(dir);
+    Ok(())
+}
+
 /// The scenes given, or the built-in film; with their names for the
-/// manifest and the film's name.
+/// records and the film's name.
 fn load(
     scenes: &[PathBuf],
     allow_commands: bool,
@@ -178,9 +217,7 @@ fn load(
             .iter()
             .map(|(n, t)| Source::new(format!("built-in:{n}"), *t))
             .collect();
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/film");
-        let film =
-            Film::from_sources(&sources, Some(&dir), Options::default()).map_err(|e| (2, e))?;
+        let film = Film::from_sources(&sources, None, Options::default()).map_err(|e| (2, e))?;
         let texts = BUILT_IN
             .iter()
             .map(|(n, t)| SceneText {
@@ -190,7 +227,7 @@ fn load(
             .collect();
         (film, texts, "lmfilm".to_string())
     } else {
-        let film = Film::load(scenes, Options::default()).map_err(|e| (2, e))?;
+        let film = load_film(scenes, allow_commands, Options::default())?;
         let mut texts = Vec::new();
         for p in scenes {
             let bytes = std::fs::read(p).map_err(|e| (2, format!("{}: {e}", p.display())))?;
@@ -202,27 +239,19 @@ fn load(
         let name = scenes[0]
             .file_stem()
             .map_or("film".into(), |s| s.to_string_lossy().into_owned());
+        if let Err(why) = lmfilm::lsys::options::plain_name(&name) {
+            return Err((
+                2,
+                format!(
+                    "{}: the film's name `{name}` (the scene's file name) {why}; name it with rs_file_path_name",
+                    scenes[0].display()
+                ),
+            ));
+        }
         (film, texts, name)
     };
     // `rs_file_path_name PATH NAME` names the frames.
     let name = rs_file(&film).map_or(name, |(_, n)| n);
-    let mut film = film;
-    if let Some(what) = film.wants_commands() {
-        if allow_commands {
-            let dir = scenes
-                .first()
-                .and_then(|p| p.parent())
-                .unwrap_or(Path::new("."));
-            film.allow_commands(dir);
-        } else {
-            return Err((
-                2,
-                format!(
-                    "{what}: this scene wants to run scripts on this machine; a scene never runs anything by default. If you trust it, run again with --allow-commands"
-                ),
-            ));
-        }
-    }
     Ok((film, texts, name))
 }
 
@@ -249,33 +278,53 @@ fn output_dir(out: Option<&Path>, film: &Film, name: &str) -> PathBuf {
         .unwrap_or_else(|| Path::new("renders").join(name))
 }
 
+/// The options that change a derivation, as its record keeps them.
+fn derive_options(allow_commands: bool) -> BTreeMap<String, String> {
+    BTreeMap::from([
+        ("allow_commands".to_string(), allow_commands.to_string()),
+        ("turtle".to_string(), format!("{:?}", Options::default())),
+    ])
+}
+
+/// Derives the film into `dir` (nothing when its record is up to date)
+/// and writes the manifest.
 fn derive_into(
     film: &mut Film,
     texts: &[SceneText],
     name: &str,
     dir: &Path,
-) -> Result<(), Failure> {
+    clean: bool,
+    allow: bool,
+) -> Result<bool, Failure> {
+    let inputs = job::inputs(film, texts, name, derive_options(allow)).map_err(fail)?;
     let mut p = Progress::new("deriving frame");
-    job::derive(film, texts, name, dir, &mut |k, n| p.tick(k, n)).map_err(fail)?;
+    let (_, derived) =
+        job::derive(film, inputs, dir, clean, &mut |k, n| p.tick(k, n)).map_err(fail)?;
     p.done();
-    Ok(())
+    job::finish(dir).map_err(fail)?;
+    Ok(derived)
 }
 
-fn render_into(
-    dir: &Path,
-    args: &RenderArgs,
-    shard: Shard,
-    rs: Option<Vec<i64>>,
-) -> Result<u64, Failure> {
+/// Renders the frames of `dir` that `--frames` (else the film's own
+/// selection) and `shard` name; returns (rendered now, selected).
+fn render_into(dir: &Path, args: &RenderArgs, shard: Shard) -> Result<(u64, u64), Failure> {
     let (settings, formats) = args.settings()?;
-    let m = job::open(dir).map_err(fail)?;
-    let selection = FrameSelection::resolve(args.frames, rs.as_deref());
-    let frames = selection.frames(m.frame_count, shard);
+    let rec = job::open(dir).map_err(fail)?;
+    let selection = match args.frames {
+        Some(range) => FrameSelection::range(range),
+        None => FrameSelection::from_text(&rec.selection).map_err(|e| {
+            (
+                2,
+                format!("{}: derive.json: {e}; derive the film again", dir.display()),
+            )
+        })?,
+    };
+    let frames = selection.frames(rec.frame_count, shard);
     let mut p = Progress::new("rendering frame");
     let n = job::render_frames(dir, &frames, &settings, formats, &mut |k, n| p.tick(k, n))
         .map_err(fail)?;
     p.done();
-    Ok(n)
+    Ok((n, frames.len() as u64))
 }
 
 /// `lmfilm run`.
@@ -284,72 +333,95 @@ pub fn run(
     out: Option<&Path>,
     args: &RenderArgs,
     allow: bool,
+    clean: bool,
 ) -> Result<(), Failure> {
     args.threads()?;
     let (mut film, texts, name) = load(scenes, allow)?;
-    let rs = rs_switch(&film.anim.systems[0].def.options).map(<[i64]>::to_vec);
     let dir = output_dir(out, &film, &name);
-    derive_into(&mut film, &texts, &name, &dir)?;
-    let rendered = render_into(&dir, args, Shard::all(), rs)?;
-    job::soundtrack(&dir, &sound::Settings::default()).map_err(fail)?;
-    let m = job::open(&dir).map_err(fail)?;
+    let derived = derive_into(&mut film, &texts, &name, &dir, clean, allow)?;
+    let (rendered, selected) = render_into(&dir, args, Shard::all())?;
+    let sounded = job::soundtrack(&dir, &sound::Settings::default()).map_err(fail)?;
+    let mp4 = if mux::ffmpeg_available() {
+        Some(job::mux(&dir).map_err(fail)?)
+    } else {
+        None
+    };
+    let m = job::finish(&dir).map_err(fail)?;
+    let now = |done: bool| if done { "made now" } else { "up to date" };
     println!(
-        "{}: {} frames ({rendered} rendered now), soundtrack {}",
+        "{}: {} frames derived ({}), {rendered} of {selected} frames rendered now (the others up to date), {} ({}), {}",
         dir.display(),
         m.frame_count,
-        dir.join(SOUNDTRACK_FILE).display()
+        now(derived),
+        dir.join(SOUNDTRACK_FILE).display(),
+        now(sounded),
+        dir.join(manifest::MANIFEST_FILE).display()
     );
-    if mux::ffmpeg_available() {
-        let mp4 = mux_dir(&dir)?;
-        println!("film: {}", mp4.display());
-    } else {
-        println!("ffmpeg is not installed: frames and soundtrack are in {}; `lmfilm mux {}` makes the MP4 once it is", dir.display(), dir.display());
+    match mp4 {
+        Some((path, made)) => println!("film: {} ({})", path.display(), now(made)),
+        None => println!("ffmpeg is not installed: frames and soundtrack are in {}; `lmfilm mux {}` makes the MP4 once it is", dir.display(), dir.display()),
     }
     Ok(())
 }
 
 /// `lmfilm derive`.
-pub fn derive(scenes: &[PathBuf], out: &Path, allow: bool) -> Result<(), Failure> {
+pub fn derive(scenes: &[PathBuf], out: &Path, allow: bool, clean: bool) -> Result<(), Failure> {
     let (mut film, texts, name) = load(scenes, allow)?;
-    derive_into(&mut film, &texts, &name, out)?;
+    let derived = derive_into(&mut film, &texts, &name, out, clean, allow)?;
+    let rec = job::open(out).map_err(fail)?;
     println!(
-        "{}: {} frames derived",
+        "{}: {} frames {} (scene/NNNN.snap, {}, {}, {})",
         out.display(),
-        film.anim.frame_count()
+        rec.frame_count,
+        if derived { "derived" } else { "up to date" },
+        job::EVENTS_FILE,
+        lmfilm::film::record::DERIVE_RECORD,
+        manifest::MANIFEST_FILE
     );
     Ok(())
 }
 
-/// `lmfilm render DIR`.
+/// `lmfilm render DIR`: a shard leaves the manifest to the stage that
+/// finishes the film (`sound DIR`), since shards on many machines must
+/// never write one file; a whole render writes it.
 pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>) -> Result<(), Failure> {
     args.threads()?;
-    let n = render_into(dir, args, shard.unwrap_or(Shard::all()), None)?;
-    println!("{}: {n} frames rendered", dir.display());
+    let (n, selected) = render_into(dir, args, shard.unwrap_or(Shard::all()))?;
+    println!(
+        "{}: {n} of {selected} frames rendered now (the others up to date) in {}",
+        dir.display(),
+        dir.join(lmfilm::film::frames::FRAMES_DIR).display()
+    );
+    match shard {
+        Some(s) => println!(
+            "shard {s} done; once every shard is, finish the film with: lmfilm sound {}",
+            dir.display()
+        ),
+        None => {
+            job::finish(dir).map_err(fail)?;
+        }
+    }
     Ok(())
-}
-
-fn mux_dir(dir: &Path) -> Result<PathBuf, Failure> {
-    let m = job::open(dir).map_err(fail)?;
-    let name = job::film_name(&m);
-    let rate = mux::FrameRate::from_dt(m.dt).map_err(|e| (2, e.to_string()))?;
-    let track = dir.join(SOUNDTRACK_FILE);
-    let track = track.exists().then_some(Path::new(SOUNDTRACK_FILE));
-    mux::mux(dir, &name, rate, &frame_pattern(&name, "png"), track).map_err(|e| (1, e.to_string()))
 }
 
 /// `lmfilm mux DIR`.
 pub fn mux_command(dir: &Path) -> Result<(), Failure> {
-    let mp4 = mux_dir(dir)?;
-    println!("{}", mp4.display());
+    let (mp4, made) = job::mux(dir).map_err(fail)?;
+    job::finish(dir).map_err(fail)?;
+    println!(
+        "{}{}",
+        mp4.display(),
+        if made { "" } else { " (up to date)" }
+    );
     Ok(())
 }
 
-/// `lmfilm verify DIR`: non-zero exit and each bad file named.
+/// `lmfilm verify DIR`: non-zero exit and each problem named.
 pub fn verify(dir: &Path) -> Result<(), Failure> {
-    let report = manifest::verify(dir).map_err(|e| (2, e.to_string()))?;
+    let report = verify::verify(dir).map_err(|e| (2, e.to_string()))?;
     if report.is_ok() {
         println!(
-            "{}: {} files match manifest.json",
+            "{}: complete and intact: {} files match manifest.json and their records",
             dir.display(),
             report.checked
         );
@@ -361,7 +433,7 @@ pub fn verify(dir: &Path) -> Result<(), Failure> {
     Err((
         1,
         format!(
-            "{}: {} of {} files do not match manifest.json",
+            "{}: {} problems ({} files listed in manifest.json)",
             dir.display(),
             report.problems.len(),
             report.checked
@@ -369,10 +441,17 @@ pub fn verify(dir: &Path) -> Result<(), Failure> {
     ))
 }
 
-/// `lmfilm sound DIR` on a film folder: the soundtrack, then the manifest.
+/// `lmfilm sound DIR` on a film folder: the soundtrack, then the manifest
+/// (the stage that finishes a film rendered in shards).
 pub fn sound_dir(dir: &Path, settings: &sound::Settings) -> Result<(), Failure> {
-    job::soundtrack(dir, settings).map_err(fail)?;
-    println!("{}", dir.join(SOUNDTRACK_FILE).display());
+    let made = job::soundtrack(dir, settings).map_err(fail)?;
+    job::finish(dir).map_err(fail)?;
+    println!(
+        "{}{}, {}",
+        dir.join(SOUNDTRACK_FILE).display(),
+        if made { "" } else { " (up to date)" },
+        dir.join(manifest::MANIFEST_FILE).display()
+    );
     Ok(())
 }
 
@@ -386,8 +465,8 @@ fn json_number(v: f64) -> String {
 }
 
 /// `lmfilm trace`: one JSON object per frame on stdout.
-pub fn trace(scenes: &[PathBuf], frames: Option<FrameRange>) -> Result<(), Failure> {
-    let (mut film, _, _) = load(scenes, false)?;
+pub fn trace(scenes: &[PathBuf], frames: Option<FrameRange>, allow: bool) -> Result<(), Failure> {
+    let (mut film, _, _) = load(scenes, allow)?;
     let count = film.anim.frame_count();
     let range = frames.map_or(0..count, |r| r.within(count));
     let mut out = std::io::stdout().lock();

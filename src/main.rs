@@ -10,7 +10,7 @@ mod film_commands;
 
 use film_commands::{PresetArg, RenderArgs};
 use lmfilm::film::frames::{FrameRange, Shard};
-use lmfilm::film::{job, Film};
+use lmfilm::film::{job, record, Film};
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::render::{self, Filter};
 use lmfilm::scene::obj;
@@ -112,6 +112,10 @@ enum Command {
         /// Let the scene run its `command_file` scripts.
         #[arg(long)]
         allow_commands: bool,
+        /// Empty the folder's lmfilm outputs first (to reuse a folder that
+        /// holds another film).
+        #[arg(long)]
+        clean: bool,
     },
     /// The simulation alone: snapshots, sound event log and manifest.
     ///
@@ -129,6 +133,10 @@ enum Command {
         /// Let the scene run its `command_file` scripts.
         #[arg(long)]
         allow_commands: bool,
+        /// Empty the folder's lmfilm outputs first (to reuse a folder that
+        /// holds another film).
+        #[arg(long)]
+        clean: bool,
     },
     /// Ray-trace a derived folder's snapshots into DIR/frames/.
     ///
@@ -180,6 +188,9 @@ enum Command {
         /// Frames to list: A..B (B excluded), A..=B, A.. or N.
         #[arg(long, value_name = "A..B")]
         frames: Option<FrameRange>,
+        /// Let the scene run its `command_file` scripts.
+        #[arg(long)]
+        allow_commands: bool,
     },
     /// Render a sound event log into a soundtrack WAV (thesis 2.4.3).
     ///
@@ -219,6 +230,9 @@ enum Command {
         /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
         #[arg(long)]
         float: bool,
+        /// Let a scene SCENE.lm run its `command_file` scripts.
+        #[arg(long)]
+        allow_commands: bool,
     },
 }
 
@@ -247,6 +261,9 @@ struct FrameArgs {
     /// Time T in seconds: the frame nearest to T.
     #[arg(long, allow_negative_numbers = true)]
     time: Option<f64>,
+    /// Let the scene run its `command_file` scripts.
+    #[arg(long)]
+    allow_commands: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -258,7 +275,7 @@ enum PrintFormat {
 /// The film derived to the frame `--frame`/`--time` names, every frame
 /// interpreted on the way (sound events and `?` queries included).
 fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film, (u8, String)> {
-    let mut film = Film::load(&at.scenes, opts).map_err(|e| (2, e))?;
+    let mut film = film_commands::load_film(&at.scenes, at.allow_commands, opts)?;
     let target = match (at.frame, at.time) {
         (_, Some(t)) if !t.is_finite() || t < 0.0 => {
             return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
@@ -398,7 +415,11 @@ fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> 
 /// Derives every frame of a scene and writes its sound event log,
 /// `soundtrack.events` beside the soundtrack (default folder
 /// `renders/<scene name>/`). Returns the log's and the WAV's paths.
-fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf), (u8, String)> {
+fn scene_events(
+    scene: &Path,
+    output: Option<&Path>,
+    allow_commands: bool,
+) -> Result<(PathBuf, PathBuf), (u8, String)> {
     let wav = output.map_or_else(
         || {
             let name = scene.file_stem().unwrap_or_default();
@@ -407,7 +428,8 @@ fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf
         Path::to_path_buf,
     );
     let events = wav.with_file_name("soundtrack.events");
-    let mut film = Film::load(&[scene], Options::default()).map_err(|e| (2, e))?;
+    let scenes = [scene.to_path_buf()];
+    let mut film = film_commands::load_film(&scenes, allow_commands, Options::default())?;
     let mut progress = film_commands::Progress::new("deriving frame");
     let fail = |e: job::Error| (e.code, e.message);
     job::every_frame(&mut film, &mut |k, n| progress.tick(k, n), |_, _| Ok(())).map_err(fail)?;
@@ -423,7 +445,7 @@ fn sound(
     speed_of_sound: f64,
     attenuation: AttenuationArg,
     library: Option<&Path>,
-    float: bool,
+    (float, allow_commands): (bool, bool),
 ) -> Result<(), (u8, String)> {
     if !(1..=768_000).contains(&rate) {
         return Err((2, format!("--rate must be 1..768000 Hz, got {rate}")));
@@ -448,11 +470,11 @@ fn sound(
             SampleFormat::Pcm16
         },
     };
-    if events.is_dir() && output.is_none() && events.join("manifest.json").exists() {
+    if events.is_dir() && output.is_none() && events.join(record::DERIVE_RECORD).exists() {
         return film_commands::sound_dir(events, &settings);
     }
     let (events, output) = if events.extension().is_some_and(|e| e == "lm") {
-        scene_events(events, output)?
+        scene_events(events, output, allow_commands)?
     } else {
         sound::paths(events, output)
     };
@@ -527,16 +549,22 @@ fn main() -> ExitCode {
             output,
             render,
             allow_commands,
-        } => film_commands::run(&scenes, output.as_deref(), &render, allow_commands),
+            clean,
+        } => film_commands::run(&scenes, output.as_deref(), &render, allow_commands, clean),
         Command::Derive {
             scenes,
             output,
             allow_commands,
-        } => film_commands::derive(&scenes, &output, allow_commands),
+            clean,
+        } => film_commands::derive(&scenes, &output, allow_commands, clean),
         Command::Render { dir, render, shard } => film_commands::render(&dir, &render, shard),
         Command::Mux { dir } => film_commands::mux_command(&dir),
         Command::Verify { dir } => film_commands::verify(&dir),
-        Command::Trace { scenes, frames } => film_commands::trace(&scenes, frames),
+        Command::Trace {
+            scenes,
+            frames,
+            allow_commands,
+        } => film_commands::trace(&scenes, frames, allow_commands),
         Command::Sound {
             events,
             output,
@@ -545,6 +573,7 @@ fn main() -> ExitCode {
             attenuation,
             library,
             float,
+            allow_commands,
         } => sound(
             &events,
             output.as_deref(),
@@ -552,7 +581,7 @@ fn main() -> ExitCode {
             speed_of_sound,
             attenuation,
             library.as_deref(),
-            float,
+            (float, allow_commands),
         ),
     };
     match result {

@@ -292,6 +292,17 @@ impl FrameSelection {
         }
     }
 
+    /// The ranges as text (`A..B`, `A..`), as records keep them.
+    pub fn to_text(&self) -> Vec<String> {
+        self.ranges.iter().map(FrameRange::to_string).collect()
+    }
+
+    /// The selection of [`FrameSelection::to_text`]'s ranges.
+    pub fn from_text(ranges: &[String]) -> Result<FrameSelection, RangeError> {
+        let ranges = ranges.iter().map(|r| r.parse()).collect::<Result<_, _>>()?;
+        Ok(FrameSelection { ranges })
+    }
+
     /// Whether `frame` is selected (regardless of the film's length).
     pub fn contains(&self, frame: u64) -> bool {
         self.ranges.iter().any(|r| r.contains(frame))

@@ -1,26 +1,32 @@
-//! The film job in its three stages (DESIGN §1, §5), each resumable and
-//! each ending with `manifest.json` rewritten from the files in the
-//! output folder:
+//! The film job in its stages (DESIGN §1, §5), each resumable and each
+//! recording what made its outputs (see [`super::record`]):
 //!
-//! * [`derive`]: the simulation — one snapshot per frame under `scene/`
-//!   and the sound event log `soundtrack.events`;
-//! * [`render_frames`]: snapshots into `frames/<name>.NNNN.png|exr`, any
-//!   subset of frames (a shard), in any number of processes;
-//! * [`soundtrack`]: the log into `soundtrack.wav`.
+//! * [`derive`]: the simulation — one snapshot per frame under `scene/`,
+//!   the sound event log `soundtrack.events` and `derive.json`;
+//! * [`render_frames`]: snapshots into `frames/<name>.NNNN.exr|png`, each
+//!   with its record; any subset of frames (a shard), in any number of
+//!   processes on any number of machines at once;
+//! * [`soundtrack`]: the log into `soundtrack.wav` and its record;
+//! * [`mux`]: frames and soundtrack into `<name>.mp4` and its record;
+//! * [`finish`]: `manifest.json`, assembled from the records.
 //!
-//! The manifest also carries what later stages need (the film's name, Δt,
-//! frame count, scenes and options), so `render DIR` and `sound DIR` need
-//! nothing but the folder. Every file is written atomically and a stage
-//! skips outputs that already exist: a killed job re-run ends with the
-//! same bytes.
+//! A stage skips an output only when its recorded inputs equal the
+//! current ones and its bytes still hash to its record; otherwise it makes
+//! it again. Every file is written atomically.
 
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use super::frames::{frame_path, snapshot_path, SCENE_DIR};
-use super::manifest::{self, Manifest};
-use super::Film;
+use super::frames::{
+    frame_path, frame_pattern, snapshot_path, FrameSelection, FRAMES_DIR, SCENE_DIR,
+};
+use super::manifest::{self, sha256_bytes, sha256_file, Manifest};
+use super::record::{
+    self, frame_record_path, intact, mp4_paths, parse_frame_file, DeriveRecord, FileHash,
+    FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUND_RECORD,
+};
+use super::{mux as ffmpeg, Film};
 use crate::render::{self, output, Settings};
 use crate::scene::atomic::{remove_stale_temps, write_atomic};
 use crate::scene::{snapshot, Scene};
@@ -38,7 +44,7 @@ pub struct Error {
 }
 
 impl Error {
-    fn input(message: impl Into<String>) -> Error {
+    pub fn input(message: impl Into<String>) -> Error {
         Error {
             code: 2,
             message: message.into(),
@@ -98,7 +104,7 @@ impl Formats {
     }
 }
 
-/// A scene file as the manifest names it, with its bytes.
+/// A scene file as the records name it, with its bytes.
 pub struct SceneText {
     pub name: String,
     pub bytes: Vec<u8>,
@@ -107,35 +113,205 @@ pub struct SceneText {
 /// Progress of a stage: `(done, total)` after each frame.
 pub type Progress<'a> = &'a mut dyn FnMut(u64, u64);
 
-/// Derives every frame of `film` into `dir`: snapshots (skipped when
-/// present: derivation is deterministic) and the sound event log; then
-/// the manifest, which names the film `name`.
-pub fn derive(
-    film: &mut Film,
+/// What a derivation is made from: the scene texts, the files they
+/// reference (hashed now), the film's name and the options that change
+/// the derivation.
+pub fn inputs(
+    film: &Film,
     scenes: &[SceneText],
     name: &str,
+    options: BTreeMap<String, String>,
+) -> Result<Inputs, Error> {
+    let mut files = Vec::new();
+    for (file, path) in film.referenced_files() {
+        let hash = FileHash::of(&file, &path)
+            .map_err(|e| Error::input(format!("{}: cannot read: {e}", path.display())))?;
+        files.push(hash);
+    }
+    Ok(Inputs {
+        files,
+        lmfilm_version: record::version(),
+        name: name.to_string(),
+        options,
+        scenes: scenes
+            .iter()
+            .map(|s| FileHash {
+                file: s.name.clone(),
+                sha256: sha256_bytes(&s.bytes),
+            })
+            .collect(),
+    })
+}
+
+/// The outputs of lmfilm in a folder: what `--clean` removes.
+fn clear(dir: &Path) -> Result<(), Error> {
+    for sub in [SCENE_DIR, FRAMES_DIR] {
+        let path = dir.join(sub);
+        if path.exists() {
+            std::fs::remove_dir_all(&path).map_err(|e| io(&path, e))?;
+        }
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(());
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let ours = [
+            DERIVE_RECORD,
+            SOUND_RECORD,
+            EVENTS_FILE,
+            SOUNDTRACK_FILE,
+            manifest::MANIFEST_FILE,
+        ]
+        .contains(&name.as_str())
+            || name.ends_with(".mp4")
+            || name.ends_with(".mp4.json");
+        if ours && e.path().is_file() {
+            std::fs::remove_file(e.path()).map_err(|err| io(&e.path(), err))?;
+        }
+    }
+    Ok(())
+}
+
+/// The scene names of the film a folder already holds, if any: from its
+/// derive record, else from a manifest of an earlier lmfilm.
+fn film_in(dir: &Path) -> Option<Vec<String>> {
+    if let Ok(Some(r)) = record::read::<DeriveRecord>(&dir.join(DERIVE_RECORD)) {
+        return Some(r.inputs.film());
+    }
+    let text = std::fs::read(dir.join(manifest::MANIFEST_FILE)).ok()?;
+    let json: serde_json::Value = serde_json::from_slice(&text).ok()?;
+    let scenes = json.get("scenes")?.as_array()?;
+    let inputs = Inputs {
+        files: Vec::new(),
+        lmfilm_version: String::new(),
+        name: String::new(),
+        options: BTreeMap::new(),
+        scenes: scenes
+            .iter()
+            .filter_map(|s| s.get("file")?.as_str())
+            .map(|f| FileHash {
+                file: f.into(),
+                sha256: String::new(),
+            })
+            .collect(),
+    };
+    Some(inputs.film())
+}
+
+/// Refuses a folder that holds another film, saying how to start over.
+fn check_same_film(dir: &Path, inputs: &Inputs) -> Result<(), Error> {
+    let Some(theirs) = film_in(dir) else {
+        return Ok(());
+    };
+    let ours = inputs.film();
+    if theirs == ours {
+        return Ok(());
+    }
+    Err(Error::input(format!(
+        "{}: this folder holds the film of {}, not of {}; its outputs would be mixed with this one's. \
+         Write this film into another folder (-o DIR), or empty this one with --clean",
+        dir.display(),
+        theirs.join(" "),
+        ours.join(" ")
+    )))
+}
+
+/// Derives every frame of `film` into `dir` and records it; returns the
+/// record. Nothing is redone when the folder's record has the same
+/// inputs and its outputs are intact. `clean` empties the folder's lmfilm
+/// outputs first; without it a folder of another film is refused.
+pub fn derive(
+    film: &mut Film,
+    inputs: Inputs,
     dir: &Path,
+    clean: bool,
     progress: Progress,
-) -> Result<Manifest, Error> {
-    let frames = film.anim.frame_count();
+) -> Result<(DeriveRecord, bool), Error> {
+    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    if clean {
+        clear(dir)?;
+    } else {
+        check_same_film(dir, &inputs)?;
+    }
     let scene_dir = dir.join(SCENE_DIR);
     std::fs::create_dir_all(&scene_dir).map_err(|e| io(&scene_dir, e))?;
     remove_stale_temps(&scene_dir);
     remove_stale_temps(dir);
+    let key = inputs.key();
+    let record_path = dir.join(DERIVE_RECORD);
+    if let Ok(Some(old)) = record::read::<DeriveRecord>(&record_path) {
+        if old.key == key && old.validate().is_ok() && derived_intact(dir, &old) {
+            let frames = old.frame_count;
+            progress(frames, frames);
+            prune_frames(dir, &old)?;
+            return Ok((old, false));
+        }
+    }
+    // The old record no longer says what the folder holds.
+    if record_path.exists() {
+        std::fs::remove_file(&record_path).map_err(|e| io(&record_path, e))?;
+    }
+    let frames = film.anim.frame_count();
+    let mut snapshots = Vec::new();
     every_frame(film, progress, |k, scene| {
         let path = dir.join(snapshot_path(k));
-        if !path.exists() {
-            snapshot::write(scene, &path).map_err(|e| io(&path, e))?;
+        let bytes = snapshot::encode(scene);
+        let hash = sha256_bytes(&bytes);
+        // Derivation is deterministic: an identical snapshot stays.
+        if !sha256_file(&path).is_ok_and(|h| h == hash) {
+            write_atomic(&path, &bytes).map_err(|e| io(&path, e))?;
         }
+        snapshots.push(hash);
         Ok(())
     })?;
-    write_events(film, &dir.join(EVENTS_FILE))?;
-    let mut m = Manifest::new(film.anim.camera.dt, frames);
-    for s in scenes {
-        m.add_scene(&s.name, &s.bytes);
+    let events = sound::events::write(film.air.log());
+    let events_path = dir.join(EVENTS_FILE);
+    write_atomic(&events_path, events.as_bytes()).map_err(|e| io(&events_path, e))?;
+    prune_snapshots(&scene_dir, frames)?;
+    let rs = super::frames::rs_switch(&film.anim.systems[0].def.options);
+    let selection = FrameSelection::resolve(None, rs).to_text();
+    let rec = DeriveRecord {
+        dt: film.anim.camera.dt,
+        events: sha256_bytes(events.as_bytes()),
+        frame_count: frames,
+        inputs,
+        key,
+        selection,
+        snapshots,
+    };
+    record::write(&record_path, &rec).map_err(|e| io(&record_path, e))?;
+    prune_frames(dir, &rec)?;
+    Ok((rec, true))
+}
+
+/// Whether every snapshot and the event log still hash to the record.
+fn derived_intact(dir: &Path, rec: &DeriveRecord) -> bool {
+    intact(dir, Path::new(EVENTS_FILE), &rec.events)
+        && rec
+            .snapshots
+            .iter()
+            .enumerate()
+            .all(|(k, h)| intact(dir, &snapshot_path(k as u64), h))
+}
+
+/// Removes snapshots past the film's end (an earlier, longer film's).
+fn prune_snapshots(scene_dir: &Path, frames: u64) -> Result<(), Error> {
+    let Ok(entries) = std::fs::read_dir(scene_dir) else {
+        return Ok(());
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let past_end = name
+            .strip_suffix(".snap")
+            .filter(|n| n.len() >= 4 && n.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|n| n.parse::<u64>().ok())
+            .is_some_and(|k| k >= frames);
+        if past_end {
+            std::fs::remove_file(e.path()).map_err(|err| io(&e.path(), err))?;
+        }
     }
-    m.options.insert("name".into(), name.into());
-    finish(dir, m)
+    Ok(())
 }
 
 /// Derives every frame of the film from its current one (frame 0),
@@ -171,47 +347,86 @@ pub fn write_events(film: &Film, path: &Path) -> Result<(), Error> {
     write_atomic(path, sound::events::write(film.air.log()).as_bytes()).map_err(|e| io(path, e))
 }
 
-/// The manifest of a derived folder (what `render` and `sound` start
-/// from), with a message that says what to do when it is missing.
-pub fn open(dir: &Path) -> Result<Manifest, Error> {
-    if !dir.join(manifest::MANIFEST_FILE).exists() {
-        return Err(Error::input(format!(
-            "{}: no manifest.json — derive the film first: lmfilm derive SCENE.lm -o {}",
-            dir.display(),
-            dir.display()
-        )));
-    }
-    Ok(Manifest::read(dir)?)
-}
-
-/// The film's name as the manifest records it.
-pub fn film_name(m: &Manifest) -> String {
-    m.options
-        .get("name")
-        .cloned()
-        .unwrap_or_else(|| "frame".into())
-}
-
-/// Render options recorded in the manifest: the same options give the
-/// same frames, whichever process rendered them.
-fn record(m: &mut Manifest, settings: &Settings, formats: Formats) {
-    let o = &mut m.options;
-    o.insert("render.width".into(), settings.width.to_string());
-    o.insert("render.height".into(), settings.height.to_string());
-    o.insert("render.spp".into(), settings.spp.to_string());
-    o.insert("render.shadows".into(), settings.shadows.to_string());
-    o.insert("render.max_depth".into(), settings.max_depth.to_string());
-    o.insert(
-        "render.light_samples".into(),
-        settings.light_samples.to_string(),
+/// The derive record of a folder (what `render`, `sound` and `mux` start
+/// from), checked, with a message that says what to do when it is
+/// missing or damaged.
+pub fn open(dir: &Path) -> Result<DeriveRecord, Error> {
+    let path = dir.join(DERIVE_RECORD);
+    let again = format!(
+        "derive the film first: lmfilm derive SCENE.lm -o {}",
+        dir.display()
     );
-    o.insert("render.filter".into(), format!("{:?}", settings.filter));
-    o.insert("render.formats".into(), formats.name().into());
+    match record::read::<DeriveRecord>(&path) {
+        Ok(Some(r)) => match r.validate() {
+            Ok(()) => Ok(r),
+            Err(why) => Err(Error::input(format!("{}: {why}; {again}", path.display()))),
+        },
+        Ok(None) => Err(Error::input(format!(
+            "{}: no {DERIVE_RECORD} — {again}",
+            dir.display()
+        ))),
+        Err(e) => Err(Error::input(format!("{e}; {again}"))),
+    }
+}
+
+/// The render settings as a frame's record keeps them (0 × 0: the
+/// snapshot camera's size, which the snapshot's hash covers).
+fn render_record(settings: &Settings, formats: Formats) -> BTreeMap<String, String> {
+    [
+        ("width", settings.width.to_string()),
+        ("height", settings.height.to_string()),
+        ("spp", settings.spp.to_string()),
+        ("shadows", settings.shadows.to_string()),
+        ("max_depth", settings.max_depth.to_string()),
+        ("light_samples", settings.light_samples.to_string()),
+        ("filter", format!("{:?}", settings.filter)),
+        ("formats", formats.name().to_string()),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect()
+}
+
+/// The snapshot of frame `k`, checked against the derive record.
+fn snapshot_hash(dir: &Path, rec: &DeriveRecord, k: u64) -> Result<String, Error> {
+    let rel = snapshot_path(k);
+    let expected = &rec.snapshots[k as usize];
+    match sha256_file(&dir.join(&rel)) {
+        Ok(h) if h == *expected => Ok(h),
+        Ok(_) => Err(Error::input(format!(
+            "{}: {} does not match {DERIVE_RECORD} (damaged or from another derivation); \
+             derive again: lmfilm derive SCENE.lm -o {}",
+            dir.display(),
+            rel.display(),
+            dir.display()
+        ))),
+        Err(e) => Err(Error::input(format!(
+            "{}: {e}; derive again: lmfilm derive SCENE.lm -o {}",
+            dir.join(&rel).display(),
+            dir.display()
+        ))),
+    }
+}
+
+/// Whether frame `k`'s record says it was made from `snapshot` with
+/// `render`, and its images are intact.
+fn frame_done(dir: &Path, name: &str, k: u64, snapshot: &str, want: &FrameRecord) -> bool {
+    let Ok(Some(r)) = record::read::<FrameRecord>(&dir.join(frame_record_path(name, k))) else {
+        return false;
+    };
+    r.snapshot == snapshot
+        && r.render == want.render
+        && r.lmfilm_version == want.lmfilm_version
+        && r.outputs.keys().eq(want.outputs.keys())
+        && r.outputs.iter().all(|(f, h)| intact(dir, Path::new(f), h))
 }
 
 /// Renders the listed frames of a derived folder with `settings` (the
-/// size is the snapshot's camera's unless set); frames whose files exist
-/// are skipped. Returns how many were rendered.
+/// size is the snapshot's camera's unless set); a frame is skipped when
+/// its record shows it was made from the same snapshot with the same
+/// settings and its files are intact. Each frame writes its images, then
+/// its record, so shards never write one file. Returns how many frames
+/// were rendered.
 pub fn render_frames(
     dir: &Path,
     frames: &[u64],
@@ -219,91 +434,315 @@ pub fn render_frames(
     formats: Formats,
     progress: Progress,
 ) -> Result<u64, Error> {
-    let mut m = open(dir)?;
-    let name = film_name(&m);
-    let frames_dir = dir.join(super::frames::FRAMES_DIR);
+    let rec = open(dir)?;
+    let name = rec.inputs.name.clone();
+    let frames_dir = dir.join(FRAMES_DIR);
     std::fs::create_dir_all(&frames_dir).map_err(|e| io(&frames_dir, e))?;
     remove_stale_temps(&frames_dir);
     let mut rendered = 0;
     for (i, &k) in frames.iter().enumerate() {
-        let outs: Vec<PathBuf> = formats
-            .extensions()
-            .iter()
-            .map(|e| dir.join(frame_path(&name, k, e)))
-            .collect();
-        if outs.iter().all(|p| p.exists()) {
-            progress(i as u64 + 1, frames.len() as u64);
-            continue;
+        let snap = snapshot_hash(dir, &rec, k)?;
+        let exts = formats.extensions();
+        let mut want = FrameRecord {
+            frame: k,
+            lmfilm_version: record::version(),
+            outputs: exts
+                .iter()
+                .map(|e| (key(&frame_path(&name, k, e)), String::new()))
+                .collect(),
+            render: render_record(settings, formats),
+            snapshot: snap.clone(),
+        };
+        if !frame_done(dir, &name, k, &snap, &want) {
+            let scene = snapshot::read(&dir.join(snapshot_path(k))).map_err(|e| {
+                Error::input(format!(
+                    "{e} — derive the film again with this program: lmfilm derive SCENE.lm -o {}",
+                    dir.display()
+                ))
+            })?;
+            let mut st = *settings;
+            // 0 × 0: the camera's own size.
+            if st.width == 0 || st.height == 0 {
+                (st.width, st.height) = (scene.camera.width, scene.camera.height);
+            }
+            st.frame = k;
+            st.layers = formats != Formats::Png;
+            let img = render::render(&scene, &st);
+            for ext in ["exr", "png"] {
+                let p = dir.join(frame_path(&name, k, ext));
+                if exts.contains(&ext) {
+                    output::write(&img, &p).map_err(|e| io(&p, e))?;
+                    let hash = sha256_file(&p).map_err(|e| io(&p, e))?;
+                    want.outputs.insert(key(&frame_path(&name, k, ext)), hash);
+                } else if p.exists() {
+                    // Another format's image of an earlier render.
+                    std::fs::remove_file(&p).map_err(|e| io(&p, e))?;
+                }
+            }
+            let rp = dir.join(frame_record_path(&name, k));
+            record::write(&rp, &want).map_err(|e| io(&rp, e))?;
+            rendered += 1;
         }
-        let snap = dir.join(snapshot_path(k));
-        let scene = snapshot::read(&snap).map_err(|e| {
-            Error::input(format!(
-                "{e} — derive the film again with this program: lmfilm derive SCENE.lm -o {}",
-                dir.display()
-            ))
-        })?;
-        let mut st = *settings;
-        // 0 × 0: the camera's own size.
-        if st.width == 0 || st.height == 0 {
-            (st.width, st.height) = (scene.camera.width, scene.camera.height);
-        }
-        st.frame = k;
-        st.layers = formats != Formats::Png;
-        let img = render::render(&scene, &st);
-        for p in &outs {
-            output::write(&img, p).map_err(|e| io(p, e))?;
-        }
-        rendered += 1;
         progress(i as u64 + 1, frames.len() as u64);
     }
-    record(&mut m, settings, formats);
-    finish(dir, m)?;
     Ok(rendered)
 }
 
-/// Renders the folder's sound event log into its soundtrack.
-pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<(), Error> {
-    let mut m = open(dir)?;
-    let events = dir.join(EVENTS_FILE);
-    let wav = dir.join(SOUNDTRACK_FILE);
-    sound::render_file(&events, &wav, settings, None, &|_, _| {}).map_err(|e| Error {
-        code: e.exit_code(),
-        message: e.to_string(),
-    })?;
-    let o = &mut m.options;
-    o.insert("sound.rate".into(), settings.rate.to_string());
-    o.insert(
-        "sound.speed_of_sound".into(),
-        settings.speed_of_sound.to_string(),
-    );
-    o.insert(
-        "sound.attenuation".into(),
-        format!("{:?}", settings.attenuation),
-    );
-    o.insert("sound.format".into(), format!("{:?}", settings.format));
-    finish(dir, m)?;
-    Ok(())
+/// `rel` as the records and the manifest key it: `/` separators.
+fn key(rel: &Path) -> String {
+    rel.iter()
+        .map(|c| c.to_string_lossy())
+        .collect::<Vec<_>>()
+        .join("/")
 }
 
-/// Rewrites the manifest's file list from what the folder holds: every
-/// snapshot, every frame of the film's name, the log and the soundtrack.
-fn finish(dir: &Path, mut m: Manifest) -> Result<Manifest, Error> {
-    let name = film_name(&m);
-    m.files = BTreeMap::new();
-    let mut rels = Vec::new();
-    for k in 0..m.frame_count {
-        rels.push(snapshot_path(k));
-        for ext in ["exr", "png"] {
-            rels.push(frame_path(&name, k, ext));
+/// The sound options as the soundtrack's record keeps them.
+fn sound_record(settings: &sound::Settings) -> BTreeMap<String, String> {
+    [
+        ("rate", settings.rate.to_string()),
+        ("speed_of_sound", settings.speed_of_sound.to_string()),
+        ("attenuation", format!("{:?}", settings.attenuation)),
+        ("format", format!("{:?}", settings.format)),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect()
+}
+
+/// Renders the folder's sound event log into its soundtrack, unless the
+/// soundtrack's record shows the same log and options and its bytes are
+/// intact. Returns whether it rendered.
+pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool, Error> {
+    let rec = open(dir)?;
+    if !intact(dir, Path::new(EVENTS_FILE), &rec.events) {
+        return Err(Error::input(format!(
+            "{}: {EVENTS_FILE} does not match {DERIVE_RECORD} (damaged or missing); derive again: lmfilm derive SCENE.lm -o {}",
+            dir.display(),
+            dir.display()
+        )));
+    }
+    let wav = dir.join(SOUNDTRACK_FILE);
+    let record_path = dir.join(SOUND_RECORD);
+    let mut want = SoundRecord {
+        events: rec.events.clone(),
+        lmfilm_version: record::version(),
+        sound: sound_record(settings),
+        soundtrack: String::new(),
+    };
+    if let Ok(Some(old)) = record::read::<SoundRecord>(&record_path) {
+        let same = SoundRecord {
+            soundtrack: old.soundtrack.clone(),
+            ..want.clone()
+        };
+        if old == same && intact(dir, Path::new(SOUNDTRACK_FILE), &old.soundtrack) {
+            return Ok(false);
         }
     }
-    rels.push(PathBuf::from(EVENTS_FILE));
-    rels.push(PathBuf::from(SOUNDTRACK_FILE));
-    for rel in rels {
-        if dir.join(&rel).exists() {
-            m.add_file(dir, &rel)?;
+    sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, None, &|_, _| {}).map_err(|e| {
+        Error {
+            code: e.exit_code(),
+            message: e.to_string(),
+        }
+    })?;
+    want.soundtrack = sha256_file(&wav).map_err(|e| io(&wav, e))?;
+    record::write(&record_path, &want).map_err(|e| io(&record_path, e))?;
+    Ok(true)
+}
+
+/// The PNG frames an MP4 is made of, as one hash over their names and
+/// hashes: the frames of valid records, in order.
+fn png_digest(dir: &Path, rec: &DeriveRecord) -> String {
+    let mut list = String::new();
+    for (k, snap) in rec.snapshots.iter().enumerate() {
+        let rp = dir.join(frame_record_path(&rec.inputs.name, k as u64));
+        if let Ok(Some(f)) = record::read::<FrameRecord>(&rp) {
+            if f.snapshot == *snap {
+                let png = key(&frame_path(&rec.inputs.name, k as u64, "png"));
+                if let Some(h) = f.outputs.get(&png) {
+                    list.push_str(&format!("{png} {h}\n"));
+                }
+            }
         }
     }
+    sha256_bytes(list.as_bytes())
+}
+
+/// Frames and soundtrack into `<name>.mp4` through ffmpeg, unless its
+/// record shows the same frames, soundtrack and rate and the MP4 is
+/// intact. Returns the MP4's path and whether it was made now.
+pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
+    let rec = open(dir)?;
+    let name = &rec.inputs.name;
+    let rate = ffmpeg::FrameRate::from_dt(rec.dt).map_err(|e| Error::input(e.to_string()))?;
+    let sound = record::read::<SoundRecord>(&dir.join(SOUND_RECORD))
+        .ok()
+        .flatten()
+        .filter(|s| {
+            s.events == rec.events && intact(dir, Path::new(SOUNDTRACK_FILE), &s.soundtrack)
+        });
+    let (mp4, record_path) = mp4_paths(name);
+    let mut want = MuxRecord {
+        frames: png_digest(dir, &rec),
+        lmfilm_version: record::version(),
+        mp4: String::new(),
+        rate: rate.to_string(),
+        soundtrack: sound.map(|s| s.soundtrack),
+    };
+    if let Ok(Some(old)) = record::read::<MuxRecord>(&dir.join(&record_path)) {
+        let same = MuxRecord {
+            mp4: old.mp4.clone(),
+            ..want.clone()
+        };
+        if old == same && intact(dir, &mp4, &old.mp4) {
+            return Ok((dir.join(mp4), false));
+        }
+    }
+    let track = want
+        .soundtrack
+        .is_some()
+        .then_some(Path::new(SOUNDTRACK_FILE));
+    let out = ffmpeg::mux(dir, name, rate, &frame_pattern(name, "png"), track)
+        .map_err(|e| Error::other(e.to_string()))?;
+    want.mp4 = sha256_file(&out).map_err(|e| io(&out, e))?;
+    let rp = dir.join(&record_path);
+    record::write(&rp, &want).map_err(|e| io(&rp, e))?;
+    Ok((out, true))
+}
+
+/// Assembles `manifest.json` from the records and writes it: the stage
+/// that finishes the film (and any single-process stage) calls it.
+pub fn finish(dir: &Path) -> Result<Manifest, Error> {
+    let m = assemble(dir)?;
     m.write(dir)?;
     Ok(m)
+}
+
+/// The manifest the records describe: the derivation's inputs and files,
+/// every frame whose record matches its snapshot, the soundtrack and the
+/// MP4 when their records match their inputs. Frames rendered with
+/// different settings are an error: a film is rendered with one.
+pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
+    let rec = open(dir)?;
+    let name = rec.inputs.name.clone();
+    let mut m = Manifest::new(&rec);
+    let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| io(dir, e))?;
+    m.files.insert(DERIVE_RECORD.into(), derive_hash);
+    m.files.insert(EVENTS_FILE.into(), rec.events.clone());
+    for (k, h) in rec.snapshots.iter().enumerate() {
+        m.files.insert(key(&snapshot_path(k as u64)), h.clone());
+    }
+    let mut settings: BTreeMap<BTreeMap<String, String>, Vec<u64>> = BTreeMap::new();
+    for (k, snap) in rec.snapshots.iter().enumerate() {
+        let rel = frame_record_path(&name, k as u64);
+        let Ok(Some(f)) = record::read::<FrameRecord>(&dir.join(&rel)) else {
+            continue;
+        };
+        if f.snapshot != *snap || f.frame != k as u64 {
+            continue;
+        }
+        let hash = sha256_file(&dir.join(&rel)).map_err(|e| io(&dir.join(&rel), e))?;
+        m.files.insert(key(&rel), hash);
+        for (file, h) in &f.outputs {
+            m.files.insert(file.clone(), h.clone());
+        }
+        settings.entry(f.render).or_default().push(k as u64);
+    }
+    if settings.len() > 1 {
+        let groups: Vec<String> = settings
+            .iter()
+            .map(|(s, frames)| {
+                let s: Vec<String> = s.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                format!("frames {} with {}", list(frames), s.join(" "))
+            })
+            .collect();
+        return Err(Error::input(format!(
+            "{}: the frames were rendered with different settings ({}); render them again with one: lmfilm render {} [options]",
+            dir.display(),
+            groups.join("; "),
+            dir.display()
+        )));
+    }
+    if let Some(s) = settings.keys().next() {
+        for (k, v) in s {
+            m.options.insert(format!("render.{k}"), v.clone());
+        }
+    }
+    if let Ok(Some(s)) = record::read::<SoundRecord>(&dir.join(SOUND_RECORD)) {
+        if s.events == rec.events {
+            let hash = sha256_file(&dir.join(SOUND_RECORD)).map_err(|e| io(dir, e))?;
+            m.files.insert(SOUND_RECORD.into(), hash);
+            m.files.insert(SOUNDTRACK_FILE.into(), s.soundtrack.clone());
+            for (k, v) in s.sound {
+                m.options.insert(format!("sound.{k}"), v);
+            }
+        }
+    }
+    let (mp4, mp4_record) = mp4_paths(&name);
+    if let Ok(Some(x)) = record::read::<MuxRecord>(&dir.join(&mp4_record)) {
+        let track = m.files.get(SOUNDTRACK_FILE).cloned();
+        if x.frames == png_digest(dir, &rec) && x.soundtrack == track {
+            let hash = sha256_file(&dir.join(&mp4_record)).map_err(|e| io(dir, e))?;
+            m.files.insert(key(&mp4_record), hash);
+            m.files.insert(key(&mp4), x.mp4.clone());
+        }
+    }
+    Ok(m)
+}
+
+/// Frame numbers as short ranges: `0-3, 7, 9-12`.
+pub fn list(frames: &[u64]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < frames.len() {
+        let mut j = i;
+        while j + 1 < frames.len() && frames[j + 1] == frames[j] + 1 {
+            j += 1;
+        }
+        parts.push(if i == j {
+            frames[i].to_string()
+        } else {
+            format!("{}-{}", frames[i], frames[j])
+        });
+        i = j + 1;
+    }
+    parts.join(", ")
+}
+
+/// Files in `frames/` and `scene/` that no record accounts for, relative
+/// to the folder: frames past the film's end or of another name, stray
+/// and temporary files.
+pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
+    let mut extra = Vec::new();
+    for sub in [SCENE_DIR, FRAMES_DIR] {
+        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
+            continue;
+        };
+        let mut names: Vec<String> = entries
+            .flatten()
+            .map(|e| format!("{sub}/{}", e.file_name().to_string_lossy()))
+            .filter(|rel| !m.files.contains_key(rel))
+            .collect();
+        names.sort();
+        extra.extend(names);
+    }
+    extra
+}
+
+/// Removes, in `frames/`, the images and records of frames past the
+/// film's end or of another film name (a re-run never keeps outputs made
+/// from other inputs).
+pub fn prune_frames(dir: &Path, rec: &DeriveRecord) -> Result<(), Error> {
+    let Ok(entries) = std::fs::read_dir(dir.join(FRAMES_DIR)) else {
+        return Ok(());
+    };
+    for e in entries.flatten() {
+        let file = e.file_name().to_string_lossy().into_owned();
+        let stale = parse_frame_file(&file).is_some_and(|(n, k, ext)| {
+            ["png", "exr", "json"].contains(&ext) && (n != rec.inputs.name || k >= rec.frame_count)
+        });
+        if stale {
+            std::fs::remove_file(e.path()).map_err(|err| io(&e.path(), err))?;
+        }
+    }
+    Ok(())
 }

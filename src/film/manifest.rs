@@ -16,36 +16,36 @@ use std::path::{Component, Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
+use super::record::{DeriveRecord, FileHash};
 use crate::scene::atomic::write_atomic;
 
 /// The manifest's file name inside the output folder.
 pub const MANIFEST_FILE: &str = "manifest.json";
 
-/// One scene file of the film, in command-line order (the first file's
-/// options apply to the whole film).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
-pub struct SceneFile {
-    /// The file as named on the command line (or the built-in film's name).
-    pub file: String,
-    pub sha256: String,
-}
-
-/// The contents of `manifest.json`. Fields are in alphabetical order
-/// because serde writes them in declaration order.
+/// The contents of `manifest.json`: assembled from the folder's records
+/// (see [`super::record`]) by the stage that finishes the film. Fields are
+/// in alphabetical order because serde writes them in declaration order.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Manifest {
     /// Δt, the time between two frames, in seconds.
     pub dt: f64,
-    /// sha256 of every output (frames, snapshots, soundtrack), keyed by its
-    /// path relative to the output folder, with `/` separators.
+    /// sha256 of every output and record, keyed by its path relative to
+    /// the output folder, with `/` separators.
     pub files: BTreeMap<String, String>,
     pub frame_count: u64,
+    /// The files the scenes reference (surfaces, sounds, scripts).
+    pub inputs: Vec<FileHash>,
     /// The version of lmfilm that wrote the outputs.
     pub lmfilm_version: String,
-    /// The options that shape the outputs (preset, size, samples, …), as
-    /// the caller renders them to text.
+    /// The film's name: its frames are `frames/<name>.NNNN.*`.
+    pub name: String,
+    /// The options that shaped the outputs: `derive.*`, `render.*`,
+    /// `sound.*`.
     pub options: BTreeMap<String, String>,
-    pub scenes: Vec<SceneFile>,
+    /// The scene files, in command-line order.
+    pub scenes: Vec<FileHash>,
+    /// The frames the film shows (`A..B` ranges).
+    pub selection: Vec<String>,
 }
 
 /// Why a manifest could not be built, read or written.
@@ -61,6 +61,8 @@ pub enum Error {
     /// A listed path is absolute, leaves the output folder or is not UTF-8,
     /// so it cannot be an output of this folder.
     UnsafePath { path: String },
+    /// A value no film can have.
+    Invalid { what: String },
 }
 
 impl fmt::Display for Error {
@@ -77,6 +79,7 @@ impl fmt::Display for Error {
                 f,
                 "manifest path `{path}` is not a relative path inside the output folder"
             ),
+            Error::Invalid { what } => write!(f, "{MANIFEST_FILE}: {what}"),
         }
     }
 }
@@ -86,41 +89,31 @@ impl std::error::Error for Error {
         match self {
             Error::Io { source, .. } => Some(source),
             Error::Json { source, .. } => Some(source),
-            Error::UnsafePath { .. } => None,
+            Error::UnsafePath { .. } | Error::Invalid { .. } => None,
         }
     }
 }
 
 impl Manifest {
-    /// An empty manifest for a film of `frame_count` frames Δt apart,
-    /// stamped with this program's version.
-    pub fn new(dt: f64, frame_count: u64) -> Manifest {
+    /// The manifest of a derivation, with no output listed yet.
+    pub fn new(rec: &DeriveRecord) -> Manifest {
+        let options = rec
+            .inputs
+            .options
+            .iter()
+            .map(|(k, v)| (format!("derive.{k}"), v.clone()))
+            .collect();
         Manifest {
-            dt,
+            dt: rec.dt,
             files: BTreeMap::new(),
-            frame_count,
-            lmfilm_version: env!("CARGO_PKG_VERSION").to_string(),
-            options: BTreeMap::new(),
-            scenes: Vec::new(),
+            frame_count: rec.frame_count,
+            inputs: rec.inputs.files.clone(),
+            lmfilm_version: rec.inputs.lmfilm_version.clone(),
+            name: rec.inputs.name.clone(),
+            options,
+            scenes: rec.inputs.scenes.clone(),
+            selection: rec.selection.clone(),
         }
-    }
-
-    /// Records a scene file by its contents (already in memory: the caller
-    /// parsed it, and the built-in film has no file).
-    pub fn add_scene(&mut self, file: &str, contents: &[u8]) {
-        self.scenes.push(SceneFile {
-            file: file.to_string(),
-            sha256: sha256_bytes(contents),
-        });
-    }
-
-    /// Hashes the output `dir/rel` and records it under `rel`.
-    pub fn add_file(&mut self, dir: &Path, rel: &Path) -> Result<(), Error> {
-        let key = manifest_key(rel)?;
-        let path = dir.join(rel);
-        let hash = sha256_file(&path).map_err(|source| Error::Io { path, source })?;
-        self.files.insert(key, hash);
-        Ok(())
     }
 
     /// The JSON text: pretty-printed, sorted keys, a final newline.
@@ -137,19 +130,41 @@ impl Manifest {
         write_atomic(&path, self.to_json().as_bytes()).map_err(|source| Error::Io { path, source })
     }
 
-    /// Reads `dir/manifest.json`, refusing paths outside the folder.
+    /// Reads `dir/manifest.json`, refusing paths outside the folder, a
+    /// film name that is not one plain file name and a Δt that is not a
+    /// positive number.
     pub fn read(dir: &Path) -> Result<Manifest, Error> {
         let path = dir.join(MANIFEST_FILE);
         let text = std::fs::read_to_string(&path).map_err(|source| Error::Io {
             path: path.clone(),
             source,
         })?;
-        let manifest: Manifest =
-            serde_json::from_str(&text).map_err(|source| Error::Json { path, source })?;
+        Manifest::parse(&text).map_err(|e| match e {
+            Error::Json { source, .. } => Error::Json { path, source },
+            e => e,
+        })
+    }
+
+    /// The manifest in `text` (see [`Manifest::read`]).
+    pub fn parse(text: &str) -> Result<Manifest, Error> {
+        let manifest: Manifest = serde_json::from_str(text).map_err(|source| Error::Json {
+            path: PathBuf::from(MANIFEST_FILE),
+            source,
+        })?;
         for key in manifest.files.keys() {
             if manifest_key(Path::new(key)).ok().as_deref() != Some(key.as_str()) {
                 return Err(Error::UnsafePath { path: key.clone() });
             }
+        }
+        if crate::lsys::options::plain_name(&manifest.name).is_err() {
+            return Err(Error::UnsafePath {
+                path: manifest.name.clone(),
+            });
+        }
+        if !(manifest.dt.is_finite() && manifest.dt > 0.0) {
+            return Err(Error::Invalid {
+                what: format!("Δt {} is not a positive number", manifest.dt),
+            });
         }
         Ok(manifest)
     }
@@ -197,98 +212,4 @@ pub fn sha256_file(path: &Path) -> io::Result<String> {
 
 fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
-}
-
-/// A listed output that does not match the manifest.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Problem {
-    /// The file is gone.
-    Missing { file: String },
-    /// The file's bytes changed.
-    Mismatch {
-        file: String,
-        expected: String,
-        found: String,
-    },
-    /// The file exists but cannot be read (permissions, a folder, …).
-    Unreadable { file: String, error: String },
-}
-
-impl Problem {
-    /// The output's path relative to the output folder.
-    pub fn file(&self) -> &str {
-        match self {
-            Problem::Missing { file }
-            | Problem::Mismatch { file, .. }
-            | Problem::Unreadable { file, .. } => file,
-        }
-    }
-}
-
-impl fmt::Display for Problem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Problem::Missing { file } => write!(f, "{file}: missing"),
-            Problem::Mismatch {
-                file,
-                expected,
-                found,
-            } => write!(
-                f,
-                "{file}: sha256 mismatch (manifest {expected}, file {found})"
-            ),
-            Problem::Unreadable { file, error } => write!(f, "{file}: cannot read: {error}"),
-        }
-    }
-}
-
-/// The outcome of [`verify`].
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct VerifyReport {
-    /// How many files the manifest lists.
-    pub checked: usize,
-    /// Every listed file that is missing or differs, in path order.
-    pub problems: Vec<Problem>,
-}
-
-impl VerifyReport {
-    /// Whether every listed file is present and intact.
-    pub fn is_ok(&self) -> bool {
-        self.problems.is_empty()
-    }
-}
-
-/// Re-hashes every output listed in `dir/manifest.json`. Files that are
-/// not listed are ignored; the scene files are inputs outside the folder
-/// and are recorded, not checked. `Err` only when the manifest itself
-/// cannot be read.
-pub fn verify(dir: &Path) -> Result<VerifyReport, Error> {
-    let manifest = Manifest::read(dir)?;
-    let problems = manifest
-        .files
-        .iter()
-        .filter_map(|(file, expected)| check(dir, file, expected))
-        .collect();
-    Ok(VerifyReport {
-        checked: manifest.files.len(),
-        problems,
-    })
-}
-
-/// The problem with one listed file, if any.
-fn check(dir: &Path, file: &str, expected: &str) -> Option<Problem> {
-    let file = file.to_string();
-    match sha256_file(&dir.join(&file)) {
-        Ok(found) if found == expected => None,
-        Ok(found) => Some(Problem::Mismatch {
-            file,
-            expected: expected.to_string(),
-            found,
-        }),
-        Err(e) if e.kind() == io::ErrorKind::NotFound => Some(Problem::Missing { file }),
-        Err(e) => Some(Problem::Unreadable {
-            file,
-            error: e.to_string(),
-        }),
-    }
 }

@@ -9,3 +9,5 @@ pub mod frames;
 pub mod job;
 pub mod manifest;
 pub mod mux;
+pub mod record;
+pub mod verify;

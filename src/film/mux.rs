@@ -10,6 +10,8 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+use crate::scene::atomic::temp_path;
+
 /// The most lines of ffmpeg's own error output an error message keeps.
 const STDERR_LINES: usize = 20;
 
@@ -133,9 +135,12 @@ pub fn mux(
         fs::metadata(&path).map_err(|source| MuxError::Io { path, source })?;
     }
     let out = dir.join(format!("{name}.mp4"));
-    let tmp_name = format!("{name}.mp4.{}.tmp", std::process::id());
+    let tmp = temp_path(&out).map_err(|source| MuxError::Io {
+        path: out.clone(),
+        source,
+    })?;
+    let tmp_name = tmp.file_name().unwrap_or_default().to_string_lossy();
     let result = run_ffmpeg(dir, &ffmpeg_args(rate, frames, soundtrack, &tmp_name));
-    let tmp = dir.join(&tmp_name);
     let result = result.and_then(|()| {
         fs::rename(&tmp, &out).map_err(|source| MuxError::Io {
             path: out.clone(),

@@ -222,6 +222,8 @@ pub struct Film {
     physics: Physics,
     opts: Options,
     scripts: Option<(Vec<Script>, PathBuf)>,
+    /// Where sound files are looked up.
+    search: Vec<PathBuf>,
 }
 
 /// The `Sound_event_file` initialisations of the first L-system that
@@ -275,7 +277,7 @@ impl Film {
         let anim = Animation::from_sources(sources, &mut ears).map_err(|e| e.to_string())?;
         let surfaces = Surfaces::load(&anim)?;
         let search = library::search_path(dir, None);
-        let air = Air::new(&sound_inits(&anim), scene_library(&anim), search)?;
+        let air = Air::new(&sound_inits(&anim), scene_library(&anim), search.clone())?;
         let mut physics = Physics::new(&anim);
         physics.register(&anim)?;
         Ok(Film {
@@ -287,7 +289,39 @@ impl Film {
             physics,
             opts,
             scripts: None,
+            search,
         })
+    }
+
+    /// Every file outside the scene texts that the derivation reads, as
+    /// the scene names it and where it was found: surfaces (OBJ and their
+    /// MTL libraries), sound files found on disk (a scene's own or the
+    /// `--library`'s; the built-in library is part of the program), and
+    /// the scripts `E` may run. Their hashes key the derivation.
+    pub fn referenced_files(&self) -> Vec<(String, PathBuf)> {
+        let mut files = Vec::new();
+        for ls in &self.anim.systems {
+            let dir = Path::new(&ls.def.name).parent().unwrap_or(Path::new("."));
+            for (_, file) in &ls.def.surfaces {
+                let obj = dir.join(file);
+                let obj_dir = obj.parent().unwrap_or(Path::new(".")).to_path_buf();
+                let libs = crate::scene::obj::mtl_libraries(&obj);
+                files.push((file.clone(), obj));
+                files.extend(libs.into_iter().map(|l| (l.clone(), obj_dir.join(l))));
+            }
+        }
+        for (_, file) in scene_library(&self.anim).iter() {
+            if let Some(p) = library::resolve(file, &self.search) {
+                files.push((file.to_string(), p));
+            }
+        }
+        if let Some((scripts, dir)) = &self.scripts {
+            for (_, script, _, _) in scripts {
+                files.push((script.clone(), dir.join(script)));
+            }
+        }
+        files.retain(|(_, p)| p.is_file());
+        files
     }
 
     /// Interprets the current frame into its scene, logging its sound

@@ -163,6 +163,24 @@ fn commands(s: &mut Scanner, specs: &[Spec]) -> Result<Vec<Command>, Diagnostic>
     }
 }
 
+/// Whether `name` is one plain path component that keeps every output
+/// inside the output folder (DESIGN §5); the error says why not.
+pub fn plain_name(name: &str) -> Result<(), &'static str> {
+    if name.is_empty() || name == "." || name == ".." {
+        return Err("is not a file name");
+    }
+    if name.contains(['/', '\\']) {
+        return Err("has a folder separator");
+    }
+    if name.chars().any(char::is_control) {
+        return Err("has a control character");
+    }
+    if name.len() > 200 {
+        return Err("is longer than 200 bytes");
+    }
+    Ok(())
+}
+
 fn text(s: &mut Scanner, what: &str) -> Result<String, Diagnostic> {
     Ok(s.word(what)?.1.to_string())
 }
@@ -262,10 +280,20 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             file: text(s, "the sound event file name")?,
             items: commands(s, SOUND)?,
         },
-        "rs_file_path_name" => OptionItem::RsFilePathName {
-            path: text(s, "the file path")?,
-            name: text(s, "the file name")?,
-        },
+        "rs_file_path_name" => {
+            let path = text(s, "the file path")?;
+            let (at, name) = s.word("the file name")?;
+            if let Err(why) = plain_name(name) {
+                return Err(s.error(
+                    at,
+                    format!("the film name `{name}` {why}: frames are written as FOLDER/frames/NAME.NNNN.png, so the name must be one plain file name such as `tree`"),
+                ));
+            }
+            OptionItem::RsFilePathName {
+                path,
+                name: name.to_string(),
+            }
+        }
         "sound_file" => {
             let number = s.int("the sound number")?;
             if !(0..=i64::from(u32::MAX)).contains(&number) {

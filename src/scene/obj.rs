@@ -255,3 +255,23 @@ fn num(x: f32) -> String {
 fn vec3(v: Vec3) -> String {
     format!("{} {} {}", num(v.x), num(v.y), num(v.z))
 }
+
+/// The material libraries an OBJ file names (`mtllib` lines), read
+/// without parsing its geometry: the film records their hashes as inputs.
+/// An unreadable file names none (reading it for real reports the error).
+pub fn mtl_libraries(path: &Path) -> Vec<String> {
+    let Ok(bytes) = fs::read(path) else {
+        return Vec::new();
+    };
+    bytes
+        .split(|&b| b == b'\n')
+        .filter_map(|line| line.trim_ascii().strip_prefix(b"mtllib"))
+        .filter(|rest| rest.first().is_some_and(u8::is_ascii_whitespace))
+        .flat_map(|rest| {
+            String::from_utf8_lossy(rest)
+                .split_ascii_whitespace()
+                .map(str::to_string)
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}

@@ -1,0 +1,252 @@
+//! What made each output (DESIGN §4): the records a stage writes beside
+//! its outputs, so a re-run redoes exactly the outputs whose inputs
+//! changed and `verify` can check the whole chain.
+//!
+//! * `derive.json`: the derivation's inputs (every scene file and every
+//!   file it references, by content hash; the options that change the
+//!   derivation; the lmfilm version), and the hash of every snapshot and
+//!   of the sound event log it made;
+//! * `frames/<name>.NNNN.json`: one per frame, beside the frame — the
+//!   snapshot it was rendered from, the render settings, its files'
+//!   hashes. No two render processes ever write the same record;
+//! * `soundtrack.json`: the event log's hash, the sound options and the
+//!   soundtrack's hash;
+//! * `<name>.mp4.json`: the frames and soundtrack the MP4 was made of.
+//!
+//! Records hold no host names, times or paths outside the folder, so the
+//! same inputs give the same records on any machine.
+
+use std::collections::BTreeMap;
+use std::io;
+use std::path::{Path, PathBuf};
+
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+use super::frames::frame_path;
+use super::manifest::{sha256_bytes, sha256_file};
+use crate::scene::atomic::write_atomic;
+
+/// The derivation's record, at the folder's root.
+pub const DERIVE_RECORD: &str = "derive.json";
+/// The soundtrack's record, at the folder's root.
+pub const SOUND_RECORD: &str = "soundtrack.json";
+/// Largest record read (a derive record of a long film is the biggest:
+/// ~70 bytes a frame).
+const MAX_RECORD: u64 = 256 << 20;
+
+/// A file and the sha256 of its bytes.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FileHash {
+    /// As the command line (scenes) or the scene (referenced files) names it.
+    pub file: String,
+    pub sha256: String,
+}
+
+impl FileHash {
+    /// Hashes the file at `path`, recorded under `file`.
+    pub fn of(file: &str, path: &Path) -> io::Result<FileHash> {
+        Ok(FileHash {
+            file: file.to_string(),
+            sha256: sha256_file(path)?,
+        })
+    }
+}
+
+/// Everything a derivation depends on. Fields are in alphabetical order
+/// (serde writes declaration order), maps are sorted.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Inputs {
+    /// Files the scenes reference (OBJ/MTL surfaces, sound files,
+    /// scripts), in the order the scenes name them.
+    pub files: Vec<FileHash>,
+    pub lmfilm_version: String,
+    /// The film's name (its frames are `frames/<name>.NNNN.*`).
+    pub name: String,
+    /// The options that change the derivation.
+    pub options: BTreeMap<String, String>,
+    /// The scene files, in command-line order.
+    pub scenes: Vec<FileHash>,
+}
+
+impl Inputs {
+    /// The scenes' file names: what makes a folder one film rather than
+    /// another (their contents may change from run to run).
+    pub fn film(&self) -> Vec<String> {
+        self.scenes
+            .iter()
+            .map(|s| {
+                Path::new(&s.file)
+                    .file_name()
+                    .map_or(s.file.clone(), |n| n.to_string_lossy().into_owned())
+            })
+            .collect()
+    }
+
+    /// One hash of all the inputs.
+    pub fn key(&self) -> String {
+        sha256_bytes(&to_json(self))
+    }
+}
+
+/// `derive.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DeriveRecord {
+    /// Δt, the time between two frames, in seconds.
+    pub dt: f64,
+    /// sha256 of `soundtrack.events`.
+    pub events: String,
+    pub frame_count: u64,
+    pub inputs: Inputs,
+    /// [`Inputs::key`] of `inputs`.
+    pub key: String,
+    /// The frames the film shows (`rs_switch`, else all): `A..B` ranges.
+    pub selection: Vec<String>,
+    /// sha256 of `scene/NNNN.snap`, frame by frame.
+    pub snapshots: Vec<String>,
+}
+
+impl DeriveRecord {
+    /// Checks what later stages rely on; the error says what is wrong.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(format!("Δt {} is not a positive number", self.dt));
+        }
+        if self.snapshots.len() as u64 != self.frame_count {
+            return Err(format!(
+                "{} snapshot hashes for {} frames",
+                self.snapshots.len(),
+                self.frame_count
+            ));
+        }
+        crate::lsys::options::plain_name(&self.inputs.name)
+            .map_err(|why| format!("the film name `{}` {why}", self.inputs.name))?;
+        if self.key != self.inputs.key() {
+            return Err("its key is not the hash of its inputs".into());
+        }
+        Ok(())
+    }
+}
+
+/// `frames/<name>.NNNN.json`: one rendered frame.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FrameRecord {
+    pub frame: u64,
+    pub lmfilm_version: String,
+    /// sha256 of each image, keyed by its path in the folder.
+    pub outputs: BTreeMap<String, String>,
+    /// The render settings, as text.
+    pub render: BTreeMap<String, String>,
+    /// sha256 of the snapshot it was rendered from.
+    pub snapshot: String,
+}
+
+/// `soundtrack.json`.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SoundRecord {
+    /// sha256 of the event log it was rendered from.
+    pub events: String,
+    pub lmfilm_version: String,
+    /// The sound options, as text.
+    pub sound: BTreeMap<String, String>,
+    /// sha256 of `soundtrack.wav`.
+    pub soundtrack: String,
+}
+
+/// `<name>.mp4.json`.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MuxRecord {
+    /// sha256 over the list of PNG frames and their hashes.
+    pub frames: String,
+    pub lmfilm_version: String,
+    /// sha256 of the MP4.
+    pub mp4: String,
+    /// The frame rate, `N/D` frames per second.
+    pub rate: String,
+    /// sha256 of the soundtrack muxed in, if any.
+    pub soundtrack: Option<String>,
+}
+
+/// This program's version, as records carry it.
+pub fn version() -> String {
+    env!("CARGO_PKG_VERSION").to_string()
+}
+
+/// Pretty JSON with a final newline (sorted keys: see the field order).
+pub fn to_json<T: Serialize>(value: &T) -> Vec<u8> {
+    let mut text = serde_json::to_vec_pretty(value)
+        .expect("records are strings, numbers, sequences and string-keyed maps");
+    text.push(b'\n');
+    text
+}
+
+/// Writes a record atomically.
+pub fn write<T: Serialize>(path: &Path, value: &T) -> io::Result<()> {
+    write_atomic(path, &to_json(value))
+}
+
+/// Reads a record: `Ok(None)` when the file does not exist, `Err` with
+/// the reason when it is not a valid record (too large, not UTF-8 JSON,
+/// NaN or missing fields).
+pub fn read<T: DeserializeOwned>(path: &Path) -> Result<Option<T>, String> {
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(format!("{}: {e}", path.display())),
+    };
+    if !meta.is_file() || meta.len() > MAX_RECORD {
+        return Err(format!(
+            "{}: not a record (a folder, or over {MAX_RECORD} bytes)",
+            path.display()
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    serde_json::from_slice(&bytes)
+        .map(Some)
+        .map_err(|e| format!("{}: not a valid lmfilm record ({e})", path.display()))
+}
+
+/// `frames/<name>.NNNN.json`, relative to the output folder.
+pub fn frame_record_path(name: &str, frame: u64) -> PathBuf {
+    frame_path(name, frame, "json")
+}
+
+/// `<name>.mp4` and `<name>.mp4.json`, relative to the output folder.
+pub fn mp4_paths(name: &str) -> (PathBuf, PathBuf) {
+    (
+        PathBuf::from(format!("{name}.mp4")),
+        PathBuf::from(format!("{name}.mp4.json")),
+    )
+}
+
+/// Whether `dir/rel` exists and its bytes hash to `sha256`.
+pub fn intact(dir: &Path, rel: &Path, sha256: &str) -> bool {
+    sha256_file(&dir.join(rel)).is_ok_and(|h| h == sha256)
+}
+
+/// The names a frame of any film may have in `frames/`: `(name, frame,
+/// extension)` when `file` looks like `<name>.NNNN.<ext>`.
+pub fn parse_frame_file(file: &str) -> Option<(&str, u64, &str)> {
+    let (rest, ext) = file.rsplit_once('.')?;
+    let (name, number) = rest.rsplit_once('.')?;
+    if number.len() < 4 || !number.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    Some((name, number.parse().ok()?, ext))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_files_parse_back() {
+        assert_eq!(
+            parse_frame_file("my.film.0012.png"),
+            Some(("my.film", 12, "png"))
+        );
+        assert_eq!(parse_frame_file("a.12345.json"), Some(("a", 12345, "json")));
+        assert_eq!(parse_frame_file("a.12.png"), None);
+        assert_eq!(parse_frame_file("notes.txt"), None);
+    }
+}
