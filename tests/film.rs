@@ -74,7 +74,8 @@ fn any_thread_count_and_any_shard_split_give_the_same_film() {
     ok(&["sound", s(&split)]);
     assert_eq!(manifest(&one), manifest(&split));
     let m = manifest(&one);
-    assert_eq!(m.matches("frames/flight.").count(), 26, "{m}");
+    // The EXR master, its PNG and the frame's record.
+    assert_eq!(m.matches("frames/flight.").count(), 3 * 26, "{m}");
     assert_eq!(m.matches("scene/").count(), 26);
     assert!(m.contains("soundtrack.wav") && m.contains("soundtrack.events"));
     // frames × Δt × rate samples, one channel (the camera's microphone).
@@ -120,7 +121,8 @@ fn a_killed_run_resumes_to_the_same_bytes() {
     for d in ["frames", "scene"] {
         for e in std::fs::read_dir(killed.join(d)).unwrap() {
             let name = e.unwrap().file_name().into_string().unwrap();
-            assert!(name.ends_with(".png") || name.ends_with(".snap"), "{name}");
+            let ours = [".png", ".exr", ".json", ".snap"];
+            assert!(ours.iter().any(|e| name.ends_with(e)), "{name}");
         }
     }
     std::fs::remove_dir_all(&root).unwrap();
@@ -170,7 +172,7 @@ fn bad_input_says_what_to_do() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("0002.snap") && err.contains("derive the film again"),
+        err.contains("0002.snap") && err.contains("lmfilm derive"),
         "{err}"
     );
     // Bad ranges and shards.
@@ -265,7 +267,10 @@ fn rs_options_choose_folder_name_and_frames() {
         .map(|e| e.unwrap().file_name().into_string().unwrap())
         .collect();
     frames.sort();
-    assert_eq!(frames, ["shot.0002.png", "shot.0003.png", "shot.0004.png"]);
+    let want: Vec<String> = (2..=4)
+        .flat_map(|k| ["exr", "json", "png"].map(|e| format!("shot.{k:04}.{e}")))
+        .collect();
+    assert_eq!(frames, want);
     // Every frame is still derived: 26 snapshots, the whole soundtrack.
     assert_eq!(std::fs::read_dir(out.join("scene")).unwrap().count(), 26);
     let other = root.join("other");
@@ -280,6 +285,9 @@ fn rs_options_choose_folder_name_and_frames() {
         "0..=1",
     ]);
     assert!(other.join("frames/shot.0000.png").exists());
-    assert_eq!(std::fs::read_dir(other.join("frames")).unwrap().count(), 2);
+    assert_eq!(
+        std::fs::read_dir(other.join("frames")).unwrap().count(),
+        2 * 3
+    );
     std::fs::remove_dir_all(&root).unwrap();
 }

@@ -1,0 +1,416 @@
+//! Outputs a user can trust (issue 11 §1, §2, §4): every output records
+//! what made it, a re-run redoes exactly what changed, a folder of another
+//! film is refused, `verify` checks the whole chain, shards on several
+//! hosts write their own records, and nothing is written outside the
+//! output folder.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A 0.4 s film (11 frames): a sphere in front of the camera, a sound at frame 0.
+const SCENE: &str = "Camera_AnimationParameters
+prefpos_x1_x2_y1_y2 0 32 0 18
+observer 0 2 20
+lookatPoint 0 2 0
+viewAngle 500
+t_final_interval 0.4 0.04
+Axiom
+m () (1) S () () () () (2) T () (1) () () (6) (1)
+";
+
+fn temp(name: &str) -> PathBuf {
+    common::fresh_dir("records", name)
+}
+
+fn lmfilm_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args(args)
+        .envs(env.iter().copied())
+        .output()
+        .unwrap()
+}
+
+fn lmfilm(args: &[&str]) -> Output {
+    lmfilm_env(args, &[])
+}
+
+fn ok(args: &[&str]) -> String {
+    let out = lmfilm(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn fails(args: &[&str], code: i32) -> String {
+    let out = lmfilm(args);
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    s(&p).to_string()
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap()
+}
+
+/// `run` with the small preview settings the tests use.
+fn run(scene: &[&str], dir: &Path, extra: &[&str]) -> String {
+    let mut args = vec!["run"];
+    args.extend_from_slice(scene);
+    args.extend_from_slice(&["-o", s(dir), "--preset", "preview"]);
+    args.extend_from_slice(extra);
+    ok(&args)
+}
+
+/// How many frames the run's summary says it rendered now.
+fn rendered_now(summary: &str) -> u64 {
+    let at = summary.find(" of ").unwrap();
+    let start = summary[..at].rfind(' ').unwrap() + 1;
+    summary[start..at].parse().unwrap()
+}
+
+#[test]
+fn a_folder_of_another_film_is_refused_until_cleaned() {
+    let root = temp("other-film");
+    let tree = write(&root, "tree.lm", SCENE);
+    let ball = write(&root, "ball.lm", &SCENE.replace("(2) T", "(1) T"));
+    let plane = write(&root, "plane.lm", &SCENE.replace("(2) T", "(3) T"));
+    let dir = root.join("out");
+    run(&[&tree, &ball], &dir, &[]);
+    let err = fails(
+        &["run", &tree, &plane, "-o", s(&dir), "--preset", "preview"],
+        2,
+    );
+    assert!(err.contains(s(&dir)), "{err}");
+    assert!(err.contains("ball.lm") && err.contains("plane.lm"), "{err}");
+    assert!(err.contains("-o") && err.contains("--clean"), "{err}");
+    // Nothing of the first film was touched.
+    ok(&["verify", s(&dir)]);
+    run(&[&tree, &plane], &dir, &["--clean"]);
+    ok(&["verify", s(&dir)]);
+    let m = std::fs::read_to_string(dir.join("manifest.json")).unwrap();
+    assert!(m.contains("plane.lm") && !m.contains("ball.lm"), "{m}");
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn a_rerun_redoes_exactly_what_changed() {
+    let root = temp("rerun");
+    let scene = write(&root, "film.lm", SCENE);
+    let dir = root.join("out");
+    let first = run(&[&scene], &dir, &[]);
+    assert_eq!(rendered_now(&first), 11, "{first}");
+    assert_eq!(rendered_now(&run(&[&scene], &dir, &[])), 0);
+    let frame = dir.join("frames/film.0003.png");
+    let before = read(&frame);
+
+    // The final preset after the preview: every frame again.
+    let out = ok(&["run", &scene, "-o", s(&dir), "--spp", "2"]);
+    assert_eq!(rendered_now(&out), 11, "{out}");
+    assert_ne!(read(&frame), before);
+
+    // A damaged frame is made again, not re-hashed into the manifest.
+    let mut bytes = read(&frame);
+    let last = bytes.len() - 20;
+    bytes[last] ^= 0xff;
+    std::fs::write(&frame, &bytes).unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("frames/film.0003.png"), "{err}");
+    let out = ok(&["run", &scene, "-o", s(&dir), "--spp", "2"]);
+    assert_eq!(rendered_now(&out), 1, "{out}");
+    ok(&["verify", s(&dir)]);
+
+    // A moved camera: derived and rendered again.
+    let before = read(&frame);
+    write(
+        &root,
+        "film.lm",
+        &SCENE.replace("observer 0 2 20", "observer 3 2 20"),
+    );
+    let out = ok(&["run", &scene, "-o", s(&dir), "--spp", "2"]);
+    assert_eq!(rendered_now(&out), 11, "{out}");
+    assert_ne!(read(&frame), before);
+    ok(&["verify", s(&dir)]);
+
+    // A shorter film: the frames past its end go.
+    write(&root, "film.lm", &SCENE.replace("0.4 0.04", "0.2 0.04"));
+    ok(&["run", &scene, "-o", s(&dir), "--spp", "2"]);
+    assert!(!dir.join("frames/film.0007.png").exists());
+    assert!(!dir.join("scene/0007.snap").exists());
+    ok(&["verify", s(&dir)]);
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn a_referenced_file_is_an_input() {
+    let root = temp("inputs");
+    std::fs::write(root.join("tri.obj"), "v 0 0 0\nv 4 0 0\nv 0 4 0\nf 1 2 3\n").unwrap();
+    let scene = write(
+        &root,
+        "obj.lm",
+        &SCENE
+            .replace("Axiom", "Surfaces\nfig_obj 1 tri.obj\nAxiom")
+            .replace("S () () () () (2)", "B () (1) () () (1)"),
+    );
+    let dir = root.join("out");
+    run(&[&scene], &dir, &[]);
+    let derive = std::fs::read_to_string(dir.join("derive.json")).unwrap();
+    assert!(derive.contains("tri.obj"), "{derive}");
+    assert_eq!(rendered_now(&run(&[&scene], &dir, &[])), 0);
+    std::fs::write(root.join("tri.obj"), "v 0 0 0\nv 8 0 0\nv 0 8 0\nf 1 2 3\n").unwrap();
+    assert_eq!(rendered_now(&run(&[&scene], &dir, &[])), 11);
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn verify_checks_the_whole_chain() {
+    let root = temp("verify");
+    let scene = write(&root, "film.lm", SCENE);
+    let dir = root.join("out");
+    run(&[&scene], &dir, &[]);
+    let good = ok(&["verify", s(&dir)]);
+    assert!(good.contains("complete and intact"), "{good}");
+
+    // Stray files in frames/ and scene/, a frame past the film's end.
+    std::fs::write(dir.join("frames/notes.txt"), "x").unwrap();
+    std::fs::write(dir.join("scene/0099.snap"), "x").unwrap();
+    std::fs::copy(
+        dir.join("frames/film.0001.png"),
+        dir.join("frames/film.0011.png"),
+    )
+    .unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    for f in [
+        "frames/notes.txt",
+        "scene/0099.snap",
+        "frames/film.0011.png",
+    ] {
+        assert!(err.contains(f), "{f}: {err}");
+    }
+    for f in [
+        "frames/notes.txt",
+        "scene/0099.snap",
+        "frames/film.0011.png",
+    ] {
+        std::fs::remove_file(dir.join(f)).unwrap();
+    }
+    ok(&["verify", s(&dir)]);
+
+    // An edited manifest: a changed Δt, a deleted entry.
+    let path = dir.join("manifest.json");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, text.replace("\"dt\": 0.04", "\"dt\": 0.05")).unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("`dt`"), "{err}");
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    json["files"]
+        .as_object_mut()
+        .unwrap()
+        .remove("frames/film.0004.exr");
+    std::fs::write(&path, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("frames/film.0004.exr"), "{err}");
+    std::fs::write(&path, &text).unwrap();
+    ok(&["verify", s(&dir)]);
+
+    // A frame's record edited to claim another snapshot.
+    let rec = dir.join("frames/film.0002.json");
+    let rtext = std::fs::read_to_string(&rec).unwrap();
+    let mut r: serde_json::Value = serde_json::from_str(&rtext).unwrap();
+    r["snapshot"] = "00".into();
+    std::fs::write(&rec, serde_json::to_string(&r).unwrap()).unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("frames/film.0002"), "{err}");
+    std::fs::write(&rec, rtext).unwrap();
+
+    // A missing frame: the film is incomplete.
+    for ext in ["png", "exr", "json"] {
+        std::fs::remove_file(dir.join(format!("frames/film.0006.{ext}"))).unwrap();
+    }
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("frames/film.0006.png"), "{err}");
+    ok(&["render", s(&dir), "--preset", "preview"]);
+    ok(&["verify", s(&dir)]);
+
+    // Derived again from a changed scene but not rendered: the frames
+    // and the soundtrack are stale, and verify says so.
+    write(&root, "film.lm", &SCENE.replace("(2) T", "(3) T"));
+    ok(&["derive", &scene, "-o", s(&dir)]);
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("another snapshot"), "{err}");
+    assert!(err.contains("soundtrack.wav"), "{err}");
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+/// Two shards at the same time on two "hosts" over one folder, then the
+/// finishing step: the same manifest as one `run`.
+#[test]
+fn concurrent_shards_on_two_hosts_give_the_run_manifest() {
+    let root = temp("shards");
+    let scene = write(&root, "film.lm", SCENE);
+    let (whole, split) = (root.join("whole"), root.join("split"));
+    run(&[&scene], &whole, &[]);
+    ok(&["derive", &scene, "-o", s(&split)]);
+    // A half-written frame of another host, which must survive.
+    let theirs = split.join("frames/film.0001.png.~other-host~1~0.tmp");
+    std::fs::create_dir_all(split.join("frames")).unwrap();
+    std::fs::write(&theirs, "half").unwrap();
+    let spawn = |k: &str, host: &str| {
+        Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .args(["render", s(&split), "--preset", "preview", "--shard", k])
+            .env("LMFILM_HOST", host)
+            .output()
+    };
+    let (a, b) = std::thread::scope(|t| {
+        let a = t.spawn(|| spawn("1/2", "node-a"));
+        let b = t.spawn(|| spawn("2/2", "node-b"));
+        (a.join().unwrap().unwrap(), b.join().unwrap().unwrap())
+    });
+    assert!(a.status.success() && b.status.success());
+    assert!(theirs.exists(), "another host's temporary file was removed");
+    std::fs::remove_file(&theirs).unwrap();
+    // No shard wrote the manifest: it still lists no frame.
+    let m = std::fs::read_to_string(split.join("manifest.json")).unwrap();
+    assert!(!m.contains("frames/"), "{m}");
+    ok(&["sound", s(&split)]);
+    if lmfilm::film::mux::ffmpeg_available() {
+        ok(&["mux", s(&split)]);
+    }
+    assert_eq!(
+        read(&whole.join("manifest.json")),
+        read(&split.join("manifest.json"))
+    );
+    ok(&["verify", s(&split)]);
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn outputs_stay_in_their_folder() {
+    let root = temp("escape");
+    let inner = root.join("a/b");
+    std::fs::create_dir_all(&inner).unwrap();
+    let scene = write(
+        &inner,
+        "esc.lm",
+        &SCENE.replace(
+            "Axiom",
+            "Options\nrs_file_path_name out ../../ESCAPED\nAxiom",
+        ),
+    );
+    let err = fails(&["run", &scene, "-o", s(&inner.join("out"))], 2);
+    assert!(
+        err.contains("esc.lm:") && err.contains("../../ESCAPED"),
+        "{err}"
+    );
+    assert!(err.contains('^'), "located with a caret: {err}");
+    assert!(!inner.join("out").exists(), "nothing is written");
+    let scene = write(
+        &inner,
+        "abs.lm",
+        &SCENE.replace("Axiom", "Options\nrs_file_path_name out /tmp/ABS\nAxiom"),
+    );
+    fails(&["derive", &scene, "-o", s(&inner.join("out"))], 2);
+
+    // A derive record whose name leaves the folder is refused by render.
+    let plain = write(&inner, "plain.lm", SCENE);
+    let dir = inner.join("ok");
+    ok(&["derive", &plain, "-o", s(&dir)]);
+    let rec = dir.join("derive.json");
+    let text = std::fs::read_to_string(&rec).unwrap();
+    std::fs::write(
+        &rec,
+        text.replace("\"name\": \"plain\"", "\"name\": \"../../X\""),
+    )
+    .unwrap();
+    let err = fails(&["render", s(&dir)], 2);
+    assert!(err.contains("derive.json"), "{err}");
+    let written: Vec<_> = std::fs::read_dir(&root)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(written, [std::ffi::OsString::from("a")], "nothing outside");
+    assert!(!inner.join("X.0000.png").exists());
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+/// Every command that reads a scene refuses its scripts without consent,
+/// with the same message naming the flag.
+#[test]
+fn every_command_asks_consent_for_scripts() {
+    let root = temp("consent");
+    let scene = write(
+        &root,
+        "cmd.lm",
+        &SCENE.replace("Axiom", "Options\ncommand_file 1 touch.sh a b\nAxiom"),
+    );
+    let png = root.join("x.png");
+    let obj = root.join("x.obj");
+    let wav = root.join("x.wav");
+    let out = root.join("o");
+    let commands: [Vec<&str>; 7] = [
+        vec!["print", &scene],
+        vec!["export", &scene, "-o", s(&obj)],
+        vec!["still", &scene, "-o", s(&png)],
+        vec!["sound", &scene, "-o", s(&wav)],
+        vec!["trace", &scene],
+        vec!["derive", &scene, "-o", s(&out)],
+        vec!["run", &scene, "-o", s(&out)],
+    ];
+    for args in &commands {
+        let err = fails(args, 2);
+        assert!(err.contains("--allow-commands"), "{args:?}: {err}");
+        let mut allowed = args.clone();
+        allowed.push("--allow-commands");
+        ok(&allowed);
+    }
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+/// A scene named by its bare file name runs its scripts from its folder.
+#[cfg(unix)]
+#[test]
+fn a_bare_scene_name_finds_its_scripts() {
+    use std::os::unix::fs::PermissionsExt;
+    let root = temp("bare");
+    let script = root.join("log.sh");
+    std::fs::write(&script, "#!/bin/sh\necho \"$1\" >> calls.txt\n").unwrap();
+    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+    std::fs::write(
+        root.join("cmd.lm"),
+        "Camera_AnimationParameters\nt_final_interval 0.04 0.04\nOptions\ncommand_file 1 log.sh a b\nAxiom\nE () (1) (1) () (4) (5) (6)\n",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args(["derive", "cmd.lm", "-o", "out", "--allow-commands"])
+        .current_dir(&root)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        std::fs::read_to_string(root.join("calls.txt")).unwrap(),
+        "0\n1\n"
+    );
+    std::fs::remove_dir_all(&root).unwrap();
+}
