@@ -72,6 +72,9 @@ fn any_thread_count_and_any_shard_split_give_the_same_film() {
     ok(&["render", s(&split), "--shard", "2/2"]);
     ok(&["render", s(&split), "--shard", "1/2"]);
     ok(&["sound", s(&split)]);
+    if lmfilm::film::mux::ffmpeg_available() {
+        ok(&["mux", s(&split)]);
+    }
     assert_eq!(manifest(&one), manifest(&split));
     let m = manifest(&one);
     // The EXR master, its PNG and the frame's record.

@@ -321,6 +321,8 @@ impl Film {
             }
         }
         files.retain(|(_, p)| p.is_file());
+        let mut seen = std::collections::BTreeSet::new();
+        files.retain(|f| seen.insert(f.clone()));
         files
     }
 
