@@ -141,8 +141,10 @@ enum Command {
     /// Ray-trace a derived folder's snapshots into DIR/frames/.
     ///
     /// Shard K/N takes the frames f with f mod N = K − 1, so N processes
-    /// (on N machines) cover the film once. Finished frames are skipped.
-    /// Example:
+    /// (on N machines, at the same time, over one shared folder) cover the
+    /// film once; each frame writes its own record, and `sound DIR`
+    /// finishes the film. A frame is skipped only when its record shows
+    /// the same snapshot and settings and its files are intact. Example:
     ///
     ///     lmfilm render renders/plane --shard 1/2
     Render {
@@ -165,9 +167,11 @@ enum Command {
         #[arg(value_name = "DIR")]
         dir: PathBuf,
     },
-    /// Re-hash every file of a film folder against its manifest.json.
+    /// Check a film folder: complete, intact, made from its own inputs.
     ///
-    /// Exit code 1, and each changed or missing file named. Example:
+    /// The manifest against the records, every file's bytes, each frame
+    /// against its snapshot, the soundtrack against its log, frames not
+    /// rendered, stray files. Exit code 1, each problem named. Example:
     ///
     ///     lmfilm verify renders/lmfilm
     Verify {
