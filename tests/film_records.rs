@@ -414,3 +414,39 @@ fn a_bare_scene_name_finds_its_scripts() {
     );
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// The MP4 records its frames and soundtrack: made once, remade when a
+/// frame changes, and a damaged MP4 is named by verify.
+#[test]
+fn the_mp4_is_made_from_its_frames_and_soundtrack() {
+    if !lmfilm::film::mux::ffmpeg_available() {
+        eprintln!("ffmpeg is not installed: skipped");
+        return;
+    }
+    let root = temp("mp4");
+    let scene = write(&root, "film.lm", SCENE);
+    let dir = root.join("out");
+    let out = run(&[&scene], &dir, &[]);
+    assert!(out.contains("film.mp4 (made now)"), "{out}");
+    let record = std::fs::read_to_string(dir.join("film.mp4.json")).unwrap();
+    assert!(record.contains("\"soundtrack\": \""), "{record}");
+    let out = run(&[&scene], &dir, &[]);
+    assert!(out.contains("film.mp4 (up to date)"), "{out}");
+    let mp4 = dir.join("film.mp4");
+    let mut bytes = read(&mp4);
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0xff;
+    std::fs::write(&mp4, &bytes).unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("film.mp4"), "{err}");
+    let out = run(&[&scene], &dir, &[]);
+    assert!(out.contains("film.mp4 (made now)"), "{out}");
+    ok(&["verify", s(&dir)]);
+    // New frames: the old MP4 no longer matches them.
+    ok(&["render", s(&dir), "--spp", "2"]);
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("film.mp4: made from other frames"), "{err}");
+    ok(&["mux", s(&dir)]);
+    ok(&["verify", s(&dir)]);
+    std::fs::remove_dir_all(&root).unwrap();
+}
