@@ -24,7 +24,7 @@ use super::frames::{
 use super::manifest::{self, sha256_bytes, sha256_file, Manifest};
 use super::record::{
     self, frame_record_path, intact, mp4_paths, parse_frame_file, DeriveRecord, FileHash,
-    FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUND_RECORD,
+    FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
 use super::{mux as ffmpeg, Film};
 use crate::render::{self, output, Settings};
@@ -145,7 +145,7 @@ pub fn inputs(
 
 /// The outputs of lmfilm in a folder: what `--clean` removes.
 fn clear(dir: &Path) -> Result<(), Error> {
-    for sub in [SCENE_DIR, FRAMES_DIR] {
+    for sub in [SCENE_DIR, FRAMES_DIR, SOUNDS_DIR] {
         let path = dir.join(sub);
         if path.exists() {
             std::fs::remove_dir_all(&path).map_err(|e| io(&path, e))?;
@@ -265,6 +265,7 @@ pub fn derive(
         snapshots.push(hash);
         Ok(())
     })?;
+    let sounds = copy_sounds(film, dir)?;
     let events = sound::events::write(film.air.log());
     let events_path = dir.join(EVENTS_FILE);
     write_atomic(&events_path, events.as_bytes()).map_err(|e| io(&events_path, e))?;
@@ -279,15 +280,46 @@ pub fn derive(
         key,
         selection,
         snapshots,
+        sounds,
     };
     record::write(&record_path, &rec).map_err(|e| io(&record_path, e))?;
     prune_frames(dir, &rec)?;
     Ok((rec, true))
 }
 
-/// Whether every snapshot and the event log still hash to the record.
+/// Copies the scene's own sound files into `sounds/` (the soundtrack
+/// stage may run on another machine, without the scene's folder); a name
+/// that is not a plain relative path is left where it is.
+fn copy_sounds(film: &Film, dir: &Path) -> Result<BTreeMap<String, String>, Error> {
+    let mut copied = BTreeMap::new();
+    for (file, path) in film.sound_files() {
+        let rel = Path::new(file.as_str());
+        let plain = rel
+            .components()
+            .all(|c| matches!(c, std::path::Component::Normal(_)));
+        if !plain {
+            continue;
+        }
+        let bytes = std::fs::read(&path)
+            .map_err(|e| Error::input(format!("{}: cannot read: {e}", path.display())))?;
+        let to = dir.join(SOUNDS_DIR).join(rel);
+        let hash = sha256_bytes(&bytes);
+        if !sha256_file(&to).is_ok_and(|h| h == hash) {
+            if let Some(parent) = to.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
+            }
+            write_atomic(&to, &bytes).map_err(|e| io(&to, e))?;
+        }
+        copied.insert(key(&Path::new(SOUNDS_DIR).join(rel)), hash);
+    }
+    Ok(copied)
+}
+
+/// Whether every snapshot, the event log and the sound copies still hash
+/// to the record.
 fn derived_intact(dir: &Path, rec: &DeriveRecord) -> bool {
     intact(dir, Path::new(EVENTS_FILE), &rec.events)
+        && rec.sounds.iter().all(|(f, h)| intact(dir, Path::new(f), h))
         && rec
             .snapshots
             .iter()
@@ -538,12 +570,14 @@ pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool, Error>
             return Ok(false);
         }
     }
-    sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, None, &|_, _| {}).map_err(|e| {
-        Error {
+    let sounds = dir.join(SOUNDS_DIR);
+    let library = sounds.is_dir().then_some(sounds.as_path());
+    sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, library, &|_, _| {}).map_err(
+        |e| Error {
             code: e.exit_code(),
             message: e.to_string(),
-        }
-    })?;
+        },
+    )?;
     want.soundtrack = sha256_file(&wav).map_err(|e| io(&wav, e))?;
     record::write(&record_path, &want).map_err(|e| io(&record_path, e))?;
     Ok(true)
@@ -628,6 +662,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| io(dir, e))?;
     m.files.insert(DERIVE_RECORD.into(), derive_hash);
     m.files.insert(EVENTS_FILE.into(), rec.events.clone());
+    m.files.extend(rec.sounds.clone());
     for (k, h) in rec.snapshots.iter().enumerate() {
         m.files.insert(key(&snapshot_path(k as u64)), h.clone());
     }
@@ -713,7 +748,7 @@ pub fn list(frames: &[u64]) -> String {
 /// and temporary files.
 pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
     let mut extra = Vec::new();
-    for sub in [SCENE_DIR, FRAMES_DIR] {
+    for sub in [SCENE_DIR, FRAMES_DIR, SOUNDS_DIR] {
         let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
             continue;
         };

@@ -31,6 +31,8 @@ use crate::scene::atomic::write_atomic;
 pub const DERIVE_RECORD: &str = "derive.json";
 /// The soundtrack's record, at the folder's root.
 pub const SOUND_RECORD: &str = "soundtrack.json";
+/// The folder of the scene's own sound files, inside the output folder.
+pub const SOUNDS_DIR: &str = "sounds";
 /// Largest record read (a derive record of a long film is the biggest:
 /// ~70 bytes a frame).
 const MAX_RECORD: u64 = 256 << 20;
@@ -104,6 +106,10 @@ pub struct DeriveRecord {
     pub selection: Vec<String>,
     /// sha256 of `scene/NNNN.snap`, frame by frame.
     pub snapshots: Vec<String>,
+    /// The scene's own sound files, copied into `sounds/` so that the
+    /// soundtrack can be rendered wherever the folder is: their paths
+    /// in the folder and sha256.
+    pub sounds: BTreeMap<String, String>,
 }
 
 impl DeriveRecord {

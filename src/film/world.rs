@@ -310,17 +310,27 @@ impl Film {
                 files.extend(libs.into_iter().map(|l| (l.clone(), obj_dir.join(l))));
             }
         }
-        for (_, file) in scene_library(&self.anim).iter() {
-            if let Some(p) = library::resolve(file, &self.search) {
-                files.push((file.to_string(), p));
-            }
-        }
+        files.extend(self.sound_files());
         if let Some((scripts, dir)) = &self.scripts {
             for (_, script, _, _) in scripts {
                 files.push((script.clone(), dir.join(script)));
             }
         }
         files.retain(|(_, p)| p.is_file());
+        let mut seen = std::collections::BTreeSet::new();
+        files.retain(|f| seen.insert(f.clone()));
+        files
+    }
+
+    /// The sound files found on disk for the scene's sound numbers (its
+    /// own folder's, or a `sound_file`'s), as the log's `PLAY` lines name
+    /// them and where they are; the built-in library's are part of the
+    /// program.
+    pub fn sound_files(&self) -> Vec<(String, PathBuf)> {
+        let mut files: Vec<(String, PathBuf)> = scene_library(&self.anim)
+            .iter()
+            .filter_map(|(_, file)| Some((file.to_string(), library::resolve(file, &self.search)?)))
+            .collect();
         let mut seen = std::collections::BTreeSet::new();
         files.retain(|f| seen.insert(f.clone()));
         files
