@@ -213,12 +213,26 @@ enum Command {
         #[arg(long, value_enum, default_value_t = AttenuationArg::Inverse)]
         attenuation: AttenuationArg,
         /// A folder of sound files, searched after the events file's folder
-        /// and before scenes/sounds/.
+        /// and before the sound library built into lmfilm.
         #[arg(long, value_name = "DIR")]
         library: Option<PathBuf>,
         /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
         #[arg(long)]
         float: bool,
+        /// Normalise the soundtrack to this integrated loudness in LUFS
+        /// (ITU-R BS.1770-4, -70..0), keeping its true peak at or below
+        /// -1 dBTP, with 5 ms fades at both ends.
+        #[arg(
+            long,
+            value_name = "LUFS",
+            default_value_t = sound::loudness::DEFAULT_TARGET,
+            allow_negative_numbers = true
+        )]
+        loudness: f64,
+        /// Keep the renderer's raw levels: no loudness normalisation and
+        /// no fades.
+        #[arg(long, conflicts_with = "loudness")]
+        no_normalize: bool,
     },
 }
 
@@ -424,9 +438,13 @@ fn sound(
     attenuation: AttenuationArg,
     library: Option<&Path>,
     float: bool,
+    loudness: Option<f64>,
 ) -> Result<(), (u8, String)> {
     if !(1..=768_000).contains(&rate) {
         return Err((2, format!("--rate must be 1..768000 Hz, got {rate}")));
+    }
+    if let Some(target) = loudness {
+        sound::loudness::check_target(target).map_err(|e| (2, format!("--loudness: {e}")))?;
     }
     if !(speed_of_sound.is_finite() && speed_of_sound > 0.0) {
         return Err((
@@ -447,6 +465,7 @@ fn sound(
         } else {
             SampleFormat::Pcm16
         },
+        loudness,
     };
     if events.is_dir() && output.is_none() && events.join("manifest.json").exists() {
         return film_commands::sound_dir(events, &settings);
@@ -467,6 +486,15 @@ fn sound(
         eprint!("\r\x1b[K");
     }
     let report = report.map_err(|e| (e.exit_code(), e.to_string()))?;
+    match report.loudness {
+        Some(n) => {
+            eprintln!("{}: {}", output.display(), n.summary());
+            if let Some(w) = n.warning() {
+                eprintln!("warning: {}: {w}", output.display());
+            }
+        }
+        None => eprintln!("{}", output.display()),
+    }
     if report.clipped > 0 {
         eprintln!(
             "warning: {}: {} samples beyond full scale were clipped; try --float or --attenuation inverse",
@@ -545,6 +573,8 @@ fn main() -> ExitCode {
             attenuation,
             library,
             float,
+            loudness,
+            no_normalize,
         } => sound(
             &events,
             output.as_deref(),
@@ -553,6 +583,7 @@ fn main() -> ExitCode {
             attenuation,
             library.as_deref(),
             float,
+            (!no_normalize).then_some(loudness),
         ),
     };
     match result {

@@ -87,6 +87,16 @@ pub fn decode(reader: impl Read) -> Result<Signal, String> {
     })
 }
 
+/// The length in seconds of WAV bytes, from the header alone.
+pub fn duration(reader: impl Read) -> Result<f64, String> {
+    let reader = hound::WavReader::new(reader).map_err(|e| format!("not a WAV file: {e}"))?;
+    let rate = reader.spec().sample_rate;
+    if rate == 0 {
+        return Err("the WAV header has no sample rate".into());
+    }
+    Ok(f64::from(reader.duration()) / f64::from(rate))
+}
+
 /// How the soundtrack's samples are stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SampleFormat {
