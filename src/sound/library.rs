@@ -173,6 +173,7 @@ const EMBEDDED: &[(&str, &[u8])] = embed![
     "turn_right.wav",
     "turn_up.wav",
     "two.wav",
+    "vivaldi.wav",
     "wait02.wav",
 ];
 
