@@ -393,6 +393,37 @@ mod tests {
         assert!(close(&s2.a, &[-1.99004745483398, 0.99007225036621]));
     }
 
+    /// |H| in dB of the two stages at `f` Hz.
+    fn response(stages: &[Biquad; 2], f: f64, rate: u32) -> f64 {
+        let w = 2.0 * PI * f / f64::from(rate);
+        let (c1, s1, c2, s2) = (w.cos(), w.sin(), (2.0 * w).cos(), (2.0 * w).sin());
+        let gain = |b: [f64; 3], a: [f64; 3]| {
+            let num = (b[0] + b[1] * c1 + b[2] * c2).hypot(b[1] * s1 + b[2] * s2);
+            let den = (a[0] + a[1] * c1 + a[2] * c2).hypot(a[1] * s1 + a[2] * s2);
+            num / den
+        };
+        stages
+            .iter()
+            .map(|s| 20.0 * gain(s.b, [1.0, s.a[0], s.a[1]]).log10())
+            .sum()
+    }
+
+    #[test]
+    fn k_weighting_has_the_same_response_at_every_rate() {
+        let reference = k_weighting(48_000);
+        for rate in [32_000, 44_100, 88_200, 96_000, 192_000] {
+            let k = k_weighting(rate);
+            for f in [20.0, 50.0, 100.0, 500.0, 1000.0, 2000.0, 5000.0, 10_000.0] {
+                let (a, b) = (response(&k, f, rate), response(&reference, f, 48_000));
+                assert!((a - b).abs() < 0.05, "{rate} Hz at {f} Hz: {a} vs {b} dB");
+            }
+        }
+        // About +4 dB high up; +0.691 dB at 997 Hz, which the -0.691 of
+        // the loudness formula takes back.
+        assert!((response(&reference, 10_000.0, 48_000) - 4.0).abs() < 0.3);
+        assert!((response(&reference, 997.0, 48_000) + OFFSET).abs() < 0.01);
+    }
+
     #[test]
     fn a_full_scale_997_hz_sine_in_one_channel_reads_minus_3_01_lufs() {
         for rate in [44_100, 48_000, 96_000] {
