@@ -202,38 +202,81 @@ enum Command {
         /// for a scene, renders/<name>/soundtrack.wav).
         #[arg(short, long, value_name = "OUT.wav")]
         output: Option<PathBuf>,
-        /// Sample rate in Hz.
-        #[arg(long, default_value_t = 48_000)]
-        rate: u32,
-        /// Speed of sound in m/s.
-        #[arg(long, default_value_t = 343.0)]
-        speed_of_sound: f64,
-        /// `inverse`: 1/max(d, 1 m); `thesis`: (1/(1 + d))² (eq. 2.4.1);
-        /// `none`: delay and Doppler only.
-        #[arg(long, value_enum, default_value_t = AttenuationArg::Inverse)]
-        attenuation: AttenuationArg,
         /// A folder of sound files, searched after the events file's folder
         /// and before the sound library built into lmfilm.
         #[arg(long, value_name = "DIR")]
         library: Option<PathBuf>,
-        /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
-        #[arg(long)]
-        float: bool,
-        /// Normalise the soundtrack to this integrated loudness in LUFS
-        /// (ITU-R BS.1770-4, -70..0), keeping its true peak at or below
-        /// -1 dBTP, with 5 ms fades at both ends.
-        #[arg(
-            long,
-            value_name = "LUFS",
-            default_value_t = sound::loudness::DEFAULT_TARGET,
-            allow_negative_numbers = true
-        )]
-        loudness: f64,
-        /// Keep the renderer's raw levels: no loudness normalisation and
-        /// no fades.
-        #[arg(long, conflicts_with = "loudness")]
-        no_normalize: bool,
+        #[command(flatten)]
+        settings: SoundArgs,
     },
+}
+
+/// How `lmfilm sound` renders: the fields of `sound::Settings`.
+#[derive(clap::Args)]
+struct SoundArgs {
+    /// Sample rate in Hz.
+    #[arg(long, default_value_t = 48_000)]
+    rate: u32,
+    /// Speed of sound in m/s.
+    #[arg(long, default_value_t = 343.0)]
+    speed_of_sound: f64,
+    /// `inverse`: 1/max(d, 1 m); `thesis`: (1/(1 + d))² (eq. 2.4.1);
+    /// `none`: delay and Doppler only.
+    #[arg(long, value_enum, default_value_t = AttenuationArg::Inverse)]
+    attenuation: AttenuationArg,
+    /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
+    #[arg(long)]
+    float: bool,
+    /// Normalise the soundtrack to this integrated loudness in LUFS
+    /// (ITU-R BS.1770-4, -70..0), keeping its true peak at or below
+    /// -1 dBTP, with 5 ms fades at both ends.
+    #[arg(
+        long,
+        value_name = "LUFS",
+        default_value_t = sound::loudness::DEFAULT_TARGET,
+        allow_negative_numbers = true
+    )]
+    loudness: f64,
+    /// Keep the renderer's raw levels: no loudness normalisation and
+    /// no fades.
+    #[arg(long, conflicts_with = "loudness")]
+    no_normalize: bool,
+}
+
+impl SoundArgs {
+    /// The renderer's settings, each option checked (exit 2 naming it).
+    fn settings(&self) -> Result<sound::Settings, (u8, String)> {
+        let rate = self.rate;
+        if !(1..=768_000).contains(&rate) {
+            return Err((2, format!("--rate must be 1..768000 Hz, got {rate}")));
+        }
+        let speed_of_sound = self.speed_of_sound;
+        if !(speed_of_sound.is_finite() && speed_of_sound > 0.0) {
+            return Err((
+                2,
+                format!("--speed-of-sound must be > 0 m/s, got {speed_of_sound}"),
+            ));
+        }
+        let loudness = (!self.no_normalize).then_some(self.loudness);
+        if let Some(target) = loudness {
+            sound::loudness::check_target(target).map_err(|e| (2, format!("--loudness: {e}")))?;
+        }
+        Ok(sound::Settings {
+            rate,
+            speed_of_sound,
+            attenuation: match self.attenuation {
+                AttenuationArg::Inverse => Attenuation::Inverse,
+                AttenuationArg::Thesis => Attenuation::Thesis,
+                AttenuationArg::None => Attenuation::None,
+            },
+            format: if self.float {
+                SampleFormat::Float32
+            } else {
+                SampleFormat::Pcm16
+            },
+            loudness,
+        })
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -433,40 +476,10 @@ fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf
 fn sound(
     events: &Path,
     output: Option<&Path>,
-    rate: u32,
-    speed_of_sound: f64,
-    attenuation: AttenuationArg,
     library: Option<&Path>,
-    float: bool,
-    loudness: Option<f64>,
+    args: &SoundArgs,
 ) -> Result<(), (u8, String)> {
-    if !(1..=768_000).contains(&rate) {
-        return Err((2, format!("--rate must be 1..768000 Hz, got {rate}")));
-    }
-    if let Some(target) = loudness {
-        sound::loudness::check_target(target).map_err(|e| (2, format!("--loudness: {e}")))?;
-    }
-    if !(speed_of_sound.is_finite() && speed_of_sound > 0.0) {
-        return Err((
-            2,
-            format!("--speed-of-sound must be > 0 m/s, got {speed_of_sound}"),
-        ));
-    }
-    let settings = sound::Settings {
-        rate,
-        speed_of_sound,
-        attenuation: match attenuation {
-            AttenuationArg::Inverse => Attenuation::Inverse,
-            AttenuationArg::Thesis => Attenuation::Thesis,
-            AttenuationArg::None => Attenuation::None,
-        },
-        format: if float {
-            SampleFormat::Float32
-        } else {
-            SampleFormat::Pcm16
-        },
-        loudness,
-    };
+    let settings = args.settings()?;
     if events.is_dir() && output.is_none() && events.join("manifest.json").exists() {
         return film_commands::sound_dir(events, &settings);
     }
@@ -568,23 +581,9 @@ fn main() -> ExitCode {
         Command::Sound {
             events,
             output,
-            rate,
-            speed_of_sound,
-            attenuation,
             library,
-            float,
-            loudness,
-            no_normalize,
-        } => sound(
-            &events,
-            output.as_deref(),
-            rate,
-            speed_of_sound,
-            attenuation,
-            library.as_deref(),
-            float,
-            (!no_normalize).then_some(loudness),
-        ),
+            settings,
+        } => sound(&events, output.as_deref(), library.as_deref(), &settings),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

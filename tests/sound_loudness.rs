@@ -118,7 +118,11 @@ fn true_peak(channels: &[Vec<f64>]) -> f64 {
             (-HALF + 1..=HALF)
                 .map(|k| {
                     let t = k as f64 - frac;
-                    let sinc = if t == 0.0 { 1.0 } else { (PI * t).sin() / (PI * t) };
+                    let sinc = if t == 0.0 {
+                        1.0
+                    } else {
+                        (PI * t).sin() / (PI * t)
+                    };
                     let w = 0.5 + 0.5 * (PI * t / (HALF as f64 + 1.0)).cos();
                     sinc * w
                 })
@@ -171,7 +175,12 @@ fn the_flyby_log_is_normalised_to_minus_16_lufs_with_fades() {
     let dir = fresh_dir("loudness", "flyby");
     let wav = dir.join("flyby.wav");
     let events = repo("scenes/examples/flyby.events");
-    let args = ["sound", events.to_str().unwrap(), "-o", wav.to_str().unwrap()];
+    let args = [
+        "sound",
+        events.to_str().unwrap(),
+        "-o",
+        wav.to_str().unwrap(),
+    ];
     let (code, err) = lmfilm_in(&dir, &args, "1");
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("flyby.wav: ") && err.contains("dBTP"), "{err}");
@@ -198,7 +207,12 @@ fn scenes_are_normalised_and_a_target_can_be_chosen() {
     ] {
         let wav = dir.join(format!("{}.wav", target.unwrap_or("default")));
         let scene = repo(scene);
-        let mut args = vec!["sound", scene.to_str().unwrap(), "-o", wav.to_str().unwrap()];
+        let mut args = vec![
+            "sound",
+            scene.to_str().unwrap(),
+            "-o",
+            wav.to_str().unwrap(),
+        ];
         if let Some(t) = target {
             args.extend(["--loudness", t]);
         }
@@ -337,6 +351,9 @@ fn library_sounds_play_with_no_source_tree_at_hand() {
         "2",
     );
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("frog.wav") && err.contains("not a WAV"), "{err}");
+    assert!(
+        err.contains("frog.wav") && err.contains("not a WAV"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

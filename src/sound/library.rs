@@ -291,7 +291,9 @@ impl Sounds {
                     ),
                 });
             };
-            let signal = found.read().map_err(|message| SoundError { play, message })?;
+            let signal = found
+                .read()
+                .map_err(|message| SoundError { play, message })?;
             sounds.signals.insert(file.clone(), signal);
         }
         Ok(sounds)
@@ -335,7 +337,7 @@ mod tests {
         let found = resolve("frog.wav", std::slice::from_ref(&dir));
         assert_eq!(found, Some(Found::File(dir.join("frog.wav"))));
         assert!(found.unwrap().read().is_err());
-        assert!(resolve("no_such_sound.wav", &[dir.clone()]).is_none());
+        assert!(resolve("no_such_sound.wav", std::slice::from_ref(&dir)).is_none());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

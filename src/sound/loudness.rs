@@ -357,10 +357,15 @@ pub fn true_peak(channels: &[Vec<f32>]) -> f64 {
                 .chain(ch.iter().map(|&v| f64::from(v)))
                 .chain(pad)
                 .collect();
+            // The taps reversed, to run along the window in order.
+            let phases = TRUE_PEAK_PHASES.map(|mut h| {
+                h.reverse();
+                h
+            });
             let mut peak = ch.iter().fold(0.0f64, |m, &v| m.max(f64::from(v).abs()));
             for w in x.windows(12) {
-                for h in &TRUE_PEAK_PHASES {
-                    let y: f64 = h.iter().zip(w.iter().rev()).map(|(h, x)| h * x).sum();
+                for h in &phases {
+                    let y: f64 = h.iter().zip(w).map(|(h, x)| h * x).sum();
                     peak = peak.max(y.abs());
                 }
             }
@@ -478,7 +483,7 @@ mod tests {
             .map(|i| (PI / 2.0 * i as f64 + PI / 4.0).sin() as f32)
             .collect();
         let sample_peak = x.iter().fold(0.0f32, |m, v| m.max(v.abs()));
-        assert!((sample_peak - 0.7071).abs() < 1e-3);
+        assert!((sample_peak - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3);
         let tp = true_peak(&[x]);
         assert!((tp - 1.0).abs() < 0.05, "{tp}");
     }
