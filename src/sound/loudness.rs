@@ -276,14 +276,22 @@ fn k_weighting(rate: u32) -> [Biquad; 2] {
     [shelf, high_pass]
 }
 
-/// Sums of the K-weighted squared samples over consecutive 100 ms steps
-/// (complete steps only), and the step length; a track shorter than one
-/// 400 ms block gives one sum over all its samples.
-fn step_energies(x: &[f32], rate: u32) -> (Vec<f64>, usize) {
-    let [s1, s2] = k_weighting(rate);
+/// The length in samples of the 100 ms steps blocks are made of, for
+/// channels of up to `len` samples: a track shorter than one 400 ms block
+/// is one step (and one block) of its whole length.
+fn step_length(len: usize, rate: u32) -> usize {
     let step = ((f64::from(rate) / 10.0).round() as usize).max(1);
-    let short = x.len() < 4 * step;
-    let step = if short { x.len().max(1) } else { step };
+    if len < 4 * step {
+        len.max(1)
+    } else {
+        step
+    }
+}
+
+/// Sums of the K-weighted squared samples over consecutive steps of
+/// `step` samples (complete steps only).
+fn step_energies(x: &[f32], rate: u32, step: usize) -> Vec<f64> {
+    let [s1, s2] = k_weighting(rate);
     let mut sums = Vec::with_capacity(x.len() / step + 1);
     let (mut w1, mut w2) = ([0.0f64; 2], [0.0f64; 2]);
     let mut acc = 0.0;
@@ -303,27 +311,32 @@ fn step_energies(x: &[f32], rate: u32) -> (Vec<f64>, usize) {
             filled = 0;
         }
     }
-    (sums, step)
+    sums
 }
 
 /// Integrated loudness of the channels in LUFS (every channel weighted
 /// 1.0: microphones are not a loudspeaker layout, so there is no surround
 /// or LFE channel to weight otherwise); `None` when no 400 ms block is
-/// above the absolute gate.
+/// above the absolute gate. A channel shorter than the others is silent
+/// after its end.
 pub fn integrated(channels: &[Vec<f32>], rate: u32) -> Option<f64> {
-    let per_channel: Vec<(Vec<f64>, usize)> = channels
+    let len = channels.iter().map(Vec::len).max()?;
+    let step = step_length(len, rate);
+    let per_channel: Vec<Vec<f64>> = channels
         .par_iter()
-        .map(|ch| step_energies(ch, rate))
+        .map(|ch| step_energies(ch, rate, step))
         .collect();
-    let (first, step) = per_channel.first()?;
     // Mean squares of each block, summed over channels in order.
-    let steps_per_block = if first.len() == 1 { 1 } else { 4 };
-    let blocks = (first.len() + 1).saturating_sub(steps_per_block);
+    let steps_per_block = if len < 4 * step { 1 } else { 4 };
+    let blocks = (len / step + 1).saturating_sub(steps_per_block);
     let power: Vec<f64> = (0..blocks)
         .map(|j| {
             per_channel
                 .iter()
-                .map(|(sums, _)| sums[j..j + steps_per_block].iter().sum::<f64>())
+                .map(|sums| {
+                    sums.get(j..j + steps_per_block)
+                        .map_or(0.0, |s| s.iter().sum())
+                })
                 .sum::<f64>()
                 / (steps_per_block * step) as f64
         })
@@ -447,6 +460,9 @@ mod tests {
         assert_eq!(integrated(&[sine(997.0, 1e-4, 2.0, 48_000)], 48_000), None);
         assert_eq!(integrated(&[Vec::new()], 48_000), None);
         assert_eq!(integrated(&[], 48_000), None);
+        // Channels of unequal lengths (not from the renderer) are fine too.
+        let l = integrated(&[sine(997.0, 1.0, 2.0, 48_000), Vec::new()], 48_000);
+        assert!((l.unwrap() + 3.01).abs() < 0.05);
         let mut silent = vec![vec![0.0f32; 1000]];
         let n = normalize(&mut silent, 48_000, DEFAULT_TARGET);
         assert_eq!((n.measured, n.gain, n.limited), (None, 0.0, false));
