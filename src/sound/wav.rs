@@ -167,13 +167,15 @@ mod tests {
     #[test]
     fn sixteen_bits_round_to_the_nearest_step_and_clamp_at_full_scale() {
         let x = vec![0.0, 0.25, -0.25, 0.6 / 32767.0, 1.0, -1.0, 1.5, -3.0];
-        let (bytes, clipped) = encode(&[x.clone()], 48_000, SampleFormat::Pcm16).unwrap();
+        let (bytes, clipped) =
+            encode(std::slice::from_ref(&x), 48_000, SampleFormat::Pcm16).unwrap();
         assert_eq!(clipped, 2);
         let r = hound::WavReader::new(Cursor::new(bytes)).unwrap();
         let got: Vec<i16> = r.into_samples::<i16>().map(Result::unwrap).collect();
         assert_eq!(got, [0, 8192, -8192, 1, 32767, -32767, 32767, -32767]);
         // Float keeps every value as it is.
-        let (bytes, clipped) = encode(&[x.clone()], 48_000, SampleFormat::Float32).unwrap();
+        let (bytes, clipped) =
+            encode(std::slice::from_ref(&x), 48_000, SampleFormat::Float32).unwrap();
         assert_eq!(clipped, 0);
         let r = hound::WavReader::new(Cursor::new(bytes)).unwrap();
         let got: Vec<f32> = r.into_samples::<f32>().map(Result::unwrap).collect();
