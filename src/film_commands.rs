@@ -13,7 +13,7 @@ use lmfilm::film::job::{self, Formats, SceneText, SOUNDTRACK_FILE};
 use lmfilm::film::{manifest, mux, verify, Film};
 use lmfilm::lsys::Source;
 use lmfilm::render::Settings;
-use lmfilm::sound;
+use lmfilm::sound::{self, Attenuation, SampleFormat};
 use lmfilm::turtle::Options;
 
 /// The built-in film (`lmfilm run` with no scene): its three files.
@@ -92,6 +92,81 @@ pub enum FormatArg {
     Png,
     Exr,
     Both,
+}
+
+/// How `lmfilm sound` and `run` render the soundtrack: the fields of `sound::Settings`.
+#[derive(clap::Args)]
+pub struct SoundArgs {
+    /// Sample rate in Hz.
+    #[arg(long, default_value_t = 48_000)]
+    rate: u32,
+    /// Speed of sound in m/s.
+    #[arg(long, default_value_t = 343.0)]
+    speed_of_sound: f64,
+    /// `inverse`: 1/max(d, 1 m); `thesis`: (1/(1 + d))² (eq. 2.4.1);
+    /// `none`: delay and Doppler only.
+    #[arg(long, value_enum, default_value_t = AttenuationArg::Inverse)]
+    attenuation: AttenuationArg,
+    /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
+    #[arg(long)]
+    float: bool,
+    /// Normalise the soundtrack to this integrated loudness in LUFS
+    /// (ITU-R BS.1770-4, -70..0), keeping its true peak at or below
+    /// -1 dBTP, with 5 ms fades at both ends.
+    #[arg(
+        long,
+        value_name = "LUFS",
+        default_value_t = sound::loudness::DEFAULT_TARGET,
+        allow_negative_numbers = true
+    )]
+    loudness: f64,
+    /// Keep the renderer's raw levels: no loudness normalisation and
+    /// no fades.
+    #[arg(long, conflicts_with = "loudness")]
+    no_normalize: bool,
+}
+
+impl SoundArgs {
+    /// The renderer's settings, each option checked (exit 2 naming it).
+    pub fn settings(&self) -> Result<sound::Settings, Failure> {
+        let rate = self.rate;
+        if !(1..=768_000).contains(&rate) {
+            return Err((2, format!("--rate must be 1..768000 Hz, got {rate}")));
+        }
+        let speed_of_sound = self.speed_of_sound;
+        if !(speed_of_sound.is_finite() && speed_of_sound > 0.0) {
+            return Err((
+                2,
+                format!("--speed-of-sound must be > 0 m/s, got {speed_of_sound}"),
+            ));
+        }
+        let loudness = (!self.no_normalize).then_some(self.loudness);
+        if let Some(target) = loudness {
+            sound::loudness::check_target(target).map_err(|e| (2, format!("--loudness: {e}")))?;
+        }
+        Ok(sound::Settings {
+            rate,
+            speed_of_sound,
+            attenuation: match self.attenuation {
+                AttenuationArg::Inverse => Attenuation::Inverse,
+                AttenuationArg::Thesis => Attenuation::Thesis,
+                AttenuationArg::None => Attenuation::None,
+            },
+            format: if self.float {
+                SampleFormat::Float32
+            } else {
+                SampleFormat::Pcm16
+            },
+            loudness,
+        })
+    }
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum AttenuationArg {
+    Inverse,
+    Thesis,
+    None,
 }
 
 /// The preset's settings at `w` × `h`, with `--spp` if given (`still`,
@@ -331,16 +406,17 @@ fn render_into(dir: &Path, args: &RenderArgs, shard: Shard) -> Result<(u64, u64)
 pub fn run(
     scenes: &[PathBuf],
     out: Option<&Path>,
-    args: &RenderArgs,
+    (args, sound_args): (&RenderArgs, &SoundArgs),
     allow: bool,
     clean: bool,
 ) -> Result<(), Failure> {
     args.threads()?;
+    let sound_settings = sound_args.settings()?;
     let (mut film, texts, name) = load(scenes, allow)?;
     let dir = output_dir(out, &film, &name);
     let derived = derive_into(&mut film, &texts, &name, &dir, clean, allow)?;
     let (rendered, selected) = render_into(&dir, args, Shard::all())?;
-    let sounded = job::soundtrack(&dir, &sound::Settings::default()).map_err(fail)?;
+    let sounded = soundtrack(&dir, &sound_settings)?;
     let mp4 = if mux::ffmpeg_available() {
         Some(job::mux(&dir).map_err(fail)?)
     } else {
@@ -441,10 +517,23 @@ pub fn verify(dir: &Path) -> Result<(), Failure> {
     ))
 }
 
+/// The folder's soundtrack (unless up to date), saying what loudness
+/// normalisation did.
+fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool, Failure> {
+    let report = job::soundtrack(dir, settings).map_err(fail)?;
+    if let Some(n) = report.as_ref().and_then(|r| r.loudness.as_ref()) {
+        eprintln!("{}: {}", dir.join(SOUNDTRACK_FILE).display(), n.summary());
+        if let Some(w) = n.warning() {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(report.is_some())
+}
+
 /// `lmfilm sound DIR` on a film folder: the soundtrack, then the manifest
 /// (the stage that finishes a film rendered in shards).
 pub fn sound_dir(dir: &Path, settings: &sound::Settings) -> Result<(), Failure> {
-    let made = job::soundtrack(dir, settings).map_err(fail)?;
+    let made = soundtrack(dir, settings)?;
     job::finish(dir).map_err(fail)?;
     println!(
         "{}{}, {}",

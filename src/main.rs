@@ -8,14 +8,14 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 mod film_commands;
 
-use film_commands::{PresetArg, RenderArgs};
+use film_commands::{PresetArg, RenderArgs, SoundArgs};
 use lmfilm::film::frames::{FrameRange, Shard};
 use lmfilm::film::{job, record, Film};
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::render::{self, Filter};
 use lmfilm::scene::obj;
 use lmfilm::scene::Scene;
-use lmfilm::sound::{self, Attenuation, SampleFormat};
+use lmfilm::sound;
 use lmfilm::turtle::Options;
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.
@@ -109,6 +109,8 @@ enum Command {
         output: Option<PathBuf>,
         #[command(flatten)]
         render: RenderArgs,
+        #[command(flatten)]
+        sound: SoundArgs,
         /// Let the scene run its `command_file` scripts.
         #[arg(long)]
         allow_commands: bool,
@@ -217,34 +219,16 @@ enum Command {
         /// for a scene, renders/<name>/soundtrack.wav).
         #[arg(short, long, value_name = "OUT.wav")]
         output: Option<PathBuf>,
-        /// Sample rate in Hz.
-        #[arg(long, default_value_t = 48_000)]
-        rate: u32,
-        /// Speed of sound in m/s.
-        #[arg(long, default_value_t = 343.0)]
-        speed_of_sound: f64,
-        /// `inverse`: 1/max(d, 1 m); `thesis`: (1/(1 + d))² (eq. 2.4.1);
-        /// `none`: delay and Doppler only.
-        #[arg(long, value_enum, default_value_t = AttenuationArg::Inverse)]
-        attenuation: AttenuationArg,
         /// A folder of sound files, searched after the events file's folder
-        /// and before scenes/sounds/.
+        /// and before the sound library built into lmfilm.
         #[arg(long, value_name = "DIR")]
         library: Option<PathBuf>,
-        /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
-        #[arg(long)]
-        float: bool,
+        #[command(flatten)]
+        settings: SoundArgs,
         /// Let a scene SCENE.lm run its `command_file` scripts.
         #[arg(long)]
         allow_commands: bool,
     },
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum AttenuationArg {
-    Inverse,
-    Thesis,
-    None,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -445,35 +429,10 @@ fn scene_events(
 fn sound(
     events: &Path,
     output: Option<&Path>,
-    rate: u32,
-    speed_of_sound: f64,
-    attenuation: AttenuationArg,
     library: Option<&Path>,
-    (float, allow_commands): (bool, bool),
+    (args, allow_commands): (&SoundArgs, bool),
 ) -> Result<(), (u8, String)> {
-    if !(1..=768_000).contains(&rate) {
-        return Err((2, format!("--rate must be 1..768000 Hz, got {rate}")));
-    }
-    if !(speed_of_sound.is_finite() && speed_of_sound > 0.0) {
-        return Err((
-            2,
-            format!("--speed-of-sound must be > 0 m/s, got {speed_of_sound}"),
-        ));
-    }
-    let settings = sound::Settings {
-        rate,
-        speed_of_sound,
-        attenuation: match attenuation {
-            AttenuationArg::Inverse => Attenuation::Inverse,
-            AttenuationArg::Thesis => Attenuation::Thesis,
-            AttenuationArg::None => Attenuation::None,
-        },
-        format: if float {
-            SampleFormat::Float32
-        } else {
-            SampleFormat::Pcm16
-        },
-    };
+    let settings = args.settings()?;
     if events.is_dir() && output.is_none() && events.join(record::DERIVE_RECORD).exists() {
         return film_commands::sound_dir(events, &settings);
     }
@@ -493,6 +452,15 @@ fn sound(
         eprint!("\r\x1b[K");
     }
     let report = report.map_err(|e| (e.exit_code(), e.to_string()))?;
+    match report.loudness {
+        Some(n) => {
+            eprintln!("{}: {}", output.display(), n.summary());
+            if let Some(w) = n.warning() {
+                eprintln!("warning: {}: {w}", output.display());
+            }
+        }
+        None => eprintln!("{}", output.display()),
+    }
     if report.clipped > 0 {
         eprintln!(
             "warning: {}: {} samples beyond full scale were clipped; try --float or --attenuation inverse",
@@ -552,9 +520,16 @@ fn main() -> ExitCode {
             scenes,
             output,
             render,
+            sound,
             allow_commands,
             clean,
-        } => film_commands::run(&scenes, output.as_deref(), &render, allow_commands, clean),
+        } => film_commands::run(
+            &scenes,
+            output.as_deref(),
+            (&render, &sound),
+            allow_commands,
+            clean,
+        ),
         Command::Derive {
             scenes,
             output,
@@ -572,20 +547,14 @@ fn main() -> ExitCode {
         Command::Sound {
             events,
             output,
-            rate,
-            speed_of_sound,
-            attenuation,
             library,
-            float,
+            settings,
             allow_commands,
         } => sound(
             &events,
             output.as_deref(),
-            rate,
-            speed_of_sound,
-            attenuation,
             library.as_deref(),
-            (float, allow_commands),
+            (&settings, allow_commands),
         ),
     };
     match result {

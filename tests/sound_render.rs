@@ -58,9 +58,11 @@ fn sounds(list: &[(&str, Signal)]) -> Sounds {
     s
 }
 
+/// The raw mix (no loudness normalisation): these tests check the physics.
 fn run(log: &EventLog, sounds: &Sounds, attenuation: Attenuation) -> Soundtrack {
     let settings = Settings {
         attenuation,
+        loudness: None,
         ..Settings::default()
     };
     render(log, sounds, &settings).unwrap_or_else(|e| panic!("{e}"))
@@ -493,6 +495,7 @@ fn cli_resamples_stereo_files_and_writes_float() {
             "-o",
             out.to_str().unwrap(),
             "--float",
+            "--no-normalize",
             "--attenuation",
             "none",
             "--library",

@@ -535,6 +535,12 @@ fn sound_record(settings: &sound::Settings) -> BTreeMap<String, String> {
         ("speed_of_sound", settings.speed_of_sound.to_string()),
         ("attenuation", format!("{:?}", settings.attenuation)),
         ("format", format!("{:?}", settings.format)),
+        (
+            "loudness",
+            settings
+                .loudness
+                .map_or("off".into(), |l| format!("{l} LUFS")),
+        ),
     ]
     .into_iter()
     .map(|(k, v)| (k.to_string(), v))
@@ -543,8 +549,8 @@ fn sound_record(settings: &sound::Settings) -> BTreeMap<String, String> {
 
 /// Renders the folder's sound event log into its soundtrack, unless the
 /// soundtrack's record shows the same log and options and its bytes are
-/// intact. Returns whether it rendered.
-pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool, Error> {
+/// intact. Returns the renderer's report when it rendered.
+pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<Option<sound::Report>, Error> {
     let rec = open(dir)?;
     if !intact(dir, Path::new(EVENTS_FILE), &rec.events) {
         return Err(Error::input(format!(
@@ -567,20 +573,19 @@ pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool, Error>
             ..want.clone()
         };
         if old == same && intact(dir, Path::new(SOUNDTRACK_FILE), &old.soundtrack) {
-            return Ok(false);
+            return Ok(None);
         }
     }
     let sounds = dir.join(SOUNDS_DIR);
     let library = sounds.is_dir().then_some(sounds.as_path());
-    sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, library, &|_, _| {}).map_err(
-        |e| Error {
+    let report = sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, library, &|_, _| {})
+        .map_err(|e| Error {
             code: e.exit_code(),
             message: e.to_string(),
-        },
-    )?;
+        })?;
     want.soundtrack = sha256_file(&wav).map_err(|e| io(&wav, e))?;
     record::write(&record_path, &want).map_err(|e| io(&record_path, e))?;
-    Ok(true)
+    Ok(Some(report))
 }
 
 /// The PNG frames an MP4 is made of, as one hash over their names and

@@ -253,7 +253,7 @@ fn scene_library(anim: &Animation) -> Library {
 
 impl Film {
     /// Loads the scene files; sound files are looked up in the first
-    /// file's folder, then `scenes/sounds/`.
+    /// file's folder, then the library built into lmfilm.
     pub fn load<P: AsRef<Path>>(paths: &[P], opts: Options) -> Result<Film, String> {
         let mut sources = Vec::new();
         for p in paths {
@@ -329,7 +329,10 @@ impl Film {
     pub fn sound_files(&self) -> Vec<(String, PathBuf)> {
         let mut files: Vec<(String, PathBuf)> = scene_library(&self.anim)
             .iter()
-            .filter_map(|(_, file)| Some((file.to_string(), library::resolve(file, &self.search)?)))
+            .filter_map(|(_, file)| match library::resolve(file, &self.search)? {
+                library::Found::File(path) => Some((file.to_string(), path)),
+                library::Found::Embedded(..) => None,
+            })
             .collect();
         let mut seen = std::collections::BTreeSet::new();
         files.retain(|f| seen.insert(f.clone()));

@@ -150,9 +150,7 @@ impl Air {
             return None;
         };
         if !self.durations.contains_key(&n) {
-            let d = library::resolve(&file, &self.search)
-                .and_then(|path| hound::WavReader::open(path).ok())
-                .map(|r| f64::from(r.duration()) / f64::from(r.spec().sample_rate));
+            let d = library::resolve(&file, &self.search).and_then(|f| f.duration().ok());
             if d.is_none() {
                 self.warnings.push(format!(
                     "sound {n} ({file}) was not found or is not a WAV file: skipped"

@@ -108,28 +108,135 @@ impl Library {
     }
 }
 
-/// The folders a `PLAY` file name is looked up in, in order: the events
-/// file's folder, `--library`, `scenes/sounds/` under the current folder,
-/// and the `scenes/sounds/` this program was built with.
-pub fn search_path(events_dir: Option<&Path>, library: Option<&Path>) -> Vec<PathBuf> {
-    let mut dirs: Vec<PathBuf> = Vec::new();
-    dirs.extend(events_dir.map(Path::to_path_buf));
-    dirs.extend(library.map(Path::to_path_buf));
-    dirs.push(PathBuf::from("scenes/sounds"));
-    dirs.push(PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/sounds"
-    )));
-    dirs
+/// Embeds `scenes/sounds/<name>` for each name, as (name, bytes).
+macro_rules! embed {
+    ($($name:literal),* $(,)?) => {
+        &[$(($name, include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/sounds/", $name)))),*]
+    };
 }
 
-/// The first `dir/file` that exists (an absolute `file` is taken as is).
-pub fn resolve(file: &str, search: &[PathBuf]) -> Option<PathBuf> {
-    let file = Path::new(file);
-    if file.is_absolute() {
-        return file.is_file().then(|| file.to_path_buf());
+/// The sounds of tables D.1 and D.2, built into the program so that a copy
+/// of it on a machine without the source tree (a render farm node) plays
+/// them too. `scenes/sounds/` is where they come from.
+const EMBEDDED: &[(&str, &[u8])] = embed![
+    "advantage.wav",
+    "all.wav",
+    "avion.wav",
+    "ball_ground.wav",
+    "ball_net.wav",
+    "ball_racket.wav",
+    "block.wav",
+    "blue.wav",
+    "cricket.wav",
+    "deuce.wav",
+    "eight.wav",
+    "exit.wav",
+    "faster.wav",
+    "fault.wav",
+    "fifteen.wav",
+    "five.wav",
+    "foret.wav",
+    "four.wav",
+    "fourty.wav",
+    "free_it.wav",
+    "frog.wav",
+    "game.wav",
+    "go_back.wav",
+    "green.wav",
+    "left.wav",
+    "let.wav",
+    "love.wav",
+    "move.wav",
+    "move_down.wav",
+    "move_left.wav",
+    "move_right.wav",
+    "move_up.wav",
+    "nine.wav",
+    "one.wav",
+    "out.wav",
+    "right.wav",
+    "server.wav",
+    "service.wav",
+    "seven.wav",
+    "six.wav",
+    "slow_down.wav",
+    "start.wav",
+    "stop.wav",
+    "striker.wav",
+    "ten.wav",
+    "thirty.wav",
+    "three.wav",
+    "turn_down.wav",
+    "turn_faster.wav",
+    "turn_left.wav",
+    "turn_less.wav",
+    "turn_right.wav",
+    "turn_up.wav",
+    "two.wav",
+    "vivaldi.wav",
+    "wait02.wav",
+];
+
+/// The folders a `PLAY` file name is looked up in, in order: the events
+/// file's (or scene's) folder, then `--library`. After them comes the
+/// library built into the program ([`resolve`]); nothing depends on the
+/// current folder or on where the program was built.
+pub fn search_path(events_dir: Option<&Path>, library: Option<&Path>) -> Vec<PathBuf> {
+    events_dir
+        .into_iter()
+        .chain(library)
+        .map(Path::to_path_buf)
+        .collect()
+}
+
+/// Where a sound file was found.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Found {
+    File(PathBuf),
+    /// The built-in sound of this name.
+    Embedded(&'static str, &'static [u8]),
+}
+
+impl Found {
+    /// The file decoded as a mono signal.
+    pub fn read(&self) -> Result<Signal, String> {
+        match self {
+            Found::File(path) => wav::read(path),
+            Found::Embedded(name, bytes) => {
+                wav::decode(*bytes).map_err(|e| format!("built-in {name}: {e}"))
+            }
+        }
     }
-    search.iter().map(|d| d.join(file)).find(|p| p.is_file())
+
+    /// The file's length in seconds, from its header.
+    pub fn duration(&self) -> Result<f64, String> {
+        match self {
+            Found::File(path) => std::fs::File::open(path)
+                .map_err(|e| e.to_string())
+                .and_then(|f| wav::duration(std::io::BufReader::new(f))),
+            Found::Embedded(_, bytes) => wav::duration(*bytes),
+        }
+    }
+}
+
+/// The first `dir/file` of `search` that exists, else the built-in sound
+/// named `file` (an absolute `file` is taken as is).
+pub fn resolve(file: &str, search: &[PathBuf]) -> Option<Found> {
+    let path = Path::new(file);
+    if path.is_absolute() {
+        return path.is_file().then(|| Found::File(path.to_path_buf()));
+    }
+    search
+        .iter()
+        .map(|d| d.join(path))
+        .find(|p| p.is_file())
+        .map(Found::File)
+        .or_else(|| {
+            EMBEDDED
+                .iter()
+                .find(|(name, _)| *name == file)
+                .map(|&(name, bytes)| Found::Embedded(name, bytes))
+        })
 }
 
 /// The decoded sounds of a log, by the file name its `PLAY` lines give.
@@ -170,8 +277,12 @@ impl Sounds {
             if sounds.signals.contains_key(file) {
                 continue;
             }
-            let Some(path) = resolve(file, search) else {
-                let dirs: Vec<String> = search.iter().map(|d| d.display().to_string()).collect();
+            let Some(found) = resolve(file, search) else {
+                let dirs: Vec<String> = search
+                    .iter()
+                    .map(|d| d.display().to_string())
+                    .chain(["the built-in library".to_string()])
+                    .collect();
                 return Err(SoundError {
                     play,
                     message: format!(
@@ -180,9 +291,53 @@ impl Sounds {
                     ),
                 });
             };
-            let signal = wav::read(&path).map_err(|message| SoundError { play, message })?;
+            let signal = found
+                .read()
+                .map_err(|message| SoundError { play, message })?;
             sounds.signals.insert(file.clone(), signal);
         }
         Ok(sounds)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_library_sound_is_built_in_and_decodes() {
+        for (n, file) in Library::default().iter() {
+            let found = resolve(file, &[]);
+            assert!(
+                matches!(found, Some(Found::Embedded(..))),
+                "sound {n}: {file}"
+            );
+        }
+        for (name, bytes) in EMBEDDED {
+            let signal = wav::decode(*bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert!(!signal.samples.is_empty(), "{name}");
+        }
+        // And nothing in scenes/sounds/ is left out.
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sounds");
+        let mut files: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .filter_map(|e| e.ok()?.file_name().into_string().ok())
+            .filter(|f| f.ends_with(".wav"))
+            .collect();
+        files.sort();
+        let embedded: Vec<&str> = EMBEDDED.iter().map(|(n, _)| *n).collect();
+        assert_eq!(files, embedded);
+    }
+
+    #[test]
+    fn a_folder_comes_before_the_built_in_library() {
+        let dir = std::env::temp_dir().join(format!("lmfilm-library-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("frog.wav"), b"not a wav").unwrap();
+        let found = resolve("frog.wav", std::slice::from_ref(&dir));
+        assert_eq!(found, Some(Found::File(dir.join("frog.wav"))));
+        assert!(found.unwrap().read().is_err());
+        assert!(resolve("no_such_sound.wav", std::slice::from_ref(&dir)).is_none());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

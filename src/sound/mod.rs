@@ -5,6 +5,7 @@
 pub mod air;
 pub mod events;
 pub mod library;
+pub mod loudness;
 pub mod render;
 mod trajectory;
 pub mod wav;
@@ -80,6 +81,8 @@ pub struct Report {
     pub rate: u32,
     /// 16-bit samples beyond [-1, 1], clamped.
     pub clipped: u64,
+    /// What loudness normalisation did (`None`: it was off).
+    pub loudness: Option<loudness::Normalization>,
 }
 
 /// Renders the events file `events` into the WAV file `output` (written
@@ -111,5 +114,6 @@ pub fn render_file(
         samples: track.channels.first().map_or(0, Vec::len),
         rate: track.rate,
         clipped,
+        loudness: track.loudness,
     })
 }

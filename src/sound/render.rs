@@ -10,6 +10,9 @@
 //! interpolation, which also resamples files of any rate, and weighted by
 //! the attenuation of the distance c·(t − τ).
 //!
+//! The mix is then normalised in loudness unless [`Settings::loudness`]
+//! is `None`.
+//!
 //! Work is split into (microphone, block of samples) tasks on rayon; each
 //! writes its own slot and sums its sources in log order, and the blocks
 //! do not depend on the thread count, so the output bytes do not either.
@@ -22,6 +25,7 @@ use rayon::prelude::*;
 
 use super::events::{Event, EventLog};
 use super::library::Sounds;
+use super::loudness::{self, Normalization};
 use super::trajectory::Trajectory;
 use super::wav::{SampleFormat, Signal};
 use super::Error;
@@ -70,6 +74,10 @@ pub struct Settings {
     pub attenuation: Attenuation,
     /// How the soundtrack file stores samples (not used by [`render`]).
     pub format: SampleFormat,
+    /// Integrated loudness in LUFS the mix is normalised to, with fades at
+    /// both ends ([`loudness`](super::loudness)); `None` keeps the raw
+    /// levels of the physics.
+    pub loudness: Option<f64>,
 }
 
 impl Default for Settings {
@@ -79,6 +87,7 @@ impl Default for Settings {
             speed_of_sound: 343.0,
             attenuation: Attenuation::Inverse,
             format: SampleFormat::Pcm16,
+            loudness: Some(loudness::DEFAULT_TARGET),
         }
     }
 }
@@ -89,6 +98,8 @@ pub struct Soundtrack {
     pub rate: u32,
     pub mics: Vec<u32>,
     pub channels: Vec<Vec<f32>>,
+    /// What loudness normalisation did (`None`: it was off).
+    pub loudness: Option<Normalization>,
 }
 
 /// The soundtrack's length in samples: round((last TIME + frame interval)
@@ -124,6 +135,9 @@ pub fn render_with(
     }
     if settings.rate == 0 {
         return Err(Error::Input("the sample rate must be ≥ 1 Hz".into()));
+    }
+    if let Some(target) = settings.loudness {
+        loudness::check_target(target).map_err(Error::Input)?;
     }
     let world = World::new(log, sounds, settings)?;
     if world.mics.is_empty() {
@@ -164,10 +178,14 @@ pub fn render_with(
         .collect();
     // The first error in task order, whichever thread met it first.
     results.into_iter().collect::<Result<(), Error>>()?;
+    let loudness = settings
+        .loudness
+        .map(|target| loudness::normalize(&mut channels, settings.rate, target));
     Ok(Soundtrack {
         rate: settings.rate,
         mics: world.mics.iter().map(|m| m.0).collect(),
         channels,
+        loudness,
     })
 }
 

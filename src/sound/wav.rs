@@ -87,6 +87,16 @@ pub fn decode(reader: impl Read) -> Result<Signal, String> {
     })
 }
 
+/// The length in seconds of WAV bytes, from the header alone.
+pub fn duration(reader: impl Read) -> Result<f64, String> {
+    let reader = hound::WavReader::new(reader).map_err(|e| format!("not a WAV file: {e}"))?;
+    let rate = reader.spec().sample_rate;
+    if rate == 0 {
+        return Err("the WAV header has no sample rate".into());
+    }
+    Ok(f64::from(reader.duration()) / f64::from(rate))
+}
+
 /// How the soundtrack's samples are stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SampleFormat {
@@ -148,4 +158,27 @@ pub fn encode(
     }
     w.finalize().map_err(err)?;
     Ok((bytes, clipped))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sixteen_bits_round_to_the_nearest_step_and_clamp_at_full_scale() {
+        let x = vec![0.0, 0.25, -0.25, 0.6 / 32767.0, 1.0, -1.0, 1.5, -3.0];
+        let (bytes, clipped) =
+            encode(std::slice::from_ref(&x), 48_000, SampleFormat::Pcm16).unwrap();
+        assert_eq!(clipped, 2);
+        let r = hound::WavReader::new(Cursor::new(bytes)).unwrap();
+        let got: Vec<i16> = r.into_samples::<i16>().map(Result::unwrap).collect();
+        assert_eq!(got, [0, 8192, -8192, 1, 32767, -32767, 32767, -32767]);
+        // Float keeps every value as it is.
+        let (bytes, clipped) =
+            encode(std::slice::from_ref(&x), 48_000, SampleFormat::Float32).unwrap();
+        assert_eq!(clipped, 0);
+        let r = hound::WavReader::new(Cursor::new(bytes)).unwrap();
+        let got: Vec<f32> = r.into_samples::<f32>().map(Result::unwrap).collect();
+        assert_eq!(got, x);
+    }
 }
