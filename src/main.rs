@@ -99,6 +99,7 @@ enum Command {
     /// renders/lmfilm/. A re-run skips finished frames. Examples:
     ///
     ///     lmfilm run
+    ///
     ///     lmfilm run scenes/examples/airplane.lm -o renders/plane --preset preview
     Run {
         /// Definition files derived together (none: the built-in film).
@@ -192,6 +193,7 @@ enum Command {
     /// renders/<name>/). The format is docs/sound-events.md. Examples:
     ///
     ///     lmfilm sound scenes/examples/flyby.events -o renders/flyby.wav
+    ///
     ///     lmfilm sound scenes/examples/airplane.lm
     Sound {
         /// The sound event log, a folder holding soundtrack.events, or a

@@ -48,6 +48,20 @@ fn help_lists_every_command_with_an_example() {
 }
 
 #[test]
+fn help_shows_each_example_on_its_own_line() {
+    for cmd in ["run", "sound", "derive", "still", "export"] {
+        let (code, sub, _) = lmfilm(&[cmd, "--help"]);
+        assert_eq!(code, 0);
+        for line in sub.lines() {
+            assert!(line.matches("lmfilm ").count() <= 1, "{cmd}: {line}");
+        }
+    }
+    let (_, run, _) = lmfilm(&["run", "--help"]);
+    assert!(run.contains("Usage: lmfilm run [OPTIONS] [SCENE.lm]..."), "{run}");
+    assert!(run.lines().any(|l| l.trim() == "lmfilm run"), "{run}");
+}
+
+#[test]
 fn export_writes_obj_and_mtl() {
     let dir = std::env::temp_dir().join(format!("lmfilm-cli-exp-{}", std::process::id()));
     let out = dir.join("sub/tree.obj");
