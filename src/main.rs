@@ -303,7 +303,14 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
         })?;
     }
     obj::write_obj(&scene, output)
-        .map_err(|e| (1, format!("{}: cannot write: {e}", output.display())))
+        .map_err(|e| (1, format!("{}: cannot write: {e}", output.display())))?;
+    // Say what was written, so the user finds it (and its .mtl).
+    println!(
+        "{}, {}",
+        output.display(),
+        output.with_extension("mtl").display()
+    );
+    Ok(())
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -370,7 +377,10 @@ fn still(
             )
         })?;
     }
-    render::output::write(&img, output).map_err(|e| (1, format!("{}: {e}", output.display())))
+    render::output::write(&img, output).map_err(|e| (1, format!("{}: {e}", output.display())))?;
+    // Say what was written, so the user finds it.
+    println!("{} ({w}×{h}, {} spp)", output.display(), settings.spp);
+    Ok(())
 }
 
 fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {

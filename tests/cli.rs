@@ -57,7 +57,10 @@ fn help_shows_each_example_on_its_own_line() {
         }
     }
     let (_, run, _) = lmfilm(&["run", "--help"]);
-    assert!(run.contains("Usage: lmfilm run [OPTIONS] [SCENE.lm]..."), "{run}");
+    assert!(
+        run.contains("Usage: lmfilm run [OPTIONS] [SCENE.lm]..."),
+        "{run}"
+    );
     assert!(run.lines().any(|l| l.trim() == "lmfilm run"), "{run}");
 }
 
@@ -69,7 +72,7 @@ fn export_writes_obj_and_mtl() {
         "{}/scenes/examples/growing_tree_drawn.lm",
         env!("CARGO_MANIFEST_DIR")
     );
-    let (code, _, err) = lmfilm(&[
+    let (code, said, err) = lmfilm(&[
         "export",
         &scene,
         "--time",
@@ -78,6 +81,9 @@ fn export_writes_obj_and_mtl() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
+    // It says what it wrote.
+    let mtl = dir.join("sub/tree.mtl");
+    assert_eq!(said, format!("{}, {}\n", out.display(), mtl.display()));
     let obj = std::fs::read_to_string(&out).unwrap();
     assert!(obj.contains("mtllib tree.mtl"));
     assert!(dir.join("sub/tree.mtl").exists());
@@ -127,6 +133,22 @@ fn still_writes_png_and_exr_identically_for_any_thread_count() {
     let img = lmfilm::render::output::read_exr_layers(&dir.join("g1.exr")).unwrap();
     assert_eq!((img.width, img.height), (80, 45));
     assert!(img.depth.iter().any(|d| d.is_finite()) && img.object.iter().any(|&o| o != u32::MAX));
+    // It says what it wrote.
+    let small = dir.join("small.png");
+    let (code, said, err) = lmfilm(&[
+        "still",
+        &scene,
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "--preset",
+        "preview",
+        "-o",
+        small.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(said, format!("{} (8×6, 1 spp)\n", small.display()));
     let (code, _, err) = lmfilm(&["still", &scene, "-o", dir.join("x.jpg").to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains(".png or .exr"), "{err}");
