@@ -385,8 +385,9 @@ fn still(
 
 fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {
     let mut film = derive_to(at, Options::default())?;
-    // The turtle runs on the printed frame too, so `?` shows its position.
-    frame_scene(&mut film)?;
+    // The turtle runs on the printed frame too, so `?` shows its position;
+    // its warnings and prints are about drawing, which `print` does not.
+    film.scene().map_err(|e| (2, e))?;
     let (anim, sensors) = film.parts();
     let format = match format {
         PrintFormat::Symbols => Format::Symbols,

@@ -154,3 +154,38 @@ fn still_writes_png_and_exr_identically_for_any_thread_count() {
     assert!(err.contains(".png or .exr"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn turtle_warnings_are_located_said_once_and_only_when_drawing() {
+    let dir = std::env::temp_dir().join(format!("lmfilm-cli-warn-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("flat.lm");
+    // Every step adds a zero-sized cube made by the production's text at
+    // line 6, column 5.
+    std::fs::write(
+        &file,
+        "Camera_AnimationParameters\nt_final_interval 0.2 0.04\nAxiom\nF\nProductions\nF (0)\n1.0 c () () () () (0) (1) (1) F EndProb\nEnd\nEndProductions\n",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let warnings = |err: &str| -> Vec<String> {
+        err.lines()
+            .filter(|l| l.contains("warning"))
+            .map(str::to_string)
+            .collect()
+    };
+    let want = format!("{f}:7:5: warning: `c` with a size ≤ 0 or not a number is skipped");
+    let obj = dir.join("x.obj");
+    let (code, _, err) = lmfilm(&["export", f, "--frame", "3", "-o", obj.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(warnings(&err), [want.clone()], "{err}");
+    let out = dir.join("film");
+    let (code, _, err) = lmfilm(&["derive", f, "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(warnings(&err), [want], "once for the whole film: {err}");
+    // `print` draws nothing, so it warns of nothing drawn.
+    let (code, _, err) = lmfilm(&["print", f, "--frame", "3"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(warnings(&err).is_empty(), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

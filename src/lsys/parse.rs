@@ -33,6 +33,7 @@ pub fn parse(src: &Source) -> Result<Definition, Diagnostic> {
         s: Scanner::new(src),
         def: Definition {
             name: src.name.clone(),
+            text: src.text.clone(),
             camera: CameraParams::default(),
             has_camera: false,
             repetition: RepetitionParams::default(),

@@ -17,7 +17,14 @@ pub struct Symbol {
     /// Time steps lived.
     pub ticks: u32,
     pub ch: u8,
+    /// Byte offset, in its L-system's file, of the axiom or right-side
+    /// text that made it ([`NO_ORIGIN`] if none), so the turtle's
+    /// warnings can name the line to fix. Fits the struct's padding.
+    pub origin: u32,
 }
+
+/// [`Symbol::origin`] of a symbol no file text made.
+pub const NO_ORIGIN: u32 = u32::MAX;
 
 impl Symbol {
     /// par0, the local age, for a step of `dt`.

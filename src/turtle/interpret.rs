@@ -9,6 +9,7 @@ use super::polygon::{newell, triangulate, PolygonStack};
 use super::special;
 use super::state::{bend, Turtle};
 use super::{Builder, ParticleMapping, SoundRequest, TurtleWorld};
+use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Sensors, Symbol, Who};
 use crate::scene::material;
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
@@ -107,6 +108,8 @@ pub(super) struct Interpreter<'a> {
     named_geometry: Geometry,
     /// Inverse of the turtle frame where each named object was defined.
     named_frames: BTreeMap<i64, Affine3A>,
+    /// [`Symbol::origin`] of the symbol being interpreted, for warnings.
+    origin: u32,
 }
 
 /// Interprets the word of `ls` at time `time`.
@@ -144,6 +147,7 @@ pub fn interpret(
         named: None,
         named_geometry: Geometry::default(),
         named_frames: BTreeMap::new(),
+        origin: NO_ORIGIN,
     };
     let n = it.ls.word().len();
     for i in 0..n {
@@ -162,6 +166,13 @@ pub fn interpret(
 }
 
 impl Interpreter<'_> {
+    /// A warning about the symbol being interpreted, located at the text
+    /// that made it.
+    pub(super) fn warn(&mut self, msg: &str) {
+        let place = self.ls.def.locate(self.origin);
+        self.b.warn(&place, msg);
+    }
+
     fn growth(&mut self, s: &Symbol) -> [f64; 3] {
         self.ls.growth(s, self.time, self.seed, self.sensors)
     }
@@ -192,7 +203,7 @@ impl Interpreter<'_> {
         material: u32,
     ) {
         if sizes.iter().any(|v| !(v.is_finite() && *v > 0.0)) || !transform.is_finite() {
-            self.b.warn(format!(
+            self.warn(&format!(
                 "`{}` with a size ≤ 0 or not a number is skipped",
                 s.ch as char
             ));
@@ -268,6 +279,7 @@ impl Interpreter<'_> {
 
     fn symbol(&mut self, i: usize, tables: &mut Tables) {
         let s = self.ls.word()[i];
+        self.origin = s.origin;
         let [x, y, z] = s.par;
         match s.ch {
             b'+' | b'-' | b'&' | b'^' | b'/' => {
@@ -305,8 +317,7 @@ impl Interpreter<'_> {
             b'f' => {
                 let g = DVec3::from_array(self.growth(&s));
                 if !g.is_finite() {
-                    self.b
-                        .warn("`f` by a vector that is not a number is skipped".into());
+                    self.warn("`f` by a vector that is not a number is skipped");
                     return;
                 }
                 match z as i64 {
@@ -495,8 +506,7 @@ impl Interpreter<'_> {
                     let m = placed(&self.t, g[0], g[1], g[2]);
                     self.out.placements.push((Placed::Surface(x as i64), m));
                 } else {
-                    self.b
-                        .warn("`B` with a zero or non-finite scale is skipped".into());
+                    self.warn("`B` with a zero or non-finite scale is skipped");
                 }
             }
             _ => {}
@@ -505,7 +515,7 @@ impl Interpreter<'_> {
 
     fn pyramid(&mut self, s: &Symbol, g: [f64; 3]) {
         if g.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-            self.b.warn(format!(
+            self.warn(&format!(
                 "`{}` with a size ≤ 0 or not a number is skipped",
                 s.ch as char
             ));
@@ -529,8 +539,7 @@ impl Interpreter<'_> {
     fn polygon(&mut self, s: &Symbol, poly: &[DVec3], flags: [f64; 3], depth: f64) {
         let tris = triangulate(poly);
         if tris.is_empty() {
-            self.b
-                .warn("a polygon with fewer than 3 distinct vertices or no area is skipped".into());
+            self.warn("a polygon with fewer than 3 distinct vertices or no area is skipped");
             return;
         }
         let invert = flags[0] == 1.0;
@@ -603,7 +612,7 @@ impl Interpreter<'_> {
     /// turtle stood when it was defined (`D` par1 = 7).
     pub(super) fn place_named(&mut self, name: i64) {
         let Some(def) = self.named_frames.get(&name).copied() else {
-            self.b.warn(format!(
+            self.warn(&format!(
                 "`D` places object {name}, which no `D` par1 = 6 or 13 defined before"
             ));
             return;
@@ -617,9 +626,8 @@ impl Interpreter<'_> {
     pub(super) fn transform_last_placement(&mut self, m: Affine3A) {
         match self.out.placements.last_mut() {
             Some((_, t)) => *t = m * *t,
-            None => self.b.warn(
-                "`D` par1 = 4, 8 or 9 transforms the object placed last, but none was placed"
-                    .into(),
+            None => self.warn(
+                "`D` par1 = 4, 8 or 9 transforms the object placed last, but none was placed",
             ),
         }
     }
@@ -676,14 +684,13 @@ impl Interpreter<'_> {
                 .map(|(sound, source)| SoundRequest::Emit { sound, source, at }),
             2 => whole(g[0]).map(|source| SoundRequest::Move { source, at }),
             _ => {
-                self.b
-                    .warn(format!("`T` par1 = {mode} is not 0, 1 or 2: skipped"));
+                self.warn(&format!("`T` par1 = {mode} is not 0, 1 or 2: skipped"));
                 return;
             }
         };
         match request {
             Some(r) => self.world.sound(r),
-            None => self.b.warn(format!(
+            None => self.warn(&format!(
                 "`T` needs sound and source numbers ≥ 0, got {} {}: skipped",
                 g[0], g[1]
             )),

@@ -163,10 +163,12 @@ impl Builder {
     }
 
     /// Records a warning once per frame: each names its symbol, so there
-    /// is one per symbol kind and problem, never one per symbol.
-    pub fn warn(&mut self, msg: String) {
-        if self.warned.insert(msg.clone()) {
-            self.messages.push(format!("warning: {msg}"));
+    /// is one per symbol kind and problem, never one per symbol, and it
+    /// is located at the first place met (`file:line:column` of the text
+    /// that made the symbol, or the file).
+    pub fn warn(&mut self, place: &str, msg: &str) {
+        if self.warned.insert(msg.to_string()) {
+            self.messages.push(format!("{place}: warning: {msg}"));
         }
     }
 
@@ -248,11 +250,10 @@ impl Builder {
     }
 
     /// Bounds of what was drawn since the matching begin, shapes taken at
-    /// a coarse tessellation.
-    pub fn bbox_end(&mut self, g: &Geometry, end: (usize, usize)) {
+    /// a coarse tessellation; false when no begin is open.
+    pub fn bbox_end(&mut self, g: &Geometry, end: (usize, usize)) -> bool {
         let Some((s0, t0)) = self.bbox_start.pop() else {
-            self.warn("`D` par1 = 21 without a `D` par1 = 20 before it".into());
-            return;
+            return false;
         };
         let mut tris: Vec<_> = g.triangles[t0.min(end.1)..end.1].to_vec();
         for sh in &g.shapes[s0.min(end.0)..end.0] {
@@ -271,6 +272,7 @@ impl Builder {
                 lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
             ));
         }
+        true
     }
 
     /// `l`: camera (par3 = 0, 1, 2, 4, 5, 8, 10) and light 3 (par3 = 3,
@@ -391,9 +393,12 @@ pub fn build_scene(
             };
             match g {
                 Some(g) => placed.push((g, *m)),
-                None => b.warn(format!(
-                    "`B` draws surface {what:?}, which the Surfaces section does not declare"
-                )),
+                None => b.warn(
+                    &ls.def.name,
+                    &format!(
+                        "`B` draws surface {what:?}, which the Surfaces section does not declare"
+                    ),
+                ),
             }
         }
         for r in &copies {
