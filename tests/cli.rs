@@ -178,7 +178,7 @@ fn turtle_warnings_are_located_said_once_and_only_when_drawing() {
     let obj = dir.join("x.obj");
     let (code, _, err) = lmfilm(&["export", f, "--frame", "3", "-o", obj.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
-    assert_eq!(warnings(&err), [want.clone()], "{err}");
+    assert_eq!(warnings(&err), std::slice::from_ref(&want), "{err}");
     let out = dir.join("film");
     let (code, _, err) = lmfilm(&["derive", f, "-o", out.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
