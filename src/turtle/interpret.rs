@@ -50,7 +50,9 @@ pub enum Placed {
 #[derive(Debug, Default)]
 pub struct Structure {
     pub geometry: Geometry,
-    pub placements: Vec<(Placed, Affine3A)>,
+    /// What is placed where, with the turtle's current material then (the
+    /// colour of a surface's faces that name no material of their own).
+    pub placements: Vec<(Placed, Affine3A, u32)>,
     /// Named objects defined by this word.
     pub named: Vec<(i64, Geometry)>,
 }
@@ -504,7 +506,8 @@ impl Interpreter<'_> {
                 let g = self.growth(&s);
                 if g.iter().all(|v| v.is_finite() && *v != 0.0) {
                     let m = placed(&self.t, g[0], g[1], g[2]);
-                    self.out.placements.push((Placed::Surface(x as i64), m));
+                    let placement = (Placed::Surface(x as i64), m, self.material);
+                    self.out.placements.push(placement);
                 } else {
                     self.warn("`B` with a zero or non-finite scale is skipped");
                 }
@@ -618,14 +621,15 @@ impl Interpreter<'_> {
             return;
         };
         let now = placed(&self.t, 1.0, 1.0, 1.0) * def;
-        self.out.placements.push((Placed::Named(name), now));
+        let placement = (Placed::Named(name), now, self.material);
+        self.out.placements.push(placement);
     }
 
     /// Applies `m` after the last placement (Rayshade transforms follow
     /// the object they modify).
     pub(super) fn transform_last_placement(&mut self, m: Affine3A) {
         match self.out.placements.last_mut() {
-            Some((_, t)) => *t = m * *t,
+            Some((_, t, _)) => *t = m * *t,
             None => self.warn(
                 "`D` par1 = 4, 8 or 9 transforms the object placed last, but none was placed",
             ),
