@@ -81,7 +81,8 @@ enum Command {
         /// Samples per pixel (default: 1 for preview, 16 for final).
         #[arg(long)]
         spp: Option<u32>,
-        /// `preview`: 1 sample, no shadows or reflections; `final`: all.
+        /// `preview`: 1 sample, no shadows, mirrors and glass approximated
+        /// by one look; `final`: all.
         #[arg(long, value_enum, default_value_t = PresetArg::Final)]
         preset: PresetArg,
         /// Pixel filter.
