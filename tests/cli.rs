@@ -160,11 +160,11 @@ fn turtle_warnings_are_located_said_once_and_only_when_drawing() {
     let dir = std::env::temp_dir().join(format!("lmfilm-cli-warn-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("flat.lm");
-    // Every step adds a zero-sized cube made by the production's text at
-    // line 6, column 5.
+    // Every step adds a cube of negative size made by the production's
+    // text at line 7, column 5.
     std::fs::write(
         &file,
-        "Camera_AnimationParameters\nt_final_interval 0.2 0.04\nAxiom\nF\nProductions\nF (0)\n1.0 c () () () () (0) (1) (1) F EndProb\nEnd\nEndProductions\n",
+        "Camera_AnimationParameters\nt_final_interval 0.2 0.04\nAxiom\nF\nProductions\nF (0)\n1.0 c () () () () (1_) (1) (1) F EndProb\nEnd\nEndProductions\n",
     )
     .unwrap();
     let f = file.to_str().unwrap();
@@ -174,7 +174,7 @@ fn turtle_warnings_are_located_said_once_and_only_when_drawing() {
             .map(str::to_string)
             .collect()
     };
-    let want = format!("{f}:7:5: warning: `c` with a size ≤ 0 or not a number is skipped");
+    let want = format!("{f}:7:5: warning: `c` with a size < 0 or not a number is skipped");
     let obj = dir.join("x.obj");
     let (code, _, err) = lmfilm(&["export", f, "--frame", "3", "-o", obj.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");

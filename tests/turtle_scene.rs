@@ -176,12 +176,25 @@ fn shapes_have_their_analytic_sizes() {
 #[test]
 fn degenerate_shapes_are_skipped_with_one_warning_per_kind() {
     let mut a = from_text(
-        "Axiom\nc () () () () (0) (1) (1) c () () () () (1_) (1) (1) a () () () () (0) O\n",
+        "Axiom\nc () () () () (1_) (1) (1) c () () () () (2_) (1) (1) a () () () () (1_) O () () () () (1) (0 0/) (1)\n",
     );
     let (s, messages) = scene(&mut a);
     assert_eq!(s.geometries[0].shapes.len(), 0);
     assert_eq!(messages.len(), 3, "{messages:?}");
     assert!(messages[0].contains("`c`"));
+    assert!(
+        messages[0].starts_with("test.lm:2:1: warning: "),
+        "{messages:?}"
+    );
+}
+
+#[test]
+fn shapes_not_grown_yet_are_skipped_silently() {
+    // Growth functions start at 0 at birth: a size of exactly 0 is no mistake.
+    let mut a = from_text("Axiom\nc () () () () (0) (1) (1) S a () () () () (0) O\n");
+    let (s, messages) = scene(&mut a);
+    assert_eq!(s.geometries[0].shapes.len(), 0);
+    assert!(messages.is_empty(), "{messages:?}");
 }
 
 #[test]

@@ -204,11 +204,7 @@ impl Interpreter<'_> {
         transform: Affine3A,
         material: u32,
     ) {
-        if sizes.iter().any(|v| !(v.is_finite() && *v > 0.0)) || !transform.is_finite() {
-            self.warn(&format!(
-                "`{}` with a size ≤ 0 or not a number is skipped",
-                s.ch as char
-            ));
+        if self.skipped(s, sizes, transform.is_finite()) {
             return;
         }
         let symbol = s.id;
@@ -218,6 +214,23 @@ impl Interpreter<'_> {
             material,
             symbol,
         });
+    }
+
+    /// Whether a shape of these sizes is skipped, warning of mistakes: a
+    /// size of exactly 0 is a shape not grown yet (growth functions start
+    /// at 0 at birth), skipped silently; a negative or non-finite size, or
+    /// a turtle frame that is not finite, is warned of.
+    fn skipped(&mut self, s: &Symbol, sizes: &[f64], finite: bool) -> bool {
+        if finite && sizes.iter().all(|v| v.is_finite() && *v > 0.0) {
+            return false;
+        }
+        if !finite || sizes.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+            self.warn(&format!(
+                "`{}` with a size < 0 or not a number is skipped",
+                s.ch as char
+            ));
+        }
+        true
     }
 
     fn triangle(&mut self, v: [DVec3; 3], material: u32, symbol: u64) {
@@ -508,8 +521,9 @@ impl Interpreter<'_> {
                     let m = placed(&self.t, g[0], g[1], g[2]);
                     let placement = (Placed::Surface(x as i64), m, self.material);
                     self.out.placements.push(placement);
-                } else {
-                    self.warn("`B` with a zero or non-finite scale is skipped");
+                } else if g.iter().any(|v| !v.is_finite()) {
+                    // A zero scale is a surface not grown yet: no warning.
+                    self.warn("`B` with a scale that is not a number is skipped");
                 }
             }
             _ => {}
@@ -517,11 +531,7 @@ impl Interpreter<'_> {
     }
 
     fn pyramid(&mut self, s: &Symbol, g: [f64; 3]) {
-        if g.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-            self.warn(&format!(
-                "`{}` with a size ≤ 0 or not a number is skipped",
-                s.ch as char
-            ));
+        if self.skipped(s, &g, true) {
             return;
         }
         let t = self.t;
