@@ -63,3 +63,12 @@ pub fn branch_end(word: &[Symbol], from: usize) -> Option<usize> {
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_origin_fits_the_padding() {
+        // Words are long: the source offset must not make symbols bigger.
+        assert_eq!(std::mem::size_of::<super::Symbol>(), 56);
+    }
+}
