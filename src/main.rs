@@ -81,7 +81,8 @@ enum Command {
         /// Samples per pixel (default: 1 for preview, 16 for final).
         #[arg(long)]
         spp: Option<u32>,
-        /// `preview`: 1 sample, no shadows or reflections; `final`: all.
+        /// `preview`: 1 sample, no shadows, mirrors and glass approximated
+        /// by one look; `final`: all.
         #[arg(long, value_enum, default_value_t = PresetArg::Final)]
         preset: PresetArg,
         /// Pixel filter.
@@ -99,6 +100,7 @@ enum Command {
     /// renders/lmfilm/. A re-run skips finished frames. Examples:
     ///
     ///     lmfilm run
+    ///
     ///     lmfilm run scenes/examples/airplane.lm -o renders/plane --preset preview
     Run {
         /// Definition files derived together (none: the built-in film).
@@ -209,6 +211,7 @@ enum Command {
     /// renders/<name>/). The format is docs/sound-events.md. Examples:
     ///
     ///     lmfilm sound scenes/examples/flyby.events -o renders/flyby.wav
+    ///
     ///     lmfilm sound scenes/examples/airplane.lm
     Sound {
         /// The sound event log, a folder holding soundtrack.events, or a
@@ -306,7 +309,14 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
         })?;
     }
     obj::write_obj(&scene, output)
-        .map_err(|e| (1, format!("{}: cannot write: {e}", output.display())))
+        .map_err(|e| (1, format!("{}: cannot write: {e}", output.display())))?;
+    // Say what was written, so the user finds it (and its .mtl).
+    println!(
+        "{}, {}",
+        output.display(),
+        output.with_extension("mtl").display()
+    );
+    Ok(())
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -373,13 +383,17 @@ fn still(
             )
         })?;
     }
-    render::output::write(&img, output).map_err(|e| (1, format!("{}: {e}", output.display())))
+    render::output::write(&img, output).map_err(|e| (1, format!("{}: {e}", output.display())))?;
+    // Say what was written, so the user finds it.
+    println!("{} ({w}×{h}, {} spp)", output.display(), settings.spp);
+    Ok(())
 }
 
 fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {
     let mut film = derive_to(at, Options::default())?;
-    // The turtle runs on the printed frame too, so `?` shows its position.
-    frame_scene(&mut film)?;
+    // The turtle runs on the printed frame too, so `?` shows its position;
+    // its warnings and prints are about drawing, which `print` does not.
+    film.scene().map_err(|e| (2, e))?;
     let (anim, sensors) = film.parts();
     let format = match format {
         PrintFormat::Symbols => Format::Symbols,

@@ -343,3 +343,39 @@ fn export_reports_bad_options_and_missing_surfaces() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn near_miss_keywords_are_named() {
+    let prods = "Axiom\nF\nProductions\nF (1) 1 F F EndProb\nEnd\n";
+    check(
+        &format!("{prods}EndProduction\n"),
+        6,
+        1,
+        "`EndProduction` is not a keyword; did you mean `EndProductions`?",
+    );
+    check(
+        "Axiom\nF\nProductons\nF (1) 1 F EndProb\nEnd\nEndProductions\n",
+        3,
+        1,
+        "did you mean `Productions`?",
+    );
+    check(
+        "Axiom\nF\nProductions\nF (1) 1 F F EndPorb\nEnd\nEndProductions\n",
+        4,
+        13,
+        "did you mean `EndProb`?",
+    );
+    check(
+        "Options\nMaxpart 10\nAxiom\nF\n",
+        2,
+        1,
+        "did you mean `MaxPart`?",
+    );
+    check("Axoim\nF\n", 1, 1, "did you mean `Axiom`?");
+    check(
+        "Camera_AnimationParameters\nviewangle 450\n",
+        2,
+        1,
+        "did you mean `viewAngle`?",
+    );
+}

@@ -301,3 +301,17 @@ fn long_glued_words_parse_in_linear_time() {
     assert_eq!(a.systems[0].word().len(), 300_000);
     assert_eq!(a.systems[0].def.productions[0].parts[0].symbols.len(), 1000);
 }
+
+#[test]
+fn drawn_variants_derive_the_same_words_with_segments() {
+    // The drawn files light the scene, give it a sky and a material and
+    // point the turtle up, then derive the grammar with S for F.
+    let mut a = load("bracketed_plant_drawn.lm");
+    let mut b = load("node_rewriting_drawn.lm");
+    for n in 0..=3 {
+        let plant = rewrite("F", &[('F', "F[+F]F[-F]F")], n).replace('F', "S");
+        assert_eq!(at_frame(&mut a, n as u64), format!("lDm+{plant}"));
+        let nodes = rewrite("X", &[('X', "F[+X]F[-X]+X"), ('F', "FF")], n).replace('F', "S");
+        assert_eq!(at_frame(&mut b, n as u64), format!("lDm+{nodes}"));
+    }
+}

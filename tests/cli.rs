@@ -48,6 +48,23 @@ fn help_lists_every_command_with_an_example() {
 }
 
 #[test]
+fn help_shows_each_example_on_its_own_line() {
+    for cmd in ["run", "sound", "derive", "still", "export"] {
+        let (code, sub, _) = lmfilm(&[cmd, "--help"]);
+        assert_eq!(code, 0);
+        for line in sub.lines() {
+            assert!(line.matches("lmfilm ").count() <= 1, "{cmd}: {line}");
+        }
+    }
+    let (_, run, _) = lmfilm(&["run", "--help"]);
+    assert!(
+        run.contains("Usage: lmfilm run [OPTIONS] [SCENE.lm]..."),
+        "{run}"
+    );
+    assert!(run.lines().any(|l| l.trim() == "lmfilm run"), "{run}");
+}
+
+#[test]
 fn export_writes_obj_and_mtl() {
     let dir = std::env::temp_dir().join(format!("lmfilm-cli-exp-{}", std::process::id()));
     let out = dir.join("sub/tree.obj");
@@ -55,7 +72,7 @@ fn export_writes_obj_and_mtl() {
         "{}/scenes/examples/growing_tree_drawn.lm",
         env!("CARGO_MANIFEST_DIR")
     );
-    let (code, _, err) = lmfilm(&[
+    let (code, said, err) = lmfilm(&[
         "export",
         &scene,
         "--time",
@@ -64,6 +81,9 @@ fn export_writes_obj_and_mtl() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
+    // It says what it wrote.
+    let mtl = dir.join("sub/tree.mtl");
+    assert_eq!(said, format!("{}, {}\n", out.display(), mtl.display()));
     let obj = std::fs::read_to_string(&out).unwrap();
     assert!(obj.contains("mtllib tree.mtl"));
     assert!(dir.join("sub/tree.mtl").exists());
@@ -113,8 +133,59 @@ fn still_writes_png_and_exr_identically_for_any_thread_count() {
     let img = lmfilm::render::output::read_exr_layers(&dir.join("g1.exr")).unwrap();
     assert_eq!((img.width, img.height), (80, 45));
     assert!(img.depth.iter().any(|d| d.is_finite()) && img.object.iter().any(|&o| o != u32::MAX));
+    // It says what it wrote.
+    let small = dir.join("small.png");
+    let (code, said, err) = lmfilm(&[
+        "still",
+        &scene,
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "--preset",
+        "preview",
+        "-o",
+        small.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(said, format!("{} (8×6, 1 spp)\n", small.display()));
     let (code, _, err) = lmfilm(&["still", &scene, "-o", dir.join("x.jpg").to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains(".png or .exr"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn turtle_warnings_are_located_said_once_and_only_when_drawing() {
+    let dir = std::env::temp_dir().join(format!("lmfilm-cli-warn-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("flat.lm");
+    // Every step adds a cube of negative size made by the production's
+    // text at line 7, column 5.
+    std::fs::write(
+        &file,
+        "Camera_AnimationParameters\nt_final_interval 0.2 0.04\nAxiom\nF\nProductions\nF (0)\n1.0 c () () () () (1_) (1) (1) F EndProb\nEnd\nEndProductions\n",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let warnings = |err: &str| -> Vec<String> {
+        err.lines()
+            .filter(|l| l.contains("warning"))
+            .map(str::to_string)
+            .collect()
+    };
+    let want = format!("{f}:7:5: warning: `c` with a size < 0 or not a number is skipped");
+    let obj = dir.join("x.obj");
+    let (code, _, err) = lmfilm(&["export", f, "--frame", "3", "-o", obj.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(warnings(&err), std::slice::from_ref(&want), "{err}");
+    let out = dir.join("film");
+    let (code, _, err) = lmfilm(&["derive", f, "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(warnings(&err), [want], "once for the whole film: {err}");
+    // `print` draws nothing, so it warns of nothing drawn.
+    let (code, _, err) = lmfilm(&["print", f, "--frame", "3"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(warnings(&err).is_empty(), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }

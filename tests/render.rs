@@ -365,3 +365,39 @@ fn bvh4_leaves_cover_every_primitive_once() {
         }
     }
 }
+
+/// Mean luminance of the pixels that see the sphere of `SPHERE` drawn in
+/// material `m` under a sky, rendered with `settings`.
+fn sphere_luminance(m: u32, settings: &Settings) -> f32 {
+    let text = SPHERE.replace("m () (7)", &format!("D () (15) m () ({m})"));
+    let img = render(&scene_of(&text), settings);
+    let on: Vec<_> = (0..img.object.len())
+        .filter(|&i| img.object[i] != u32::MAX)
+        .map(|i| {
+            let [r, g, b, _] = img.rgba[i];
+            0.2126 * r + 0.7152 * g + 0.0722 * b
+        })
+        .collect();
+    assert!(!on.is_empty());
+    on.iter().sum::<f32>() / on.len() as f32
+}
+
+#[test]
+fn preview_mirrors_and_glass_are_not_black() {
+    // 13 = mirror, 19 = quartz (a transparent crystal).
+    for m in [13, 19] {
+        let preview = sphere_luminance(m, &Settings::preview(64, 64));
+        let mut final_quality = Settings::final_quality(64, 64);
+        final_quality.spp = 1;
+        let full = sphere_luminance(m, &final_quality);
+        assert!(
+            preview > 0.25,
+            "material {m}: preview {preview}, final {full}"
+        );
+        // A cheap look, yet near what the full bounces see.
+        assert!(
+            (preview - full).abs() < 0.5 * full,
+            "material {m}: preview {preview}, final {full}"
+        );
+    }
+}

@@ -176,12 +176,25 @@ fn shapes_have_their_analytic_sizes() {
 #[test]
 fn degenerate_shapes_are_skipped_with_one_warning_per_kind() {
     let mut a = from_text(
-        "Axiom\nc () () () () (0) (1) (1) c () () () () (1_) (1) (1) a () () () () (0) O\n",
+        "Axiom\nc () () () () (1_) (1) (1) c () () () () (2_) (1) (1) a () () () () (1_) O () () () () (1) (0 0/) (1)\n",
     );
     let (s, messages) = scene(&mut a);
     assert_eq!(s.geometries[0].shapes.len(), 0);
     assert_eq!(messages.len(), 3, "{messages:?}");
     assert!(messages[0].contains("`c`"));
+    assert!(
+        messages[0].starts_with("test.lm:2:1: warning: "),
+        "{messages:?}"
+    );
+}
+
+#[test]
+fn shapes_not_grown_yet_are_skipped_silently() {
+    // Growth functions start at 0 at birth: a size of exactly 0 is no mistake.
+    let mut a = from_text("Axiom\nc () () () () (0) (1) (1) S a () () () () (0) O\n");
+    let (s, messages) = scene(&mut a);
+    assert_eq!(s.geometries[0].shapes.len(), 0);
+    assert!(messages.is_empty(), "{messages:?}");
 }
 
 #[test]
@@ -406,4 +419,31 @@ fn low_resolution_n_is_kept() {
     assert_eq!(scene(&mut a).0.geometries[0].resolution, 4);
     let mut a = from_text("Axiom\na () () () () (1)\n");
     assert_eq!(scene(&mut a).0.geometries[0].resolution, 10);
+}
+
+#[test]
+fn a_surface_without_materials_takes_the_current_material() {
+    let dir = fresh_dir("turtle", "obj-no-mtl");
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let lm = dir.join("s.lm");
+    std::fs::write(
+        &lm,
+        "Surfaces\nfig_obj 1 tri.obj\nAxiom\nm () (4) B () (1) () () (1) (1) (1) [ f () () () (2) m () (0) B () (1) () () (1) (1) (1) ]\n",
+    )
+    .unwrap();
+    let mut a = lmfilm::lsys::Animation::load(&[&lm], &mut NoSensors).unwrap();
+    let (s, _) = scene(&mut a);
+    // The instance of each placement, in order: the word, then the two `B`.
+    let colour = |k: usize| {
+        let g = &s.geometries[s.instances[k].geometry as usize];
+        s.materials[g.triangles[0].material as usize].name.clone()
+    };
+    assert_eq!(s.instances.len(), 3);
+    assert_eq!(colour(1), "red", "m () (4) before B applies");
+    assert_eq!(
+        colour(2),
+        s.materials[0].name,
+        "the default stays the default"
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -82,6 +82,7 @@ mod tests {
                 growth: 0,
                 ticks: 0,
                 ch,
+                origin: 0,
             })
             .collect()
     }

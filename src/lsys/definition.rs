@@ -130,6 +130,8 @@ pub struct Production {
 #[derive(Debug, Clone)]
 pub struct Definition {
     pub name: String,
+    /// The file's text, to locate what later layers warn about.
+    pub text: String,
     pub camera: CameraParams,
     /// Whether the file had a `Camera_AnimationParameters` section.
     pub has_camera: bool,
@@ -159,6 +161,22 @@ impl Definition {
             }
         }
         v
+    }
+
+    /// `file:line:column` of byte `offset` (a symbol's
+    /// [`Symbol::origin`](super::Symbol::origin)), or the file alone
+    /// when the offset is not in it.
+    pub fn locate(&self, offset: u32) -> String {
+        match usize::try_from(offset)
+            .ok()
+            .filter(|o| *o < self.text.len())
+        {
+            Some(o) => {
+                let (_, line, column) = super::source::position(&self.text, o);
+                format!("{}:{line}:{column}", self.name)
+            }
+            None => self.name.clone(),
+        }
     }
 
     pub fn spline(&self, n: u32) -> Option<&Spline> {

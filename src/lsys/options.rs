@@ -1,7 +1,8 @@
 //! The `Options` section (table B1): every keyword is parsed and kept, even
 //! where the feature it declares belongs to a later layer.
 
-use super::scan::Scanner;
+use super::parse::SECTIONS;
+use super::scan::{suggestion, Scanner};
 use super::source::Diagnostic;
 
 /// A keyword with its arguments, as in automata and sound protocol lists.
@@ -337,7 +338,10 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
 pub fn unknown_option(s: &Scanner, at: usize, w: &str) -> Diagnostic {
     s.error(
         at,
-        format!("unknown option `{w}`; the Options section knows {KEYWORDS}"),
+        format!(
+            "unknown option `{w}`; the Options section knows {KEYWORDS}{}",
+            suggestion(w, &KEYWORDS.split(", ").chain(SECTIONS).collect::<Vec<_>>())
+        ),
     )
 }
 

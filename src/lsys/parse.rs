@@ -7,10 +7,10 @@ use super::definition::{
 use super::expr::{Code, Compiler, Expr, Op};
 use super::functions::{constant_arity, Constants, Spline};
 use super::options::{parse_option, unknown_option};
-use super::scan::Scanner;
+use super::scan::{suggestion, Scanner};
 use super::source::{Diagnostic, Source};
 
-const SECTIONS: [&str; 8] = [
+pub(super) const SECTIONS: [&str; 8] = [
     "Camera_AnimationParameters",
     "RepetitionParameters",
     "Options",
@@ -33,6 +33,7 @@ pub fn parse(src: &Source) -> Result<Definition, Diagnostic> {
         s: Scanner::new(src),
         def: Definition {
             name: src.name.clone(),
+            text: src.text.clone(),
             camera: CameraParams::default(),
             has_camera: false,
             repetition: RepetitionParams::default(),
@@ -79,8 +80,9 @@ impl<'a> Parser<'a> {
                 return Err(self.s.error(
                     at,
                     format!(
-                        "expected a section name ({}), found `{w}`",
-                        SECTIONS[next.min(7)..].join(", ")
+                        "expected a section name ({}), found `{w}`{}",
+                        SECTIONS[next.min(7)..].join(", "),
+                        suggestion(w, &SECTIONS)
                     ),
                 ));
             };
@@ -116,7 +118,10 @@ impl<'a> Parser<'a> {
     fn unknown(&self, at: usize, w: &str, section: &str, known: &str) -> Diagnostic {
         self.s.error(
             at,
-            format!("unknown keyword `{w}` in {section}; expected one of {known}"),
+            format!(
+                "unknown keyword `{w}` in {section}; expected one of {known}{}",
+                suggestion(w, &known.split(", ").collect::<Vec<_>>())
+            ),
         )
     }
 
@@ -302,6 +307,7 @@ impl<'a> Parser<'a> {
     fn axiom(&mut self) -> Result<(), Diagnostic> {
         let mut axiom = Vec::new();
         while !self.at_section()? {
+            self.s.reject_near_miss(&SECTIONS)?;
             axiom.push(self.symbol()?);
         }
         self.def.axiom = axiom;
@@ -392,6 +398,7 @@ impl<'a> Parser<'a> {
                 self.s.word("EndProductions")?;
                 return Ok(());
             }
+            self.s.reject_near_miss(&["EndProductions"])?;
             let p = self.production()?;
             self.def.productions.push(p);
         }
@@ -483,6 +490,8 @@ impl<'a> Parser<'a> {
                         "missing `EndProb` at the end of this right side",
                     ));
                 }
+                self.s
+                    .reject_near_miss(&["EndProb", "End", "EndProductions"])?;
                 symbols.push(self.symbol()?);
             }
             parts.push(RightSide {

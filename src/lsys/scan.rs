@@ -168,6 +168,78 @@ impl<'a> Scanner<'a> {
         }
         Err(self.error(open, "unclosed group: add the matching `)`"))
     }
+
+    /// Fails when the next word is a misspelt keyword (`EndProduction`),
+    /// which would otherwise be read as a run of glued symbols and fail
+    /// later with a message that does not name the typo.
+    pub fn reject_near_miss(&mut self, keywords: &[&str]) -> Result<(), Diagnostic> {
+        self.skip_trivia()?;
+        let at = self.pos;
+        // Only a whole plain word can be meant as a keyword (symbols with
+        // groups, `[`, `+` … are symbol runs); looking at word starts
+        // only keeps long glued runs linear to parse.
+        if at > 0 && !self.bytes[at - 1].is_ascii_whitespace() && !self.bytes[..at].ends_with(b"*/")
+        {
+            return Ok(());
+        }
+        let end = at
+            + self.bytes[at..]
+                .iter()
+                .take_while(|c| c.is_ascii_alphabetic() || **c == b'_')
+                .count();
+        if end - at < 4 || self.word_end(end) != end {
+            return Ok(());
+        }
+        let w = &self.src.text[at..end];
+        match near_miss(w, keywords) {
+            Some(k) => Err(self.error(at, format!("`{w}` is not a keyword; did you mean `{k}`?"))),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The keyword `word` is a near miss of: a different spelling within a
+/// small edit distance (case ignored; a swap of two letters counts one).
+pub fn near_miss<'k>(word: &str, keywords: &[&'k str]) -> Option<&'k str> {
+    let w = word.to_ascii_lowercase();
+    keywords
+        .iter()
+        .filter(|k| **k != word)
+        .map(|k| (edit_distance(&w, &k.to_ascii_lowercase()), *k))
+        // About one edit per five letters: `Axoim` → `Axiom`, but
+        // never a short symbol run.
+        .filter(|(d, k)| *d <= k.len().max(word.len()) / 5)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, k)| k)
+}
+
+/// Optimal string alignment distance: insertions, deletions,
+/// substitutions and swaps of adjacent letters.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    d[0] = (0..=b.len()).collect();
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+/// `; did you mean `K`?` when `word` is a near miss of one of `keywords`.
+pub fn suggestion(word: &str, keywords: &[&str]) -> String {
+    near_miss(word, keywords).map_or_else(String::new, |k| format!("; did you mean `{k}`?"))
 }
 
 /// Parses a decimal number as the file format writes it (`1`, `0.5`, `1e30`, `-2`).
@@ -193,6 +265,18 @@ mod tests {
         assert_eq!((g.offset, g.text), (15, "x2*"));
         assert_eq!(s.number("n").unwrap(), 1.5);
         assert!(s.at_end().unwrap());
+    }
+
+    #[test]
+    fn near_misses_name_the_keyword() {
+        let kws = ["EndProductions", "Axiom", "End"];
+        assert_eq!(near_miss("EndProduction", &kws), Some("EndProductions"));
+        assert_eq!(near_miss("Axoim", &kws), Some("Axiom"));
+        assert_eq!(near_miss("axiom", &kws), Some("Axiom"));
+        assert_eq!(near_miss("end", &kws), Some("End"));
+        assert_eq!(near_miss("Axiom", &kws), None);
+        assert_eq!(near_miss("Edn", &kws), None);
+        assert_eq!(near_miss("FFFF", &kws), None);
     }
 
     #[test]

@@ -22,14 +22,7 @@ impl Source {
 
     /// A diagnostic at byte `offset` of the text.
     pub fn error(&self, offset: usize, message: impl Into<String>) -> Diagnostic {
-        let mut offset = offset.min(self.text.len());
-        while !self.text.is_char_boundary(offset) {
-            offset -= 1;
-        }
-        let before = &self.text[..offset];
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        let line = before.matches('\n').count() + 1;
-        let column = self.text[line_start..offset].chars().count() + 1;
+        let (line_start, line, column) = position(&self.text, offset);
         let line_end = self.text[line_start..]
             .find('\n')
             .map_or(self.text.len(), |i| line_start + i);
@@ -43,6 +36,20 @@ impl Source {
                 .to_string(),
         }
     }
+}
+
+/// Start of the line, line and column (1-based, in characters) of byte
+/// `offset` of `text`.
+pub fn position(text: &str, offset: usize) -> (usize, usize, usize) {
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &text[..offset];
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let line = before.matches('\n').count() + 1;
+    let column = text[line_start..offset].chars().count() + 1;
+    (line_start, line, column)
 }
 
 /// A user-facing error located in a file.

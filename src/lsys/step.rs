@@ -388,6 +388,7 @@ impl Scratch {
                     growth: t.growth,
                     ticks: 0,
                     ch,
+                    origin: u32::try_from(t.offset).unwrap_or(super::word::NO_ORIGIN),
                 }),
             }
         }

@@ -17,7 +17,14 @@ pub struct Symbol {
     /// Time steps lived.
     pub ticks: u32,
     pub ch: u8,
+    /// Byte offset, in its L-system's file, of the axiom or right-side
+    /// text that made it ([`NO_ORIGIN`] if none), so the turtle's
+    /// warnings can name the line to fix. Fits the struct's padding.
+    pub origin: u32,
 }
+
+/// [`Symbol::origin`] of a symbol no file text made.
+pub const NO_ORIGIN: u32 = u32::MAX;
 
 impl Symbol {
     /// par0, the local age, for a step of `dt`.
@@ -55,4 +62,13 @@ pub fn branch_end(word: &[Symbol], from: usize) -> Option<usize> {
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_origin_fits_the_padding() {
+        // Words are long: the source offset must not make symbols bigger.
+        assert_eq!(std::mem::size_of::<super::Symbol>(), 56);
+    }
 }

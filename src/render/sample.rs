@@ -37,7 +37,8 @@ pub struct Settings {
 }
 
 impl Settings {
-    /// `preview`: one sample, no shadows, no reflections.
+    /// `preview`: one sample, no shadows, no traced bounces (mirrors and
+    /// glass get a one-look approximation, see `shade::preview_bounce`).
     pub fn preview(width: u32, height: u32) -> Self {
         Settings {
             width,

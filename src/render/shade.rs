@@ -161,7 +161,9 @@ fn shade_surface(
         local += visible * light.color * (diffuse * ndl + m.specular * spec);
     }
     let mut colour = local * (1.0 - m.transmit);
-    if depth < st.max_depth {
+    if st.max_depth == 0 && depth == 0 {
+        colour += preview_bounce(accel, m, p, n, d, lift, st, key);
+    } else if depth < st.max_depth {
         if m.reflect > 0.0 {
             let (c, _) = trace(accel, lift, reflect(d, n).normalize(), st, depth + 1, key);
             colour += m.reflect * c;
@@ -179,6 +181,43 @@ fn shade_surface(
             };
             colour += m.transmit * c;
         }
+    }
+    colour
+}
+
+/// What a mirror or glass shows when no bounce is traced (the preview
+/// preset, `max_depth` 0), so that they are not black: one look along the
+/// reflected ray, and one straight through the object (refraction
+/// ignored) to the first surface behind its far side, both shaded with
+/// local light only. The final preset traces the real bounces instead.
+#[allow(clippy::too_many_arguments)]
+fn preview_bounce(
+    accel: &Accel,
+    m: &Material,
+    p: Vec3A,
+    n: Vec3A,
+    d: Vec3A,
+    lift: Vec3A,
+    st: &Settings,
+    key: u64,
+) -> Vec3 {
+    let mut colour = Vec3::ZERO;
+    if m.reflect > 0.0 {
+        let (c, _) = trace(accel, lift, reflect(d, n).normalize(), st, 1, key);
+        colour += m.reflect * c;
+    }
+    if m.transmit > 0.0 {
+        let step = d * EPS * (1.0 + p.abs().max_element());
+        let mut o = p + step;
+        // Leave the object: skip the far sides met from inside (a few, for
+        // concave or nested glass).
+        for _ in 0..4 {
+            match accel.cast(o, d, 0.0, f32::INFINITY) {
+                Some(h) if h.normal.dot(d) > 0.0 => o += h.t * d + step,
+                _ => break,
+            }
+        }
+        colour += m.transmit * trace(accel, o, d, st, 1, key).0;
     }
     colour
 }

@@ -9,6 +9,7 @@ use super::polygon::{newell, triangulate, PolygonStack};
 use super::special;
 use super::state::{bend, Turtle};
 use super::{Builder, ParticleMapping, SoundRequest, TurtleWorld};
+use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Sensors, Symbol, Who};
 use crate::scene::material;
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
@@ -49,7 +50,9 @@ pub enum Placed {
 #[derive(Debug, Default)]
 pub struct Structure {
     pub geometry: Geometry,
-    pub placements: Vec<(Placed, Affine3A)>,
+    /// What is placed where, with the turtle's current material then (the
+    /// colour of a surface's faces that name no material of their own).
+    pub placements: Vec<(Placed, Affine3A, u32)>,
     /// Named objects defined by this word.
     pub named: Vec<(i64, Geometry)>,
 }
@@ -107,6 +110,8 @@ pub(super) struct Interpreter<'a> {
     named_geometry: Geometry,
     /// Inverse of the turtle frame where each named object was defined.
     named_frames: BTreeMap<i64, Affine3A>,
+    /// [`Symbol::origin`] of the symbol being interpreted, for warnings.
+    origin: u32,
 }
 
 /// Interprets the word of `ls` at time `time`.
@@ -144,6 +149,7 @@ pub fn interpret(
         named: None,
         named_geometry: Geometry::default(),
         named_frames: BTreeMap::new(),
+        origin: NO_ORIGIN,
     };
     let n = it.ls.word().len();
     for i in 0..n {
@@ -162,6 +168,13 @@ pub fn interpret(
 }
 
 impl Interpreter<'_> {
+    /// A warning about the symbol being interpreted, located at the text
+    /// that made it.
+    pub(super) fn warn(&mut self, msg: &str) {
+        let place = self.ls.def.locate(self.origin);
+        self.b.warn(&place, msg);
+    }
+
     fn growth(&mut self, s: &Symbol) -> [f64; 3] {
         self.ls.growth(s, self.time, self.seed, self.sensors)
     }
@@ -191,11 +204,7 @@ impl Interpreter<'_> {
         transform: Affine3A,
         material: u32,
     ) {
-        if sizes.iter().any(|v| !(v.is_finite() && *v > 0.0)) || !transform.is_finite() {
-            self.b.warn(format!(
-                "`{}` with a size ≤ 0 or not a number is skipped",
-                s.ch as char
-            ));
+        if self.skipped(s, sizes, transform.is_finite()) {
             return;
         }
         let symbol = s.id;
@@ -205,6 +214,23 @@ impl Interpreter<'_> {
             material,
             symbol,
         });
+    }
+
+    /// Whether a shape of these sizes is skipped, warning of mistakes: a
+    /// size of exactly 0 is a shape not grown yet (growth functions start
+    /// at 0 at birth), skipped silently; a negative or non-finite size, or
+    /// a turtle frame that is not finite, is warned of.
+    fn skipped(&mut self, s: &Symbol, sizes: &[f64], finite: bool) -> bool {
+        if finite && sizes.iter().all(|v| v.is_finite() && *v > 0.0) {
+            return false;
+        }
+        if !finite || sizes.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+            self.warn(&format!(
+                "`{}` with a size < 0 or not a number is skipped",
+                s.ch as char
+            ));
+        }
+        true
     }
 
     fn triangle(&mut self, v: [DVec3; 3], material: u32, symbol: u64) {
@@ -268,6 +294,7 @@ impl Interpreter<'_> {
 
     fn symbol(&mut self, i: usize, tables: &mut Tables) {
         let s = self.ls.word()[i];
+        self.origin = s.origin;
         let [x, y, z] = s.par;
         match s.ch {
             b'+' | b'-' | b'&' | b'^' | b'/' => {
@@ -305,8 +332,7 @@ impl Interpreter<'_> {
             b'f' => {
                 let g = DVec3::from_array(self.growth(&s));
                 if !g.is_finite() {
-                    self.b
-                        .warn("`f` by a vector that is not a number is skipped".into());
+                    self.warn("`f` by a vector that is not a number is skipped");
                     return;
                 }
                 match z as i64 {
@@ -493,10 +519,11 @@ impl Interpreter<'_> {
                 let g = self.growth(&s);
                 if g.iter().all(|v| v.is_finite() && *v != 0.0) {
                     let m = placed(&self.t, g[0], g[1], g[2]);
-                    self.out.placements.push((Placed::Surface(x as i64), m));
-                } else {
-                    self.b
-                        .warn("`B` with a zero or non-finite scale is skipped".into());
+                    let placement = (Placed::Surface(x as i64), m, self.material);
+                    self.out.placements.push(placement);
+                } else if g.iter().any(|v| !v.is_finite()) {
+                    // A zero scale is a surface not grown yet: no warning.
+                    self.warn("`B` with a scale that is not a number is skipped");
                 }
             }
             _ => {}
@@ -504,11 +531,7 @@ impl Interpreter<'_> {
     }
 
     fn pyramid(&mut self, s: &Symbol, g: [f64; 3]) {
-        if g.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-            self.b.warn(format!(
-                "`{}` with a size ≤ 0 or not a number is skipped",
-                s.ch as char
-            ));
+        if self.skipped(s, &g, true) {
             return;
         }
         let t = self.t;
@@ -529,8 +552,7 @@ impl Interpreter<'_> {
     fn polygon(&mut self, s: &Symbol, poly: &[DVec3], flags: [f64; 3], depth: f64) {
         let tris = triangulate(poly);
         if tris.is_empty() {
-            self.b
-                .warn("a polygon with fewer than 3 distinct vertices or no area is skipped".into());
+            self.warn("a polygon with fewer than 3 distinct vertices or no area is skipped");
             return;
         }
         let invert = flags[0] == 1.0;
@@ -603,23 +625,23 @@ impl Interpreter<'_> {
     /// turtle stood when it was defined (`D` par1 = 7).
     pub(super) fn place_named(&mut self, name: i64) {
         let Some(def) = self.named_frames.get(&name).copied() else {
-            self.b.warn(format!(
+            self.warn(&format!(
                 "`D` places object {name}, which no `D` par1 = 6 or 13 defined before"
             ));
             return;
         };
         let now = placed(&self.t, 1.0, 1.0, 1.0) * def;
-        self.out.placements.push((Placed::Named(name), now));
+        let placement = (Placed::Named(name), now, self.material);
+        self.out.placements.push(placement);
     }
 
     /// Applies `m` after the last placement (Rayshade transforms follow
     /// the object they modify).
     pub(super) fn transform_last_placement(&mut self, m: Affine3A) {
         match self.out.placements.last_mut() {
-            Some((_, t)) => *t = m * *t,
-            None => self.b.warn(
-                "`D` par1 = 4, 8 or 9 transforms the object placed last, but none was placed"
-                    .into(),
+            Some((_, t, _)) => *t = m * *t,
+            None => self.warn(
+                "`D` par1 = 4, 8 or 9 transforms the object placed last, but none was placed",
             ),
         }
     }
@@ -676,14 +698,13 @@ impl Interpreter<'_> {
                 .map(|(sound, source)| SoundRequest::Emit { sound, source, at }),
             2 => whole(g[0]).map(|source| SoundRequest::Move { source, at }),
             _ => {
-                self.b
-                    .warn(format!("`T` par1 = {mode} is not 0, 1 or 2: skipped"));
+                self.warn(&format!("`T` par1 = {mode} is not 0, 1 or 2: skipped"));
                 return;
             }
         };
         match request {
             Some(r) => self.world.sound(r),
-            None => self.b.warn(format!(
+            None => self.warn(&format!(
                 "`T` needs sound and source numbers ≥ 0, got {} {}: skipped",
                 g[0], g[1]
             )),

@@ -98,6 +98,9 @@ pub struct Surfaces {
     pub index: Vec<(usize, i64, usize)>,
     pub geometries: Vec<Geometry>,
     pub materials: Vec<Material>,
+    /// Per geometry, the material of its faces that name none (an OBJ
+    /// without MTL): those take the turtle's material at `B` instead.
+    pub unset: Vec<Option<u32>>,
 }
 
 impl Surfaces {
@@ -111,6 +114,14 @@ impl Surfaces {
                 let base = (material::COUNT + s.materials.len()) as u32;
                 let (tris, mats) = obj::read_obj(&dir.join(file), base)
                     .map_err(|e| format!("{}: surface {n}: {e}", ls.def.name))?;
+                // `read_obj` appends the default material last for the
+                // faces that name none.
+                let unset = mats
+                    .last()
+                    .filter(|m| **m == material::table()[0])
+                    .map(|_| base + mats.len() as u32 - 1)
+                    .filter(|u| tris.iter().any(|t| t.material == *u));
+                s.unset.push(unset);
                 s.materials.extend(mats);
                 s.index.push((ls.index, *n, s.geometries.len()));
                 s.geometries.push(Geometry {
@@ -163,10 +174,12 @@ impl Builder {
     }
 
     /// Records a warning once per frame: each names its symbol, so there
-    /// is one per symbol kind and problem, never one per symbol.
-    pub fn warn(&mut self, msg: String) {
-        if self.warned.insert(msg.clone()) {
-            self.messages.push(format!("warning: {msg}"));
+    /// is one per symbol kind and problem, never one per symbol, and it
+    /// is located at the first place met (`file:line:column` of the text
+    /// that made the symbol, or the file).
+    pub fn warn(&mut self, place: &str, msg: &str) {
+        if self.warned.insert(msg.to_string()) {
+            self.messages.push(format!("{place}: warning: {msg}"));
         }
     }
 
@@ -248,11 +261,10 @@ impl Builder {
     }
 
     /// Bounds of what was drawn since the matching begin, shapes taken at
-    /// a coarse tessellation.
-    pub fn bbox_end(&mut self, g: &Geometry, end: (usize, usize)) {
+    /// a coarse tessellation; false when no begin is open.
+    pub fn bbox_end(&mut self, g: &Geometry, end: (usize, usize)) -> bool {
         let Some((s0, t0)) = self.bbox_start.pop() else {
-            self.warn("`D` par1 = 21 without a `D` par1 = 20 before it".into());
-            return;
+            return false;
         };
         let mut tris: Vec<_> = g.triangles[t0.min(end.1)..end.1].to_vec();
         for sh in &g.shapes[s0.min(end.0)..end.0] {
@@ -271,6 +283,7 @@ impl Builder {
                 lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
             ));
         }
+        true
     }
 
     /// `l`: camera (par3 = 0, 1, 2, 4, 5, 8, 10) and light 3 (par3 = 3,
@@ -340,6 +353,32 @@ impl Builder {
     }
 }
 
+/// The geometry of surface `gi` placed with the turtle's material `mat`:
+/// its faces that name no material take `mat` (thesis: the current
+/// material applies to what is drawn). One copy per surface and material
+/// and frame; the default material keeps the shared geometry.
+fn surface_in(
+    gi: usize,
+    mat: u32,
+    surfaces: &Surfaces,
+    geometries: &mut Vec<Geometry>,
+    recoloured: &mut BTreeMap<(usize, u32), u32>,
+) -> u32 {
+    let Some(unset) = surfaces.unset[gi].filter(|_| mat != 0) else {
+        return gi as u32;
+    };
+    *recoloured.entry((gi, mat)).or_insert_with(|| {
+        let mut g = surfaces.geometries[gi].clone();
+        for t in &mut g.triangles {
+            if t.material == unset {
+                t.material = mat;
+            }
+        }
+        geometries.push(g);
+        (geometries.len() - 1) as u32
+    })
+}
+
 /// Builds the scene of the animation's current frame. `tables` keeps the
 /// turtle state tables of each L-system from frame to frame.
 pub fn build_scene(
@@ -367,6 +406,7 @@ pub fn build_scene(
     let (time, seed, frame) = (anim.time(), anim.camera.seed, anim.frame);
     tables.resize(anim.systems.len(), Tables::default());
     let mut geometries: Vec<Geometry> = surfaces.geometries.clone();
+    let mut recoloured = BTreeMap::new();
     let mut instances = Vec::new();
     for (k, ls) in anim.systems.iter_mut().enumerate() {
         let st = interpret(ls, time, seed, &mut b, &mut tables[k], sensors, world, opts);
@@ -380,20 +420,25 @@ pub fn build_scene(
         }
         // Each placement's geometry, resolved once for all the copies.
         let mut placed = Vec::with_capacity(st.placements.len());
-        for (what, m) in &st.placements {
+        for (what, m, mat) in &st.placements {
             let g = match what {
                 Placed::Named(n) => named.get(n).copied(),
                 Placed::Surface(n) => surfaces
                     .index
                     .iter()
                     .find(|(l, sn, _)| *l == k && sn == n)
-                    .map(|(_, _, gi)| *gi as u32),
+                    .map(|(_, _, gi)| {
+                        surface_in(*gi, *mat, surfaces, &mut geometries, &mut recoloured)
+                    }),
             };
             match g {
                 Some(g) => placed.push((g, *m)),
-                None => b.warn(format!(
-                    "`B` draws surface {what:?}, which the Surfaces section does not declare"
-                )),
+                None => b.warn(
+                    &ls.def.name,
+                    &format!(
+                        "`B` draws surface {what:?}, which the Surfaces section does not declare"
+                    ),
+                ),
             }
         }
         for r in &copies {

@@ -52,7 +52,9 @@ pub(super) fn d_symbol(it: &mut Interpreter, s: &Symbol) {
         21 => {
             let n = it.geometry_bounds();
             let g = it.geometry_ref().clone();
-            it.builder().bbox_end(&g, n);
+            if !it.builder().bbox_end(&g, n) {
+                it.warn("`D` par1 = 21 without a `D` par1 = 20 before it");
+            }
         }
         30 => it.builder().print(format!(
             "turtle position {:.6} {:.6} {:.6}",
@@ -78,9 +80,8 @@ pub(super) fn d_symbol(it: &mut Interpreter, s: &Symbol) {
         // grid, window, list: layout directives with no equivalent here
         // (the BVH replaces the grid; the image size comes from the camera).
         0 | 5 | 12 | 14 => {}
-        17 => it.builder().warn(
-            "`D` par1 = 17 includes the thesis's plane.ray, which is not available; skipped".into(),
-        ),
+        17 => it
+            .warn("`D` par1 = 17 includes the thesis's plane.ray, which is not available; skipped"),
         _ => {}
     }
 }
