@@ -450,3 +450,39 @@ fn the_mp4_is_made_from_its_frames_and_soundtrack() {
     ok(&["verify", s(&dir)]);
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// A scene's own sound file is copied into the folder at derive, so the
+/// finishing stage renders the soundtrack without the scene's folder.
+#[test]
+fn the_folder_carries_the_scenes_own_sounds() {
+    let root = temp("own-sound");
+    let scenes = root.join("scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    let wav = format!("{}/scenes/sounds/frog.wav", env!("CARGO_MANIFEST_DIR"));
+    std::fs::copy(&wav, scenes.join("mine.wav")).unwrap();
+    let scene = write(
+        &scenes,
+        "own.lm",
+        &SCENE.replace("Axiom", "Options\nsound_file 6 mine.wav\nAxiom"),
+    );
+    let dir = root.join("out");
+    ok(&["derive", &scene, "-o", s(&dir)]);
+    assert!(dir.join("sounds/mine.wav").exists());
+    std::fs::remove_dir_all(&scenes).unwrap();
+    ok(&["render", s(&dir), "--preset", "preview"]);
+    ok(&["sound", s(&dir)]);
+    let samples: Vec<i16> = hound::WavReader::open(dir.join("soundtrack.wav"))
+        .unwrap()
+        .into_samples()
+        .map(Result::unwrap)
+        .collect();
+    assert!(
+        samples.iter().any(|&v| v != 0),
+        "the scene's own sound is heard"
+    );
+    ok(&["verify", s(&dir)]);
+    // The copy is an output of the folder, checked like the others.
+    let m = std::fs::read_to_string(dir.join("manifest.json")).unwrap();
+    assert!(m.contains("sounds/mine.wav"), "{m}");
+    std::fs::remove_dir_all(&root).unwrap();
+}
