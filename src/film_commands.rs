@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 
 use lmfilm::film::frames::{FrameRange, FrameSelection, Shard};
 use lmfilm::film::job::{self, Formats, SceneText, SOUNDTRACK_FILE};
-use lmfilm::film::{manifest, mux, verify, Film};
+use lmfilm::film::{assemble, manifest, mux, verify, Film};
 use lmfilm::lsys::Source;
 use lmfilm::render::Settings;
 use lmfilm::sound::{self, Attenuation, SampleFormat};
@@ -376,7 +376,7 @@ fn derive_into(
     let (_, derived) =
         job::derive(film, inputs, dir, clean, &mut |k, n| p.tick(k, n)).map_err(fail)?;
     p.done();
-    job::finish(dir).map_err(fail)?;
+    assemble::finish(dir).map_err(fail)?;
     Ok(derived)
 }
 
@@ -422,7 +422,7 @@ pub fn run(
     } else {
         None
     };
-    let m = job::finish(&dir).map_err(fail)?;
+    let m = assemble::finish(&dir).map_err(fail)?;
     let now = |done: bool| if done { "made now" } else { "up to date" };
     println!(
         "{}: {} frames derived ({}), {rendered} of {selected} frames rendered now (the others up to date), {} ({}), {}",
@@ -474,7 +474,7 @@ pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>) -> Result<(),
             dir.display()
         ),
         None => {
-            job::finish(dir).map_err(fail)?;
+            assemble::finish(dir).map_err(fail)?;
         }
     }
     Ok(())
@@ -483,7 +483,7 @@ pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>) -> Result<(),
 /// `lmfilm mux DIR`.
 pub fn mux_command(dir: &Path) -> Result<(), Failure> {
     let (mp4, made) = job::mux(dir).map_err(fail)?;
-    job::finish(dir).map_err(fail)?;
+    assemble::finish(dir).map_err(fail)?;
     println!(
         "{}{}",
         mp4.display(),
@@ -534,7 +534,7 @@ fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool, Failure> {
 /// (the stage that finishes a film rendered in shards).
 pub fn sound_dir(dir: &Path, settings: &sound::Settings) -> Result<(), Failure> {
     let made = soundtrack(dir, settings)?;
-    job::finish(dir).map_err(fail)?;
+    assemble::finish(dir).map_err(fail)?;
     println!(
         "{}{}, {}",
         dir.join(SOUNDTRACK_FILE).display(),

@@ -8,7 +8,8 @@
 //!   processes on any number of machines at once;
 //! * [`soundtrack`]: the log into `soundtrack.wav` and its record;
 //! * [`mux`]: frames and soundtrack into `<name>.mp4` and its record;
-//! * [`finish`]: `manifest.json`, assembled from the records.
+//! * [`super::assemble::finish`]: `manifest.json`, assembled from the
+//!   records.
 //!
 //! A stage skips an output only when its recorded inputs equal the
 //! current ones and its bytes still hash to its record; otherwise it makes
@@ -21,12 +22,12 @@ use std::path::{Path, PathBuf};
 use super::frames::{
     frame_path, frame_pattern, snapshot_path, FrameSelection, FRAMES_DIR, SCENE_DIR,
 };
-use super::manifest::{self, sha256_bytes, sha256_file, Manifest};
+use super::manifest::{self, sha256_bytes, sha256_file};
 use super::record::{
     self, frame_record_path, intact, mp4_paths, parse_frame_file, DeriveRecord, FileHash,
     FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
-use super::{mux as ffmpeg, Film};
+use super::{assemble, mux as ffmpeg, Film};
 use crate::render::{self, output, Settings};
 use crate::scene::atomic::{remove_stale_temps, write_atomic};
 use crate::scene::{snapshot, Scene};
@@ -71,7 +72,7 @@ impl From<manifest::Error> for Error {
     }
 }
 
-fn io(path: &Path, e: impl fmt::Display) -> Error {
+pub(super) fn io(path: &Path, e: impl fmt::Display) -> Error {
     Error::other(format!(
         "{}: {e} (is the folder writable and the disk not full?)",
         path.display()
@@ -521,7 +522,7 @@ pub fn render_frames(
 }
 
 /// `rel` as the records and the manifest key it: `/` separators.
-fn key(rel: &Path) -> String {
+pub(super) fn key(rel: &Path) -> String {
     rel.iter()
         .map(|c| c.to_string_lossy())
         .collect::<Vec<_>>()
@@ -588,24 +589,6 @@ pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<Option<sound
     Ok(Some(report))
 }
 
-/// The PNG frames an MP4 is made of, as one hash over their names and
-/// hashes: the frames of valid records, in order.
-fn png_digest(dir: &Path, rec: &DeriveRecord) -> String {
-    let mut list = String::new();
-    for (k, snap) in rec.snapshots.iter().enumerate() {
-        let rp = dir.join(frame_record_path(&rec.inputs.name, k as u64));
-        if let Ok(Some(f)) = record::read::<FrameRecord>(&rp) {
-            if f.snapshot == *snap {
-                let png = key(&frame_path(&rec.inputs.name, k as u64, "png"));
-                if let Some(h) = f.outputs.get(&png) {
-                    list.push_str(&format!("{png} {h}\n"));
-                }
-            }
-        }
-    }
-    sha256_bytes(list.as_bytes())
-}
-
 /// Frames and soundtrack into `<name>.mp4` through ffmpeg, unless its
 /// record shows the same frames, soundtrack and rate and the MP4 is
 /// intact. Returns the MP4's path and whether it was made now.
@@ -621,7 +604,7 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
         });
     let (mp4, record_path) = mp4_paths(name);
     let mut want = MuxRecord {
-        frames: png_digest(dir, &rec),
+        frames: assemble::png_digest(dir, &rec),
         lmfilm_version: record::version(),
         mp4: String::new(),
         rate: rate.to_string(),
@@ -646,126 +629,6 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
     let rp = dir.join(&record_path);
     record::write(&rp, &want).map_err(|e| io(&rp, e))?;
     Ok((out, true))
-}
-
-/// Assembles `manifest.json` from the records and writes it: the stage
-/// that finishes the film (and any single-process stage) calls it.
-pub fn finish(dir: &Path) -> Result<Manifest, Error> {
-    let m = assemble(dir)?;
-    m.write(dir)?;
-    Ok(m)
-}
-
-/// The manifest the records describe: the derivation's inputs and files,
-/// every frame whose record matches its snapshot, the soundtrack and the
-/// MP4 when their records match their inputs. Frames rendered with
-/// different settings are an error: a film is rendered with one.
-pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
-    let rec = open(dir)?;
-    let name = rec.inputs.name.clone();
-    let mut m = Manifest::new(&rec);
-    let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| io(dir, e))?;
-    m.files.insert(DERIVE_RECORD.into(), derive_hash);
-    m.files.insert(EVENTS_FILE.into(), rec.events.clone());
-    m.files.extend(rec.sounds.clone());
-    for (k, h) in rec.snapshots.iter().enumerate() {
-        m.files.insert(key(&snapshot_path(k as u64)), h.clone());
-    }
-    let mut settings: BTreeMap<BTreeMap<String, String>, Vec<u64>> = BTreeMap::new();
-    for (k, snap) in rec.snapshots.iter().enumerate() {
-        let rel = frame_record_path(&name, k as u64);
-        let Ok(Some(f)) = record::read::<FrameRecord>(&dir.join(&rel)) else {
-            continue;
-        };
-        if f.snapshot != *snap || f.frame != k as u64 {
-            continue;
-        }
-        let hash = sha256_file(&dir.join(&rel)).map_err(|e| io(&dir.join(&rel), e))?;
-        m.files.insert(key(&rel), hash);
-        for (file, h) in &f.outputs {
-            m.files.insert(file.clone(), h.clone());
-        }
-        settings.entry(f.render).or_default().push(k as u64);
-    }
-    if settings.len() > 1 {
-        let groups: Vec<String> = settings
-            .iter()
-            .map(|(s, frames)| {
-                let s: Vec<String> = s.iter().map(|(k, v)| format!("{k}={v}")).collect();
-                format!("frames {} with {}", list(frames), s.join(" "))
-            })
-            .collect();
-        return Err(Error::input(format!(
-            "{}: the frames were rendered with different settings ({}); render them again with one: lmfilm render {} [options]",
-            dir.display(),
-            groups.join("; "),
-            dir.display()
-        )));
-    }
-    if let Some(s) = settings.keys().next() {
-        for (k, v) in s {
-            m.options.insert(format!("render.{k}"), v.clone());
-        }
-    }
-    if let Ok(Some(s)) = record::read::<SoundRecord>(&dir.join(SOUND_RECORD)) {
-        if s.events == rec.events {
-            let hash = sha256_file(&dir.join(SOUND_RECORD)).map_err(|e| io(dir, e))?;
-            m.files.insert(SOUND_RECORD.into(), hash);
-            m.files.insert(SOUNDTRACK_FILE.into(), s.soundtrack.clone());
-            for (k, v) in s.sound {
-                m.options.insert(format!("sound.{k}"), v);
-            }
-        }
-    }
-    let (mp4, mp4_record) = mp4_paths(&name);
-    if let Ok(Some(x)) = record::read::<MuxRecord>(&dir.join(&mp4_record)) {
-        let track = m.files.get(SOUNDTRACK_FILE).cloned();
-        if x.frames == png_digest(dir, &rec) && x.soundtrack == track {
-            let hash = sha256_file(&dir.join(&mp4_record)).map_err(|e| io(dir, e))?;
-            m.files.insert(key(&mp4_record), hash);
-            m.files.insert(key(&mp4), x.mp4.clone());
-        }
-    }
-    Ok(m)
-}
-
-/// Frame numbers as short ranges: `0-3, 7, 9-12`.
-pub fn list(frames: &[u64]) -> String {
-    let mut parts: Vec<String> = Vec::new();
-    let mut i = 0;
-    while i < frames.len() {
-        let mut j = i;
-        while j + 1 < frames.len() && frames[j + 1] == frames[j] + 1 {
-            j += 1;
-        }
-        parts.push(if i == j {
-            frames[i].to_string()
-        } else {
-            format!("{}-{}", frames[i], frames[j])
-        });
-        i = j + 1;
-    }
-    parts.join(", ")
-}
-
-/// Files in `frames/` and `scene/` that no record accounts for, relative
-/// to the folder: frames past the film's end or of another name, stray
-/// and temporary files.
-pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
-    let mut extra = Vec::new();
-    for sub in [SCENE_DIR, FRAMES_DIR, SOUNDS_DIR] {
-        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
-            continue;
-        };
-        let mut names: Vec<String> = entries
-            .flatten()
-            .map(|e| format!("{sub}/{}", e.file_name().to_string_lossy()))
-            .filter(|rel| !m.files.contains_key(rel))
-            .collect();
-        names.sort();
-        extra.extend(names);
-    }
-    extra
 }
 
 /// Removes, in `frames/`, the images and records of frames past the

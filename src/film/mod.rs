@@ -5,6 +5,7 @@
 pub mod world;
 pub use world::Film;
 
+pub mod assemble;
 pub mod frames;
 pub mod job;
 pub mod manifest;

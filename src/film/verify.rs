@@ -9,6 +9,7 @@ use std::fmt;
 use std::io;
 use std::path::Path;
 
+use super::assemble;
 use super::frames::FrameSelection;
 use super::job::{self, EVENTS_FILE, SOUNDTRACK_FILE};
 use super::manifest::{self, sha256_file, Manifest};
@@ -103,7 +104,7 @@ impl Report {
 pub fn verify(dir: &Path) -> Result<Report, manifest::Error> {
     let stored = Manifest::read(dir)?;
     let mut problems = Vec::new();
-    match job::assemble(dir) {
+    match assemble::assemble(dir) {
         Ok(assembled) => {
             problems.extend(differences(&stored, &assembled));
             let rec = job::open(dir).ok();
@@ -111,7 +112,7 @@ pub fn verify(dir: &Path) -> Result<Report, manifest::Error> {
                 problems.extend(chain(dir, rec, &assembled));
             }
             problems.extend(
-                job::extra_files(dir, &assembled)
+                assemble::extra_files(dir, &assembled)
                     .into_iter()
                     .map(|file| Problem::Extra { file }),
             );
@@ -198,7 +199,7 @@ fn chain(dir: &Path, rec: &DeriveRecord, assembled: &Manifest) -> Vec<Problem> {
     }
     if !missing.is_empty() {
         out.push(Problem::NotRendered {
-            frames: job::list(&missing),
+            frames: assemble::list(&missing),
         });
     }
     if !assembled.files.contains_key(SOUNDTRACK_FILE) {

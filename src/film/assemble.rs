@@ -1,0 +1,153 @@
+//! `manifest.json` assembled from the folder's records (DESIGN §4): the
+//! stage that finishes a film writes it, and `verify` compares it with
+//! the one on disk. Only outputs whose records match their inputs are
+//! listed, so the manifest never vouches for a stale file.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::frames::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
+use super::job::{io, key, open, Error, EVENTS_FILE, SOUNDTRACK_FILE};
+use super::manifest::{sha256_bytes, sha256_file, Manifest};
+use super::record::{
+    self, frame_record_path, mp4_paths, DeriveRecord, FrameRecord, MuxRecord, SoundRecord,
+    DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
+};
+
+/// Assembles `manifest.json` from the records and writes it: the stage
+/// that finishes the film (and any single-process stage) calls it.
+pub fn finish(dir: &Path) -> Result<Manifest, Error> {
+    let m = assemble(dir)?;
+    m.write(dir)?;
+    Ok(m)
+}
+
+/// The manifest the records describe: the derivation's inputs and files,
+/// every frame whose record matches its snapshot, the soundtrack and the
+/// MP4 when their records match their inputs. Frames rendered with
+/// different settings are an error: a film is rendered with one.
+pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
+    let rec = open(dir)?;
+    let name = rec.inputs.name.clone();
+    let mut m = Manifest::new(&rec);
+    let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| io(dir, e))?;
+    m.files.insert(DERIVE_RECORD.into(), derive_hash);
+    m.files.insert(EVENTS_FILE.into(), rec.events.clone());
+    m.files.extend(rec.sounds.clone());
+    for (k, h) in rec.snapshots.iter().enumerate() {
+        m.files.insert(key(&snapshot_path(k as u64)), h.clone());
+    }
+    let mut settings: BTreeMap<BTreeMap<String, String>, Vec<u64>> = BTreeMap::new();
+    for (k, snap) in rec.snapshots.iter().enumerate() {
+        let rel = frame_record_path(&name, k as u64);
+        let Ok(Some(f)) = record::read::<FrameRecord>(&dir.join(&rel)) else {
+            continue;
+        };
+        if f.snapshot != *snap || f.frame != k as u64 {
+            continue;
+        }
+        let hash = sha256_file(&dir.join(&rel)).map_err(|e| io(&dir.join(&rel), e))?;
+        m.files.insert(key(&rel), hash);
+        for (file, h) in &f.outputs {
+            m.files.insert(file.clone(), h.clone());
+        }
+        settings.entry(f.render).or_default().push(k as u64);
+    }
+    if settings.len() > 1 {
+        let groups: Vec<String> = settings
+            .iter()
+            .map(|(s, frames)| {
+                let s: Vec<String> = s.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                format!("frames {} with {}", list(frames), s.join(" "))
+            })
+            .collect();
+        return Err(Error::input(format!(
+            "{}: the frames were rendered with different settings ({}); render them again with one: lmfilm render {} [options]",
+            dir.display(),
+            groups.join("; "),
+            dir.display()
+        )));
+    }
+    if let Some(s) = settings.keys().next() {
+        for (k, v) in s {
+            m.options.insert(format!("render.{k}"), v.clone());
+        }
+    }
+    if let Ok(Some(s)) = record::read::<SoundRecord>(&dir.join(SOUND_RECORD)) {
+        if s.events == rec.events {
+            let hash = sha256_file(&dir.join(SOUND_RECORD)).map_err(|e| io(dir, e))?;
+            m.files.insert(SOUND_RECORD.into(), hash);
+            m.files.insert(SOUNDTRACK_FILE.into(), s.soundtrack.clone());
+            for (k, v) in s.sound {
+                m.options.insert(format!("sound.{k}"), v);
+            }
+        }
+    }
+    let (mp4, mp4_record) = mp4_paths(&name);
+    if let Ok(Some(x)) = record::read::<MuxRecord>(&dir.join(&mp4_record)) {
+        let track = m.files.get(SOUNDTRACK_FILE).cloned();
+        if x.frames == png_digest(dir, &rec) && x.soundtrack == track {
+            let hash = sha256_file(&dir.join(&mp4_record)).map_err(|e| io(dir, e))?;
+            m.files.insert(key(&mp4_record), hash);
+            m.files.insert(key(&mp4), x.mp4.clone());
+        }
+    }
+    Ok(m)
+}
+
+/// Frame numbers as short ranges: `0-3, 7, 9-12`.
+pub fn list(frames: &[u64]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < frames.len() {
+        let mut j = i;
+        while j + 1 < frames.len() && frames[j + 1] == frames[j] + 1 {
+            j += 1;
+        }
+        parts.push(if i == j {
+            frames[i].to_string()
+        } else {
+            format!("{}-{}", frames[i], frames[j])
+        });
+        i = j + 1;
+    }
+    parts.join(", ")
+}
+
+/// Files in `frames/` and `scene/` that no record accounts for, relative
+/// to the folder: frames past the film's end or of another name, stray
+/// and temporary files.
+pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
+    let mut extra = Vec::new();
+    for sub in [SCENE_DIR, FRAMES_DIR, SOUNDS_DIR] {
+        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
+            continue;
+        };
+        let mut names: Vec<String> = entries
+            .flatten()
+            .map(|e| format!("{sub}/{}", e.file_name().to_string_lossy()))
+            .filter(|rel| !m.files.contains_key(rel))
+            .collect();
+        names.sort();
+        extra.extend(names);
+    }
+    extra
+}
+
+/// The PNG frames an MP4 is made of, as one hash over their names and
+/// hashes: the frames of valid records, in order.
+pub(super) fn png_digest(dir: &Path, rec: &DeriveRecord) -> String {
+    let mut list = String::new();
+    for (k, snap) in rec.snapshots.iter().enumerate() {
+        let rp = dir.join(frame_record_path(&rec.inputs.name, k as u64));
+        if let Ok(Some(f)) = record::read::<FrameRecord>(&rp) {
+            if f.snapshot == *snap {
+                let png = key(&frame_path(&rec.inputs.name, k as u64, "png"));
+                if let Some(h) = f.outputs.get(&png) {
+                    list.push_str(&format!("{png} {h}\n"));
+                }
+            }
+        }
+    }
+    sha256_bytes(list.as_bytes())
+}
