@@ -9,7 +9,7 @@ use clap::{Args, ValueEnum};
 use lmfilm::film::frames::{frame_pattern, rs_switch, FrameRange, FrameSelection, Shard};
 use lmfilm::film::job::{self, Formats, SceneText, SOUNDTRACK_FILE};
 use lmfilm::film::{manifest, mux, Film};
-use lmfilm::lsys::Source;
+use lmfilm::lsys::{Limits, Source};
 use lmfilm::render::Settings;
 use lmfilm::sound;
 use lmfilm::turtle::Options;
@@ -136,11 +136,14 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
-    fn settings(&self) -> Result<(Settings, Formats), Failure> {
+    fn settings(&self, max_pixels: u64) -> Result<(Settings, Formats), Failure> {
         for (v, what) in [(self.width, "--width"), (self.height, "--height")] {
             if v.is_some_and(|v| !(1..=32768).contains(&v)) {
                 return Err((2, format!("{what} must be 1..32768 pixels")));
             }
+        }
+        if let (Some(w), Some(h)) = (self.width, self.height) {
+            Limits::check_pixels(w, h, max_pixels).map_err(|e| (2, e))?;
         }
         // 0 × 0: the size of each snapshot's camera.
         let (w, h) = (self.width.unwrap_or(0), self.height.unwrap_or(0));
@@ -155,8 +158,11 @@ impl RenderArgs {
 
     fn threads(&self) -> Result<(), Failure> {
         if let Some(n) = self.threads {
-            if n == 0 {
-                return Err((2, "--threads must be ≥ 1".into()));
+            if n == 0 || n > Limits::MAX_THREADS {
+                return Err((
+                    2,
+                    format!("--threads must be 1..{}, got {n}", Limits::MAX_THREADS),
+                ));
             }
             // Ignored when a pool already exists (tests calling twice).
             let _ = rayon::ThreadPoolBuilder::new()
@@ -172,15 +178,19 @@ impl RenderArgs {
 fn load(
     scenes: &[PathBuf],
     allow_commands: bool,
+    limits: Limits,
 ) -> Result<(Film, Vec<SceneText>, String), Failure> {
+    let opts = Options {
+        limits,
+        ..Options::default()
+    };
     let (film, texts, name) = if scenes.is_empty() {
         let sources: Vec<Source> = BUILT_IN
             .iter()
             .map(|(n, t)| Source::new(format!("built-in:{n}"), *t))
             .collect();
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/film");
-        let film =
-            Film::from_sources(&sources, Some(&dir), Options::default()).map_err(|e| (2, e))?;
+        let film = Film::from_sources(&sources, Some(&dir), opts).map_err(|e| (2, e))?;
         let texts = BUILT_IN
             .iter()
             .map(|(n, t)| SceneText {
@@ -190,7 +200,7 @@ fn load(
             .collect();
         (film, texts, "lmfilm".to_string())
     } else {
-        let film = Film::load(scenes, Options::default()).map_err(|e| (2, e))?;
+        let film = Film::load(scenes, opts).map_err(|e| (2, e))?;
         let mut texts = Vec::new();
         for p in scenes {
             let bytes = std::fs::read(p).map_err(|e| (2, format!("{}: {e}", p.display())))?;
@@ -266,14 +276,17 @@ fn render_into(
     args: &RenderArgs,
     shard: Shard,
     rs: Option<Vec<i64>>,
+    max_pixels: u64,
 ) -> Result<u64, Failure> {
-    let (settings, formats) = args.settings()?;
+    let (settings, formats) = args.settings(max_pixels)?;
     let m = job::open(dir).map_err(fail)?;
     let selection = FrameSelection::resolve(args.frames, rs.as_deref());
     let frames = selection.frames(m.frame_count, shard);
     let mut p = Progress::new("rendering frame");
-    let n = job::render_frames(dir, &frames, &settings, formats, &mut |k, n| p.tick(k, n))
-        .map_err(fail)?;
+    let n = job::render_frames(dir, &frames, &settings, formats, max_pixels, &mut |k, n| {
+        p.tick(k, n)
+    })
+    .map_err(fail)?;
     p.done();
     Ok(n)
 }
@@ -284,13 +297,15 @@ pub fn run(
     out: Option<&Path>,
     args: &RenderArgs,
     allow: bool,
+    limits: Limits,
 ) -> Result<(), Failure> {
     args.threads()?;
-    let (mut film, texts, name) = load(scenes, allow)?;
+    args.settings(limits.pixels)?;
+    let (mut film, texts, name) = load(scenes, allow, limits)?;
     let rs = rs_switch(&film.anim.systems[0].def.options).map(<[i64]>::to_vec);
     let dir = output_dir(out, &film, &name);
     derive_into(&mut film, &texts, &name, &dir)?;
-    let rendered = render_into(&dir, args, Shard::all(), rs)?;
+    let rendered = render_into(&dir, args, Shard::all(), rs, limits.pixels)?;
     job::soundtrack(&dir, &sound::Settings::default()).map_err(fail)?;
     let m = job::open(&dir).map_err(fail)?;
     println!(
@@ -309,8 +324,8 @@ pub fn run(
 }
 
 /// `lmfilm derive`.
-pub fn derive(scenes: &[PathBuf], out: &Path, allow: bool) -> Result<(), Failure> {
-    let (mut film, texts, name) = load(scenes, allow)?;
+pub fn derive(scenes: &[PathBuf], out: &Path, allow: bool, limits: Limits) -> Result<(), Failure> {
+    let (mut film, texts, name) = load(scenes, allow, limits)?;
     derive_into(&mut film, &texts, &name, out)?;
     println!(
         "{}: {} frames derived",
@@ -321,9 +336,14 @@ pub fn derive(scenes: &[PathBuf], out: &Path, allow: bool) -> Result<(), Failure
 }
 
 /// `lmfilm render DIR`.
-pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>) -> Result<(), Failure> {
+pub fn render(
+    dir: &Path,
+    args: &RenderArgs,
+    shard: Option<Shard>,
+    max_pixels: u64,
+) -> Result<(), Failure> {
     args.threads()?;
-    let n = render_into(dir, args, shard.unwrap_or(Shard::all()), None)?;
+    let n = render_into(dir, args, shard.unwrap_or(Shard::all()), None, max_pixels)?;
     println!("{}: {n} frames rendered", dir.display());
     Ok(())
 }
@@ -386,8 +406,12 @@ fn json_number(v: f64) -> String {
 }
 
 /// `lmfilm trace`: one JSON object per frame on stdout.
-pub fn trace(scenes: &[PathBuf], frames: Option<FrameRange>) -> Result<(), Failure> {
-    let (mut film, _, _) = load(scenes, false)?;
+pub fn trace(
+    scenes: &[PathBuf],
+    frames: Option<FrameRange>,
+    limits: Limits,
+) -> Result<(), Failure> {
+    let (mut film, _, _) = load(scenes, false, limits)?;
     let count = film.anim.frame_count();
     let range = frames.map_or(0..count, |r| r.within(count));
     let mut out = std::io::stdout().lock();

@@ -12,6 +12,7 @@ use film_commands::{PresetArg, RenderArgs};
 use lmfilm::film::frames::{FrameRange, Shard};
 use lmfilm::film::{job, Film};
 use lmfilm::lsys::print::{self, Format};
+use lmfilm::lsys::Limits;
 use lmfilm::render::{self, Filter};
 use lmfilm::scene::obj;
 use lmfilm::scene::Scene;
@@ -112,6 +113,8 @@ enum Command {
         /// Let the scene run its `command_file` scripts.
         #[arg(long)]
         allow_commands: bool,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
     /// The simulation alone: snapshots, sound event log and manifest.
     ///
@@ -129,6 +132,8 @@ enum Command {
         /// Let the scene run its `command_file` scripts.
         #[arg(long)]
         allow_commands: bool,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
     /// Ray-trace a derived folder's snapshots into DIR/frames/.
     ///
@@ -146,6 +151,9 @@ enum Command {
         /// This process's share of the frames: K/N.
         #[arg(long, value_name = "K/N")]
         shard: Option<Shard>,
+        /// Most pixels in one image (width × height).
+        #[arg(long, value_name = "N", default_value_t = Limits::default().pixels)]
+        max_pixels: u64,
     },
     /// Frames and soundtrack of a film folder into an MP4 through ffmpeg.
     ///
@@ -180,6 +188,8 @@ enum Command {
         /// Frames to list: A..B (B excluded), A..=B, A.. or N.
         #[arg(long, value_name = "A..B")]
         frames: Option<FrameRange>,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
     /// Render a sound event log into a soundtrack WAV (thesis 2.4.3).
     ///
@@ -219,6 +229,8 @@ enum Command {
         /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
         #[arg(long)]
         float: bool,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
 }
 
@@ -247,6 +259,37 @@ struct FrameArgs {
     /// Time T in seconds: the frame nearest to T.
     #[arg(long, allow_negative_numbers = true)]
     time: Option<f64>,
+    #[command(flatten)]
+    limits: LimitArgs,
+}
+
+/// The limits of docs/limits.md: a run that would pass one stops with a
+/// message (exit 2) naming the flag that raises it.
+#[derive(clap::Args)]
+struct LimitArgs {
+    /// Most symbols in one L-system's word (56 bytes each, two words).
+    #[arg(long, value_name = "N", default_value_t = Limits::default().symbols)]
+    max_symbols: usize,
+    /// Most primitives (shapes, triangles, copies) in one frame's scene.
+    #[arg(long, value_name = "N", default_value_t = Limits::default().shapes)]
+    max_shapes: usize,
+    /// Most frames in one film (t_final / Δt + 1).
+    #[arg(long, value_name = "N", default_value_t = Limits::default().frames)]
+    max_frames: u64,
+    /// Most pixels in one image (width × height).
+    #[arg(long, value_name = "N", default_value_t = Limits::default().pixels)]
+    max_pixels: u64,
+}
+
+impl LimitArgs {
+    fn limits(&self) -> Limits {
+        Limits {
+            symbols: self.max_symbols,
+            shapes: self.max_shapes,
+            frames: self.max_frames,
+            pixels: self.max_pixels,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -259,11 +302,25 @@ enum PrintFormat {
 /// interpreted on the way (sound events and `?` queries included).
 fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film, (u8, String)> {
     let mut film = Film::load(&at.scenes, opts).map_err(|e| (2, e))?;
+    let last = film.anim.frame_count() - 1;
+    let end = || {
+        format!(
+            "the film {} ends at frame {last} (time {} s)",
+            at.scenes[0].display(),
+            last as f64 * film.anim.camera.dt
+        )
+    };
     let target = match (at.frame, at.time) {
         (_, Some(t)) if !t.is_finite() || t < 0.0 => {
             return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
         }
+        (_, Some(t)) if film.anim.frame_at(t) > last => {
+            return Err((2, format!("--time {t:?} is past the end: {}", end())))
+        }
         (_, Some(t)) => film.anim.frame_at(t),
+        (Some(n), None) if n > last => {
+            return Err((2, format!("--frame {n} is past the end: {}", end())))
+        }
         (Some(n), None) => n,
         (None, None) => 0,
     };
@@ -290,7 +347,10 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
             format!("--segment-width must be > 0, got {segment_width}"),
         ));
     }
-    let opts = Options { segment_width };
+    let opts = Options {
+        segment_width,
+        limits: at.limits.limits(),
+    };
     let scene = frame_scene(&mut derive_to(at, opts)?)?;
     if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| {
@@ -330,7 +390,15 @@ fn still(
             format!("--segment-width must be > 0, got {segment_width}"),
         ));
     }
-    let opts = Options { segment_width };
+    let limits = at.limits.limits();
+    // Given sizes are checked before the derivation, the camera's after.
+    if let (Some(w), Some(h)) = size {
+        Limits::check_pixels(w, h, limits.pixels).map_err(|e| (2, e))?;
+    }
+    let opts = Options {
+        segment_width,
+        limits,
+    };
     let mut film = derive_to(at, opts)?;
     let scene = frame_scene(&mut film)?;
     let w = size.0.unwrap_or(scene.camera.width);
@@ -341,6 +409,10 @@ fn still(
             format!("the image size must be 1..32768 pixels a side, got {w}×{h}"),
         ));
     }
+    Limits::check_pixels(w, h, limits.pixels).map_err(|e| {
+        let scene = at.scenes[0].display();
+        (2, format!("{scene}: frame {}: {e}", film.anim.frame))
+    })?;
     let mut settings = film_commands::quality(preset, w, h, spp)?;
     settings.filter = match filter {
         FilterArg::Box => Filter::Box,
@@ -372,7 +444,11 @@ fn still(
 }
 
 fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {
-    let mut film = derive_to(at, Options::default())?;
+    let opts = Options {
+        limits: at.limits.limits(),
+        ..Options::default()
+    };
+    let mut film = derive_to(at, opts)?;
     // The turtle runs on the printed frame too, so `?` shows its position.
     frame_scene(&mut film)?;
     let (anim, sensors) = film.parts();
@@ -398,7 +474,11 @@ fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> 
 /// Derives every frame of a scene and writes its sound event log,
 /// `soundtrack.events` beside the soundtrack (default folder
 /// `renders/<scene name>/`). Returns the log's and the WAV's paths.
-fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf), (u8, String)> {
+fn scene_events(
+    scene: &Path,
+    output: Option<&Path>,
+    limits: Limits,
+) -> Result<(PathBuf, PathBuf), (u8, String)> {
     let wav = output.map_or_else(
         || {
             let name = scene.file_stem().unwrap_or_default();
@@ -407,7 +487,11 @@ fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf
         Path::to_path_buf,
     );
     let events = wav.with_file_name("soundtrack.events");
-    let mut film = Film::load(&[scene], Options::default()).map_err(|e| (2, e))?;
+    let opts = Options {
+        limits,
+        ..Options::default()
+    };
+    let mut film = Film::load(&[scene], opts).map_err(|e| (2, e))?;
     let mut progress = film_commands::Progress::new("deriving frame");
     let fail = |e: job::Error| (e.code, e.message);
     job::every_frame(&mut film, &mut |k, n| progress.tick(k, n), |_, _| Ok(())).map_err(fail)?;
@@ -416,6 +500,7 @@ fn scene_events(scene: &Path, output: Option<&Path>) -> Result<(PathBuf, PathBuf
     Ok((events, wav))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn sound(
     events: &Path,
     output: Option<&Path>,
@@ -424,6 +509,7 @@ fn sound(
     attenuation: AttenuationArg,
     library: Option<&Path>,
     float: bool,
+    limits: Limits,
 ) -> Result<(), (u8, String)> {
     if !(1..=768_000).contains(&rate) {
         return Err((2, format!("--rate must be 1..768000 Hz, got {rate}")));
@@ -452,7 +538,7 @@ fn sound(
         return film_commands::sound_dir(events, &settings);
     }
     let (events, output) = if events.extension().is_some_and(|e| e == "lm") {
-        scene_events(events, output)?
+        scene_events(events, output, limits)?
     } else {
         sound::paths(events, output)
     };
@@ -527,16 +613,33 @@ fn main() -> ExitCode {
             output,
             render,
             allow_commands,
-        } => film_commands::run(&scenes, output.as_deref(), &render, allow_commands),
+            limits,
+        } => film_commands::run(
+            &scenes,
+            output.as_deref(),
+            &render,
+            allow_commands,
+            limits.limits(),
+        ),
         Command::Derive {
             scenes,
             output,
             allow_commands,
-        } => film_commands::derive(&scenes, &output, allow_commands),
-        Command::Render { dir, render, shard } => film_commands::render(&dir, &render, shard),
+            limits,
+        } => film_commands::derive(&scenes, &output, allow_commands, limits.limits()),
+        Command::Render {
+            dir,
+            render,
+            shard,
+            max_pixels,
+        } => film_commands::render(&dir, &render, shard, max_pixels),
         Command::Mux { dir } => film_commands::mux_command(&dir),
         Command::Verify { dir } => film_commands::verify(&dir),
-        Command::Trace { scenes, frames } => film_commands::trace(&scenes, frames),
+        Command::Trace {
+            scenes,
+            frames,
+            limits,
+        } => film_commands::trace(&scenes, frames, limits.limits()),
         Command::Sound {
             events,
             output,
@@ -545,6 +648,7 @@ fn main() -> ExitCode {
             attenuation,
             library,
             float,
+            limits,
         } => sound(
             &events,
             output.as_deref(),
@@ -553,6 +657,7 @@ fn main() -> ExitCode {
             attenuation,
             library.as_deref(),
             float,
+            limits.limits(),
         ),
     };
     match result {

@@ -63,7 +63,7 @@ fn cast_reports_distance_material_normal_and_vision_colour() {
 #[test]
 fn identical_for_any_thread_count() {
     let mut a = load("cours_tree3.lm");
-    a.advance_to(100, &mut NoSensors);
+    a.advance_to(100, &mut NoSensors).unwrap();
     let (s, _) = scene(&mut a);
     let mut st = Settings::final_quality(64, 48);
     st.spp = 4;

@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 use super::frames::{frame_path, snapshot_path, SCENE_DIR};
 use super::manifest::{self, Manifest};
 use super::Film;
+use crate::lsys::Limits;
 use crate::render::{self, output, Settings};
 use crate::scene::atomic::{remove_stale_temps, write_atomic};
 use crate::scene::{snapshot, Scene};
@@ -217,6 +218,7 @@ pub fn render_frames(
     frames: &[u64],
     settings: &Settings,
     formats: Formats,
+    max_pixels: u64,
     progress: Progress,
 ) -> Result<u64, Error> {
     let mut m = open(dir)?;
@@ -247,6 +249,9 @@ pub fn render_frames(
         if st.width == 0 || st.height == 0 {
             (st.width, st.height) = (scene.camera.width, scene.camera.height);
         }
+        let refuse = |e: String| Error::input(format!("{}: {e}", snap.display()));
+        Limits::check_pixels(st.width, st.height, max_pixels).map_err(refuse)?;
+        render::check(&scene).map_err(refuse)?;
         st.frame = k;
         st.layers = formats != Formats::Png;
         let img = render::render(&scene, &st);

@@ -9,7 +9,7 @@ use super::polygon::{newell, triangulate, PolygonStack};
 use super::special;
 use super::state::{bend, Turtle};
 use super::{Builder, ParticleMapping, SoundRequest, TurtleWorld};
-use crate::lsys::{LSystem, Sensors, Symbol, Who};
+use crate::lsys::{LSystem, Limits, Sensors, Symbol, Who};
 use crate::scene::material;
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
 
@@ -18,12 +18,15 @@ use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
 pub struct Options {
     /// Diameter of the thin cylinders drawn for segments `R S`.
     pub segment_width: f64,
+    /// How big words, scenes, films and images may grow.
+    pub limits: Limits,
 }
 
 impl Default for Options {
     fn default() -> Self {
         Options {
             segment_width: 0.05,
+            limits: Limits::default(),
         }
     }
 }
