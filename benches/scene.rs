@@ -38,6 +38,7 @@ fn interpret(c: &mut Criterion) {
                 &mut NoWorld,
                 Options::default(),
             )
+            .unwrap()
             .0
             .geometries[0]
                 .shapes

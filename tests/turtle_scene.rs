@@ -133,7 +133,8 @@ fn query_symbol_and_state_tables_persist_across_frames() {
             &mut NoSensors,
             &mut NoWorld,
             Options::default(),
-        );
+        )
+        .unwrap();
         let q = a.systems[0].word()[4];
         assert_eq!(q.par, [frame as f64, 0.0, 0.0]);
         a.step(&mut NoSensors).unwrap();

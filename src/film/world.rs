@@ -326,7 +326,7 @@ impl Film {
             &mut self.ears,
             &mut hooks,
             self.opts,
-        );
+        )?;
         if let Some(e) = hooks.error {
             return Err(format!("frame {}: {e}", self.anim.frame));
         }

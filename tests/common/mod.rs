@@ -56,4 +56,5 @@ pub fn scene(a: &mut Animation) -> (lmfilm::scene::Scene, Vec<String>) {
         &mut NoWorld,
         Options::default(),
     )
+    .unwrap_or_else(|e| panic!("{e}"))
 }
