@@ -301,29 +301,38 @@ enum PrintFormat {
 /// The film derived to the frame `--frame`/`--time` names, every frame
 /// interpreted on the way (sound events and `?` queries included).
 fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film, (u8, String)> {
+    let max = opts.limits.frames;
     let mut film = Film::load(&at.scenes, opts).map_err(|e| (2, e))?;
     let last = film.anim.frame_count() - 1;
-    let end = || {
-        format!(
-            "the film {} ends at frame {last} (time {} s)",
-            at.scenes[0].display(),
-            last as f64 * film.anim.camera.dt
-        )
-    };
+    let dt = film.anim.camera.dt;
     let target = match (at.frame, at.time) {
         (_, Some(t)) if !t.is_finite() || t < 0.0 => {
             return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
         }
-        (_, Some(t)) if film.anim.frame_at(t) > last => {
-            return Err((2, format!("--time {t:?} is past the end: {}", end())))
-        }
         (_, Some(t)) => film.anim.frame_at(t),
-        (Some(n), None) if n > last => {
-            return Err((2, format!("--frame {n} is past the end: {}", end())))
-        }
         (Some(n), None) => n,
         (None, None) => 0,
     };
+    // Past the end the words go on growing (the thesis's PRINT shows any
+    // time), but only as far as a film may be long.
+    if target > last {
+        let asked = match at.time {
+            Some(t) => format!("--time {t:?}"),
+            None => format!("--frame {target}"),
+        };
+        let end = format!(
+            "the film {} ends at frame {last} (time {} s)",
+            at.scenes[0].display(),
+            last as f64 * dt
+        );
+        if target >= max {
+            return Err((
+                2,
+                format!("{asked} is past the end: {end}, and frame {target} is over the limit of {max} frames; raise it with --max-frames N"),
+            ));
+        }
+        eprintln!("warning: {asked} is past the end: {end}");
+    }
     let mut progress = film_commands::Progress::new("deriving frame");
     film.advance_to(target, |k, n| progress.tick(k, n))
         .map_err(|e| (2, e))?;
