@@ -14,8 +14,8 @@ use lmfilm::film::{job, Film};
 use lmfilm::lsys::print::{self, Format};
 use lmfilm::lsys::Limits;
 use lmfilm::render::{self, Filter};
-use lmfilm::scene::obj;
 use lmfilm::scene::Scene;
+use lmfilm::scene::{mesh, obj};
 use lmfilm::sound::{self, Attenuation, SampleFormat};
 use lmfilm::turtle::Options;
 
@@ -360,7 +360,20 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
         segment_width,
         limits: at.limits.limits(),
     };
-    let scene = frame_scene(&mut derive_to(at, opts)?)?;
+    let mut film = derive_to(at, opts)?;
+    let scene = frame_scene(&mut film)?;
+    // Shapes become many triangles each: the count is the export's.
+    let (count, max) = (mesh::expanded_count(&scene), opts.limits.shapes as u64);
+    if count > max {
+        return Err((
+            2,
+            format!(
+                "{}: frame {}: the export would hold {count} triangles, over the limit of {max}; raise it with --max-shapes N",
+                at.scenes[0].display(),
+                film.anim.frame
+            ),
+        ));
+    }
     if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| {
             (

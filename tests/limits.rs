@@ -360,3 +360,27 @@ fn the_renderer_refuses_out_of_range_primitives() {
     assert!(e.contains("instance 0"), "{e}");
     render::render(&sc, &Settings::preview(8, 6));
 }
+
+/// An export tessellates every shape into many triangles: those count.
+#[test]
+fn an_export_counts_its_triangles_against_the_shape_limit() {
+    let f = file(
+        "export",
+        "export.lm",
+        "Axiom\na () () () () (1) a () () () () (2)\n",
+    );
+    let obj = f.with_extension("obj");
+    let (code, err) = lmfilm(&["export", s(&f), "-o", s(&obj), "--max-shapes", "10"], 20);
+    expect(
+        code,
+        &err,
+        &[
+            "export.lm: frame 0: the export would hold",
+            "over the limit of 10",
+            "--max-shapes",
+        ],
+    );
+    assert!(!obj.exists());
+    let (code, err) = lmfilm(&["export", s(&f), "-o", s(&obj)], 20);
+    assert_eq!(code, 0, "{err}");
+}
