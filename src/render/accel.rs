@@ -100,6 +100,10 @@ fn aabb(b: (Vec3A, Vec3A)) -> Aabb {
 /// The box around `a` transformed by `m`; None when not finite or beyond
 /// ±[`crate::scene::MAX_COORDINATE`].
 pub(super) fn transformed(a: &Aabb, m: &Affine3A) -> Option<Aabb> {
+    // `extend` may drop a NaN corner: the transform is checked itself.
+    if !m.is_finite() {
+        return None;
+    }
     let mut out = Aabb::empty();
     for i in 0..8 {
         let c = Vec3A::new(

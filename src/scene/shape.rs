@@ -89,7 +89,9 @@ pub fn bounds(shape: &Shape) -> Option<(Vec3A, Vec3A)> {
 pub fn triangle_bounds(v: &[Vec3; 3]) -> Option<(Vec3A, Vec3A)> {
     let (a, b, c) = (Vec3A::from(v[0]), Vec3A::from(v[1]), Vec3A::from(v[2]));
     let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
-    within(lo, hi).then_some((lo, hi))
+    // min and max may drop a NaN: the corners are checked themselves.
+    let finite = a.is_finite() && b.is_finite() && c.is_finite();
+    (finite && within(lo, hi)).then_some((lo, hi))
 }
 
 /// Whether a box is finite and within ±[`MAX_COORDINATE`] (NaN is not).
