@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 
 use common::{fresh_dir, from_text, scene};
 use glam::{Vec3, Vec3A};
+use lmfilm::lsys::NoSensors;
 use lmfilm::render::{self, Accel, Settings};
 
 /// Runs `lmfilm args`; fails the test if it runs longer than `secs`.
@@ -383,4 +384,18 @@ fn an_export_counts_its_triangles_against_the_shape_limit() {
     assert!(!obj.exists());
     let (code, err) = lmfilm(&["export", s(&f), "-o", s(&obj)], 20);
     assert_eq!(code, 0, "{err}");
+}
+
+/// The step function refuses the word that would pass the limit and
+/// keeps the one it had.
+#[test]
+fn a_step_over_the_symbol_limit_keeps_the_word() {
+    let mut a = from_text("Axiom\nA\nProductions\nA (0)\n1 A A EndProb\nEnd\nEndProductions\n");
+    a.limits.symbols = 8;
+    a.advance_to(3, &mut NoSensors).unwrap();
+    assert_eq!(a.systems[0].word().len(), 8);
+    let e = a.step(&mut NoSensors).unwrap_err();
+    assert_eq!((e.file.as_str(), e.frame, e.max), ("test.lm", 4, 8));
+    assert!(e.symbols > 8);
+    assert_eq!((a.systems[0].word().len(), a.frame), (8, 3));
 }

@@ -222,11 +222,6 @@ impl LSystem {
                     let templates = &self.def.productions[p as usize].parts[part].symbols;
                     let mut m = Machine::new(&self.def, &mut self.state, sensors, seed);
                     let cut = self.scratch.fill(&mut m, templates, &frame);
-                    if let Err(need) = room(&mut self.next, self.scratch.symbols.len(), max_symbols)
-                    {
-                        self.word = old;
-                        return Err(need);
-                    }
                     i = match cut {
                         None => i + 1,
                         Some(Cut::Branch) => match self.marks.pop() {
@@ -244,6 +239,11 @@ impl LSystem {
                             None => n,
                         },
                     };
+                    if let Err(need) = room(&mut self.next, self.scratch.symbols.len(), max_symbols)
+                    {
+                        self.word = old;
+                        return Err(need);
+                    }
                     self.append_scratch(ids);
                     continue;
                 }
