@@ -19,7 +19,7 @@ fn between(lo: f64, hi: f64, r: f64) -> f64 {
 /// square grid over the placement area with one to two copies per cell,
 /// rebuilt each time the copies double (O(n) in all), so a query looks
 /// at nine cells or so instead of every copy (which made 10⁵ copies take
-/// 4 s). Cells keep their first copies inline, row after row, so the
+/// 4 s). Cells keep their first two copies inline, row after row, so the
 /// nine cells are a few cache lines.
 struct Spots {
     all: Vec<(f64, f64)>,
@@ -27,28 +27,16 @@ struct Spots {
     cell: f64,
     dim: usize,
     cells: Vec<Cell>,
+    /// The copies past a cell's first two, one list per crowded cell.
+    more: Vec<Vec<(f64, f64)>>,
 }
 
-/// The copies of one grid cell.
-#[derive(Clone, Default)]
+/// The copies of one grid cell: two inline, the rest in list `more − 1`.
+#[derive(Clone, Copy, Default)]
 struct Cell {
-    inline: [(f64, f64); 4],
-    len: usize,
-    more: Vec<(f64, f64)>,
-}
-
-impl Cell {
-    fn push(&mut self, p: (f64, f64)) {
-        match self.inline.get_mut(self.len) {
-            Some(slot) => *slot = p,
-            None => self.more.push(p),
-        }
-        self.len += 1;
-    }
-
-    fn points(&self) -> impl Iterator<Item = &(f64, f64)> {
-        self.inline[..self.len.min(4)].iter().chain(&self.more)
-    }
+    inline: [(f64, f64); 2],
+    len: u32,
+    more: u32,
 }
 
 impl Spots {
@@ -60,7 +48,32 @@ impl Spots {
             cell: len,
             dim: 1,
             cells: vec![Cell::default()],
+            more: Vec::new(),
         }
+    }
+
+    fn add(&mut self, c: usize, p: (f64, f64)) {
+        let cell = &mut self.cells[c];
+        match cell.inline.get_mut(cell.len as usize) {
+            Some(slot) => *slot = p,
+            None => {
+                if cell.more == 0 {
+                    self.more.push(Vec::new());
+                    cell.more = self.more.len() as u32;
+                }
+                self.more[cell.more as usize - 1].push(p);
+            }
+        }
+        cell.len += 1;
+    }
+
+    fn points(&self, c: usize) -> impl Iterator<Item = &(f64, f64)> {
+        let cell = &self.cells[c];
+        let more = match cell.more {
+            0 => &[][..],
+            m => &self.more[m as usize - 1][..],
+        };
+        cell.inline[..(cell.len as usize).min(2)].iter().chain(more)
     }
 
     fn index(&self, v: f64, lo: f64) -> usize {
@@ -74,20 +87,19 @@ impl Spots {
     fn push(&mut self, p: (f64, f64)) {
         self.all.push(p);
         let n = self.all.len();
-        // At most 2048² cells (400 MB).
+        // At most 2048² cells (170 MB).
         let dim = ((n as f64).sqrt().ceil() as usize).clamp(1, 2048);
         if n.is_power_of_two() && dim > self.dim {
             self.cell *= self.dim as f64 / dim as f64;
             self.dim = dim;
             self.cells = vec![Cell::default(); dim * dim];
+            self.more.clear();
             for k in 0..n {
                 let q = self.all[k];
-                let c = self.cell_of(q);
-                self.cells[c].push(q);
+                self.add(self.cell_of(q), q);
             }
         } else {
-            let c = self.cell_of(p);
-            self.cells[c].push(p);
+            self.add(self.cell_of(p), p);
         }
     }
 
@@ -112,7 +124,7 @@ impl Spots {
                     if !(0..dim).contains(&j) {
                         continue;
                     }
-                    for p in self.cells[(i * dim + j) as usize].points() {
+                    for p in self.points((i * dim + j) as usize) {
                         best = best.min(((p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)).sqrt());
                     }
                 }
