@@ -399,3 +399,30 @@ fn a_step_over_the_symbol_limit_keeps_the_word() {
     assert!(e.symbols > 8);
     assert_eq!((a.systems[0].word().len(), a.frame), (8, 3));
 }
+
+/// `render` reads snapshots from disk: one holding a shape out of range,
+/// or asking for more pixels than the limit, is refused by name.
+#[test]
+fn render_refuses_an_out_of_range_snapshot() {
+    use lmfilm::scene::snapshot;
+    let f = file(
+        "snap",
+        "snap.lm",
+        "Camera_AnimationParameters\nt_final_interval 0 1\nAxiom\na () () () () (1)\n",
+    );
+    let dir = f.with_file_name("film");
+    let (code, err) = lmfilm(&["derive", s(&f), "-o", s(&dir)], 60);
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = lmfilm(&["render", s(&dir), "--max-pixels", "100"], 60);
+    expect(
+        code,
+        &err,
+        &["0000.snap", "over the limit of 100", "--max-pixels"],
+    );
+    let snap = dir.join("scene/0000.snap");
+    let mut sc = snapshot::read(&snap).unwrap();
+    sc.geometries[0].shapes[0].transform.translation.y = 1e20;
+    snapshot::write(&sc, &snap).unwrap();
+    let (code, err) = lmfilm(&["render", s(&dir), "--preset", "preview"], 60);
+    expect(code, &err, &["0000.snap", "shape 0", "beyond ±1e15"]);
+}
