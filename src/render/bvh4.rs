@@ -10,8 +10,6 @@
 //! single pass. The traversal stack is sized from the tree's measured
 //! depth, so no tree is too deep for it.
 
-use std::collections::HashMap;
-
 use glam::{Vec3A, Vec4};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
@@ -196,35 +194,44 @@ fn leaf_choice(b: &Bvh2, max_leaf: u32) -> (Vec<bool>, Vec<u32>) {
 /// when no two centres coincide: the plain build.
 fn coincident(aabbs: &[Aabb]) -> Option<(Vec<Bvh2Node>, Vec<u32>)> {
     let key = |b: &Aabb| b.center().to_array().map(f32::to_bits);
-    let mut groups: HashMap<[u32; 3], Vec<u32>> = HashMap::with_capacity(aabbs.len());
-    let mut first = Vec::new();
-    for (i, b) in aabbs.iter().enumerate() {
-        let g = groups.entry(key(b)).or_default();
-        if g.is_empty() {
-            first.push(i);
-        }
-        g.push(i as u32);
-    }
-    if first.len() == aabbs.len() {
+    // First a sort of 64-bit digests of the centres, a few percent of the
+    // build (a hash map of every primitive cost a third of it); equal
+    // digests are then told apart exactly.
+    let mut digests: Vec<u64> = aabbs
+        .iter()
+        .map(|b| {
+            let [x, y, z] = key(b).map(u64::from);
+            (x << 32 | y).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ z
+        })
+        .collect();
+    digests.sort_unstable();
+    if digests.windows(2).all(|w| w[0] != w[1]) {
         return None;
     }
-    let mut leaves = Vec::with_capacity(first.len());
+    // Sorted by centre, then index.
+    let mut keyed: Vec<([u32; 3], u32)> = aabbs
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (key(b), i as u32))
+        .collect();
+    keyed.sort_unstable();
+    if keyed.windows(2).all(|w| w[0].0 != w[1].0) {
+        return None;
+    }
+    // One run per centre, in the order of its first member.
+    let mut runs: Vec<&[([u32; 3], u32)]> = keyed.chunk_by(|a, b| a.0 == b.0).collect();
+    runs.sort_unstable_by_key(|r| r[0].1);
+    let mut leaves = Vec::with_capacity(runs.len());
     let mut order = Vec::with_capacity(aabbs.len());
-    // Groups in the order of their first member: independent of the
-    // hash map's order.
-    for i in first {
-        let Some(mut g) = groups.remove(&key(&aabbs[i])) else {
-            continue;
-        };
-        g.sort_by(|&a, &b| {
-            let area = |k: u32| aabbs[k as usize].half_area();
-            area(a).total_cmp(&area(b)).then(a.cmp(&b))
-        });
-        let aabb = g
+    let area = |k: u32| aabbs[k as usize].half_area();
+    for run in runs {
+        let start = order.len();
+        order.extend(run.iter().map(|&(_, i)| i));
+        order[start..].sort_by(|&a, &b| area(a).total_cmp(&area(b)).then(a.cmp(&b)));
+        let aabb = order[start..]
             .iter()
             .fold(Aabb::empty(), |t, &k| t.union(&aabbs[k as usize]));
-        leaves.push(Bvh2Node::new(aabb, g.len() as u32, order.len() as u32));
-        order.extend(g);
+        leaves.push(Bvh2Node::new(aabb, run.len() as u32, start as u32));
     }
     Some((leaves, order))
 }
