@@ -170,7 +170,7 @@ impl Builder {
 
     /// Counts `n` more primitives; false once the scene would hold more
     /// than its limit, so nothing past it is drawn or allocated.
-    pub fn count(&mut self, n: usize) -> bool {
+    fn count(&mut self, n: usize) -> bool {
         self.primitives = self.primitives.saturating_add(n);
         self.primitives <= self.max_primitives
     }
