@@ -34,7 +34,8 @@ fn main() {
         &mut NoSensors,
         &mut NoWorld,
         Options::default(),
-    );
+    )
+    .unwrap();
     let t1 = Instant::now();
     let accel = Accel::new(&scene);
     let build = t1.elapsed().as_secs_f64();

@@ -15,7 +15,7 @@ fn tree() -> Animation {
     let text = std::fs::read_to_string(path).unwrap();
     let mut a = Animation::from_sources(&[Source::new(path, text)], &mut NoSensors).unwrap();
     while a.systems[0].word().len() < 1_000_000 {
-        a.step(&mut NoSensors);
+        a.step(&mut NoSensors).unwrap();
     }
     a
 }
@@ -38,6 +38,7 @@ fn interpret(c: &mut Criterion) {
                 &mut NoWorld,
                 Options::default(),
             )
+            .unwrap()
             .0
             .geometries[0]
                 .shapes

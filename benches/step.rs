@@ -62,7 +62,7 @@ fn timed_tree(c: &mut Criterion) {
     let text = std::fs::read_to_string(path).unwrap();
     let mut probe = animation(text.clone());
     while probe.systems[0].word().len() < N {
-        probe.step(&mut NoSensors);
+        probe.step(&mut NoSensors).unwrap();
     }
     let frames = probe.frame;
     let mut g = c.benchmark_group("derive");
@@ -75,7 +75,7 @@ fn timed_tree(c: &mut Criterion) {
         |b| {
             b.iter(|| {
                 let mut a = animation(text.clone());
-                a.advance_to(frames, &mut NoSensors);
+                a.advance_to(frames, &mut NoSensors).unwrap();
                 a.systems[0].word().len()
             })
         },

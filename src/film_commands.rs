@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 use lmfilm::film::frames::{FrameRange, FrameSelection, Shard};
 use lmfilm::film::job::{self, Formats, SceneText, SOUNDTRACK_FILE};
 use lmfilm::film::{assemble, manifest, mux, verify, Film};
-use lmfilm::lsys::Source;
+use lmfilm::lsys::{Limits, Source};
 use lmfilm::render::Settings;
 use lmfilm::sound::{self, Attenuation, SampleFormat};
 use lmfilm::turtle::Options;
@@ -214,11 +214,14 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
-    fn settings(&self) -> Result<(Settings, Formats), Failure> {
+    fn settings(&self, max_pixels: u64) -> Result<(Settings, Formats), Failure> {
         for (v, what) in [(self.width, "--width"), (self.height, "--height")] {
             if v.is_some_and(|v| !(1..=32768).contains(&v)) {
                 return Err((2, format!("{what} must be 1..32768 pixels")));
             }
+        }
+        if let (Some(w), Some(h)) = (self.width, self.height) {
+            Limits::check_pixels(w, h, max_pixels).map_err(|e| (2, e))?;
         }
         // 0 × 0: the size of each snapshot's camera.
         let (w, h) = (self.width.unwrap_or(0), self.height.unwrap_or(0));
@@ -233,8 +236,11 @@ impl RenderArgs {
 
     fn threads(&self) -> Result<(), Failure> {
         if let Some(n) = self.threads {
-            if n == 0 {
-                return Err((2, "--threads must be ≥ 1".into()));
+            if n == 0 || n > Limits::MAX_THREADS {
+                return Err((
+                    2,
+                    format!("--threads must be 1..{}, got {n}", Limits::MAX_THREADS),
+                ));
             }
             // Ignored when a pool already exists (tests calling twice).
             let _ = rayon::ThreadPoolBuilder::new()
@@ -286,13 +292,18 @@ fn consent(film: &mut Film, first: Option<&Path>, allow: bool) -> Result<(), Fai
 fn load(
     scenes: &[PathBuf],
     allow_commands: bool,
+    limits: Limits,
 ) -> Result<(Film, Vec<SceneText>, String), Failure> {
+    let opts = Options {
+        limits,
+        ..Options::default()
+    };
     let (film, texts, name) = if scenes.is_empty() {
         let sources: Vec<Source> = BUILT_IN
             .iter()
             .map(|(n, t)| Source::new(format!("built-in:{n}"), *t))
             .collect();
-        let film = Film::from_sources(&sources, None, Options::default()).map_err(|e| (2, e))?;
+        let film = Film::from_sources(&sources, None, opts).map_err(|e| (2, e))?;
         let texts = BUILT_IN
             .iter()
             .map(|(n, t)| SceneText {
@@ -302,7 +313,7 @@ fn load(
             .collect();
         (film, texts, "lmfilm".to_string())
     } else {
-        let film = load_film(scenes, allow_commands, Options::default())?;
+        let film = load_film(scenes, allow_commands, opts)?;
         let mut texts = Vec::new();
         for p in scenes {
             let bytes = std::fs::read(p).map_err(|e| (2, format!("{}: {e}", p.display())))?;
@@ -357,7 +368,10 @@ fn output_dir(out: Option<&Path>, film: &Film, name: &str) -> PathBuf {
 fn derive_options(allow_commands: bool) -> BTreeMap<String, String> {
     BTreeMap::from([
         ("allow_commands".to_string(), allow_commands.to_string()),
-        ("turtle".to_string(), format!("{:?}", Options::default())),
+        (
+            "segment_width".to_string(),
+            Options::default().segment_width.to_string(),
+        ),
     ])
 }
 
@@ -382,8 +396,13 @@ fn derive_into(
 
 /// Renders the frames of `dir` that `--frames` (else the film's own
 /// selection) and `shard` name; returns (rendered now, selected).
-fn render_into(dir: &Path, args: &RenderArgs, shard: Shard) -> Result<(u64, u64), Failure> {
-    let (settings, formats) = args.settings()?;
+fn render_into(
+    dir: &Path,
+    args: &RenderArgs,
+    shard: Shard,
+    max_pixels: u64,
+) -> Result<(u64, u64), Failure> {
+    let (settings, formats) = args.settings(max_pixels)?;
     let rec = job::open(dir).map_err(fail)?;
     let selection = match args.frames {
         Some(range) => FrameSelection::range(range),
@@ -396,8 +415,10 @@ fn render_into(dir: &Path, args: &RenderArgs, shard: Shard) -> Result<(u64, u64)
     };
     let frames = selection.frames(rec.frame_count, shard);
     let mut p = Progress::new("rendering frame");
-    let n = job::render_frames(dir, &frames, &settings, formats, &mut |k, n| p.tick(k, n))
-        .map_err(fail)?;
+    let n = job::render_frames(dir, &frames, &settings, formats, max_pixels, &mut |k, n| {
+        p.tick(k, n)
+    })
+    .map_err(fail)?;
     p.done();
     Ok((n, frames.len() as u64))
 }
@@ -408,14 +429,15 @@ pub fn run(
     out: Option<&Path>,
     (args, sound_args): (&RenderArgs, &SoundArgs),
     allow: bool,
-    clean: bool,
+    (clean, limits): (bool, Limits),
 ) -> Result<(), Failure> {
     args.threads()?;
+    args.settings(limits.pixels)?;
     let sound_settings = sound_args.settings()?;
-    let (mut film, texts, name) = load(scenes, allow)?;
+    let (mut film, texts, name) = load(scenes, allow, limits)?;
     let dir = output_dir(out, &film, &name);
     let derived = derive_into(&mut film, &texts, &name, &dir, clean, allow)?;
-    let (rendered, selected) = render_into(&dir, args, Shard::all())?;
+    let (rendered, selected) = render_into(&dir, args, Shard::all(), limits.pixels)?;
     let sounded = soundtrack(&dir, &sound_settings)?;
     let mp4 = if mux::ffmpeg_available() {
         Some(job::mux(&dir).map_err(fail)?)
@@ -441,8 +463,13 @@ pub fn run(
 }
 
 /// `lmfilm derive`.
-pub fn derive(scenes: &[PathBuf], out: &Path, allow: bool, clean: bool) -> Result<(), Failure> {
-    let (mut film, texts, name) = load(scenes, allow)?;
+pub fn derive(
+    scenes: &[PathBuf],
+    out: &Path,
+    allow: bool,
+    (clean, limits): (bool, Limits),
+) -> Result<(), Failure> {
+    let (mut film, texts, name) = load(scenes, allow, limits)?;
     let derived = derive_into(&mut film, &texts, &name, out, clean, allow)?;
     let rec = job::open(out).map_err(fail)?;
     println!(
@@ -460,9 +487,14 @@ pub fn derive(scenes: &[PathBuf], out: &Path, allow: bool, clean: bool) -> Resul
 /// `lmfilm render DIR`: a shard leaves the manifest to the stage that
 /// finishes the film (`sound DIR`), since shards on many machines must
 /// never write one file; a whole render writes it.
-pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>) -> Result<(), Failure> {
+pub fn render(
+    dir: &Path,
+    args: &RenderArgs,
+    shard: Option<Shard>,
+    max_pixels: u64,
+) -> Result<(), Failure> {
     args.threads()?;
-    let (n, selected) = render_into(dir, args, shard.unwrap_or(Shard::all()))?;
+    let (n, selected) = render_into(dir, args, shard.unwrap_or(Shard::all()), max_pixels)?;
     println!(
         "{}: {n} of {selected} frames rendered now (the others up to date) in {}",
         dir.display(),
@@ -554,8 +586,13 @@ fn json_number(v: f64) -> String {
 }
 
 /// `lmfilm trace`: one JSON object per frame on stdout.
-pub fn trace(scenes: &[PathBuf], frames: Option<FrameRange>, allow: bool) -> Result<(), Failure> {
-    let (mut film, _, _) = load(scenes, allow)?;
+pub fn trace(
+    scenes: &[PathBuf],
+    frames: Option<FrameRange>,
+    allow: bool,
+    limits: Limits,
+) -> Result<(), Failure> {
+    let (mut film, _, _) = load(scenes, allow, limits)?;
     let count = film.anim.frame_count();
     let range = frames.map_or(0..count, |r| r.within(count));
     let mut out = std::io::stdout().lock();

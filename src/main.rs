@@ -12,9 +12,10 @@ use film_commands::{PresetArg, RenderArgs, SoundArgs};
 use lmfilm::film::frames::{FrameRange, Shard};
 use lmfilm::film::{job, record, Film};
 use lmfilm::lsys::print::{self, Format};
+use lmfilm::lsys::Limits;
 use lmfilm::render::{self, Filter};
-use lmfilm::scene::obj;
 use lmfilm::scene::Scene;
+use lmfilm::scene::{mesh, obj};
 use lmfilm::sound;
 use lmfilm::turtle::Options;
 
@@ -120,6 +121,8 @@ enum Command {
         /// holds another film).
         #[arg(long)]
         clean: bool,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
     /// The simulation alone: snapshots, sound event log and manifest.
     ///
@@ -141,6 +144,8 @@ enum Command {
         /// holds another film).
         #[arg(long)]
         clean: bool,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
     /// Ray-trace a derived folder's snapshots into DIR/frames/.
     ///
@@ -160,6 +165,9 @@ enum Command {
         /// This process's share of the frames: K/N.
         #[arg(long, value_name = "K/N")]
         shard: Option<Shard>,
+        /// Most pixels in one image (width × height).
+        #[arg(long, value_name = "N", default_value_t = Limits::default().pixels)]
+        max_pixels: u64,
     },
     /// Frames and soundtrack of a film folder into an MP4 through ffmpeg.
     ///
@@ -199,6 +207,8 @@ enum Command {
         /// Let the scene run its `command_file` scripts.
         #[arg(long)]
         allow_commands: bool,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
     /// Render a sound event log into a soundtrack WAV (thesis 2.4.3).
     ///
@@ -231,6 +241,8 @@ enum Command {
         /// Let a scene SCENE.lm run its `command_file` scripts.
         #[arg(long)]
         allow_commands: bool,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
 }
 
@@ -255,6 +267,37 @@ struct FrameArgs {
     /// Let the scene run its `command_file` scripts.
     #[arg(long)]
     allow_commands: bool,
+    #[command(flatten)]
+    limits: LimitArgs,
+}
+
+/// The limits of docs/limits.md: a run that would pass one stops with a
+/// message (exit 2) naming the flag that raises it.
+#[derive(clap::Args)]
+struct LimitArgs {
+    /// Most symbols in one L-system's word (56 bytes each, two words).
+    #[arg(long, value_name = "N", default_value_t = Limits::default().symbols)]
+    max_symbols: usize,
+    /// Most primitives (shapes, triangles, copies) in one frame's scene.
+    #[arg(long, value_name = "N", default_value_t = Limits::default().shapes)]
+    max_shapes: usize,
+    /// Most frames in one film (t_final / Δt + 1).
+    #[arg(long, value_name = "N", default_value_t = Limits::default().frames)]
+    max_frames: u64,
+    /// Most pixels in one image (width × height).
+    #[arg(long, value_name = "N", default_value_t = Limits::default().pixels)]
+    max_pixels: u64,
+}
+
+impl LimitArgs {
+    fn limits(&self) -> Limits {
+        Limits {
+            symbols: self.max_symbols,
+            shapes: self.max_shapes,
+            frames: self.max_frames,
+            pixels: self.max_pixels,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -267,6 +310,8 @@ enum PrintFormat {
 /// interpreted on the way (sound events and `?` queries included).
 fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film, (u8, String)> {
     let mut film = film_commands::load_film(&at.scenes, at.allow_commands, opts)?;
+    let last = film.anim.frame_count() - 1;
+    let dt = film.anim.camera.dt;
     let target = match (at.frame, at.time) {
         (_, Some(t)) if !t.is_finite() || t < 0.0 => {
             return Err((2, format!("--time must be a time ≥ 0 in seconds, got {t}")))
@@ -275,6 +320,21 @@ fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film, (u8, String)> {
         (Some(n), None) => n,
         (None, None) => 0,
     };
+    // A frame past the end is not part of the film: say where it ends.
+    if target > last {
+        let asked = match at.time {
+            Some(t) => format!("--time {t:?}"),
+            None => format!("--frame {target}"),
+        };
+        return Err((
+            2,
+            format!(
+                "{asked} is past the end: the film {} ends at frame {last} (time {} s); its t_final_interval sets its length",
+                at.scenes[0].display(),
+                last as f64 * dt
+            ),
+        ));
+    }
     let mut progress = film_commands::Progress::new("deriving frame");
     film.advance_to(target, |k, n| progress.tick(k, n))
         .map_err(|e| (2, e))?;
@@ -298,8 +358,24 @@ fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<(), (u8, 
             format!("--segment-width must be > 0, got {segment_width}"),
         ));
     }
-    let opts = Options { segment_width };
-    let scene = frame_scene(&mut derive_to(at, opts)?)?;
+    let opts = Options {
+        segment_width,
+        limits: at.limits.limits(),
+    };
+    let mut film = derive_to(at, opts)?;
+    let scene = frame_scene(&mut film)?;
+    // Shapes become many triangles each: the count is the export's.
+    let (count, max) = (mesh::expanded_count(&scene), opts.limits.shapes as u64);
+    if count > max {
+        return Err((
+            2,
+            format!(
+                "{}: frame {}: the export would hold {count} triangles, over the limit of {max}; raise it with --max-shapes N",
+                at.scenes[0].display(),
+                film.anim.frame
+            ),
+        ));
+    }
     if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| {
             (
@@ -345,7 +421,15 @@ fn still(
             format!("--segment-width must be > 0, got {segment_width}"),
         ));
     }
-    let opts = Options { segment_width };
+    let limits = at.limits.limits();
+    // Given sizes are checked before the derivation, the camera's after.
+    if let (Some(w), Some(h)) = size {
+        Limits::check_pixels(w, h, limits.pixels).map_err(|e| (2, e))?;
+    }
+    let opts = Options {
+        segment_width,
+        limits,
+    };
     let mut film = derive_to(at, opts)?;
     let scene = frame_scene(&mut film)?;
     let w = size.0.unwrap_or(scene.camera.width);
@@ -356,6 +440,10 @@ fn still(
             format!("the image size must be 1..32768 pixels a side, got {w}×{h}"),
         ));
     }
+    Limits::check_pixels(w, h, limits.pixels).map_err(|e| {
+        let scene = at.scenes[0].display();
+        (2, format!("{scene}: frame {}: {e}", film.anim.frame))
+    })?;
     let mut settings = film_commands::quality(preset, w, h, spp)?;
     settings.filter = match filter {
         FilterArg::Box => Filter::Box,
@@ -390,7 +478,11 @@ fn still(
 }
 
 fn print_words(at: &FrameArgs, format: PrintFormat) -> Result<(), (u8, String)> {
-    let mut film = derive_to(at, Options::default())?;
+    let opts = Options {
+        limits: at.limits.limits(),
+        ..Options::default()
+    };
+    let mut film = derive_to(at, opts)?;
     // The turtle runs on the printed frame too, so `?` shows its position;
     // its warnings and prints are about drawing, which `print` does not.
     film.scene().map_err(|e| (2, e))?;
@@ -421,6 +513,7 @@ fn scene_events(
     scene: &Path,
     output: Option<&Path>,
     allow_commands: bool,
+    limits: Limits,
 ) -> Result<(PathBuf, PathBuf), (u8, String)> {
     let wav = output.map_or_else(
         || {
@@ -431,7 +524,11 @@ fn scene_events(
     );
     let events = wav.with_file_name("soundtrack.events");
     let scenes = [scene.to_path_buf()];
-    let mut film = film_commands::load_film(&scenes, allow_commands, Options::default())?;
+    let opts = Options {
+        limits,
+        ..Options::default()
+    };
+    let mut film = film_commands::load_film(&scenes, allow_commands, opts)?;
     let mut progress = film_commands::Progress::new("deriving frame");
     let fail = |e: job::Error| (e.code, e.message);
     job::every_frame(&mut film, &mut |k, n| progress.tick(k, n), |_, _| Ok(())).map_err(fail)?;
@@ -440,18 +537,19 @@ fn scene_events(
     Ok((events, wav))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn sound(
     events: &Path,
     output: Option<&Path>,
     library: Option<&Path>,
-    (args, allow_commands): (&SoundArgs, bool),
+    (args, allow_commands, limits): (&SoundArgs, bool, Limits),
 ) -> Result<(), (u8, String)> {
     let settings = args.settings()?;
     if events.is_dir() && output.is_none() && events.join(record::DERIVE_RECORD).exists() {
         return film_commands::sound_dir(events, &settings);
     }
     let (events, output) = if events.extension().is_some_and(|e| e == "lm") {
-        scene_events(events, output, allow_commands)?
+        scene_events(events, output, allow_commands, limits)?
     } else {
         sound::paths(events, output)
     };
@@ -537,38 +635,47 @@ fn main() -> ExitCode {
             sound,
             allow_commands,
             clean,
+            limits,
         } => film_commands::run(
             &scenes,
             output.as_deref(),
             (&render, &sound),
             allow_commands,
-            clean,
+            (clean, limits.limits()),
         ),
         Command::Derive {
             scenes,
             output,
             allow_commands,
             clean,
-        } => film_commands::derive(&scenes, &output, allow_commands, clean),
-        Command::Render { dir, render, shard } => film_commands::render(&dir, &render, shard),
+            limits,
+        } => film_commands::derive(&scenes, &output, allow_commands, (clean, limits.limits())),
+        Command::Render {
+            dir,
+            render,
+            shard,
+            max_pixels,
+        } => film_commands::render(&dir, &render, shard, max_pixels),
         Command::Mux { dir } => film_commands::mux_command(&dir),
         Command::Verify { dir } => film_commands::verify(&dir),
         Command::Trace {
             scenes,
             frames,
             allow_commands,
-        } => film_commands::trace(&scenes, frames, allow_commands),
+            limits,
+        } => film_commands::trace(&scenes, frames, allow_commands, limits.limits()),
         Command::Sound {
             events,
             output,
             library,
             settings,
             allow_commands,
+            limits,
         } => sound(
             &events,
             output.as_deref(),
             library.as_deref(),
-            (&settings, allow_commands),
+            (&settings, allow_commands, limits.limits()),
         ),
     };
     match result {

@@ -273,7 +273,7 @@ proptest! {
             let mut anim = anim;
             for _ in 0..4 {
                 if anim.systems[0].word().len() > 20_000 { break; }
-                anim.step(&mut lmfilm::lsys::NoSensors);
+                anim.step(&mut lmfilm::lsys::NoSensors).unwrap();
             }
             let (t, seed) = (anim.time(), anim.camera.seed);
             let _ = lmfilm::lsys::print::word(&mut anim.systems[0], lmfilm::lsys::print::Format::Full, t, seed, &mut lmfilm::lsys::NoSensors);
@@ -288,7 +288,7 @@ proptest! {
     fn expressions_never_panic(expr in "[-+*/^%~<|_$&:\">!#'?0-9.xyztTXYZuvwr ]{0,24}") {
         let text = format!("Camera_AnimationParameters\nt_final_interval 3 1\nAxiom\nA ({expr}) ({expr}) () () ({expr})\nProductions\nA (1) [({expr})>]\n1 B ({expr}) EndProb\nEnd\nEndProductions\n");
         if let Ok(mut anim) = lmfilm::lsys::Animation::from_sources(&[Source::new("e.lm", text)], &mut lmfilm::lsys::NoSensors) {
-            anim.step(&mut lmfilm::lsys::NoSensors);
+            anim.step(&mut lmfilm::lsys::NoSensors).unwrap();
             let (t, seed) = (anim.time(), anim.camera.seed);
             let _ = lmfilm::lsys::print::word(&mut anim.systems[0], lmfilm::lsys::print::Format::Full, t, seed, &mut lmfilm::lsys::NoSensors);
         }

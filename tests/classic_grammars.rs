@@ -77,7 +77,7 @@ fn parametric_sequence() {
         ],
     ];
     for (n, want) in expected.iter().enumerate() {
-        a.advance_to(n as u64, &mut NoSensors);
+        a.advance_to(n as u64, &mut NoSensors).unwrap();
         let got: Vec<(char, f64, f64)> = a.systems[0]
             .word()
             .iter()
@@ -108,12 +108,12 @@ fn timed_sequence_with_ages() {
             .collect()
     };
     for t in 0..4 {
-        a.advance_to(t, &mut NoSensors);
+        a.advance_to(t, &mut NoSensors).unwrap();
         assert_eq!(ages(&mut a), [('A', t as f64)]);
     }
-    a.advance_to(4, &mut NoSensors);
+    a.advance_to(4, &mut NoSensors).unwrap();
     assert_eq!(ages(&mut a), [('S', 0.0), ('B', 0.0), ('S', 0.0)]);
-    a.advance_to(7, &mut NoSensors);
+    a.advance_to(7, &mut NoSensors).unwrap();
     assert_eq!(ages(&mut a), [('S', 3.0), ('S', 0.0), ('S', 3.0)]);
     assert_eq!(symbols(&mut a), "S[+S]S");
 }
@@ -179,7 +179,7 @@ fn random_numbers_keyed_per_symbol_and_step() {
         "Camera_AnimationParameters\nt_final_interval 10 1\nAxiom\nA () (!) () () (!)\nProductions\nEndProductions\n",
     );
     let g0 = full(&mut a);
-    a.advance_to(3, &mut NoSensors);
+    a.advance_to(3, &mut NoSensors).unwrap();
     let g3 = full(&mut a);
     assert_eq!(
         g0.split(',').skip(1).collect::<Vec<_>>(),
@@ -236,7 +236,7 @@ fn several_files_each_with_its_own_word() {
         "Axiom\nX\nProductions\nX (2)\n1.0 YY EndProb\nEnd\nEndProductions\n",
     );
     let mut a = Animation::from_sources(&[one, two], &mut NoSensors).unwrap();
-    a.advance_to(2, &mut NoSensors);
+    a.advance_to(2, &mut NoSensors).unwrap();
     let words: Vec<String> = a
         .systems
         .iter()
@@ -266,7 +266,7 @@ fn sensors_answer_special_functions() {
     }
     let text = "Axiom\n? () (3) ? () (0.5) S\nProductions\n? (0) [(?40 1-)>]\n1.0 T EndProb\nEnd\nS (0) [(?60 2-)=]\n1.0 H EndProb\nEnd\nEndProductions\n";
     let mut a = Animation::from_sources(&[Source::new("s.lm", text)], &mut Field).unwrap();
-    a.step(&mut Field);
+    a.step(&mut Field).unwrap();
     assert_eq!(symbols(&mut a), "T?H");
     // Without sensors the defaults answer: no force, no sound.
     let mut a = from_text(text);
@@ -283,7 +283,7 @@ fn memory_constants_and_splines() {
         Axiom\nA () (5 7<) (5>) (T a +) (?00) (E) (3 ?08)\n";
     let mut a = from_text(text);
     assert_eq!(full(&mut a), "A(0,7,7,1,0,1,1)");
-    a.advance_to(1, &mut NoSensors);
+    a.advance_to(1, &mut NoSensors).unwrap();
     // At T = 1, t = 1: spline 0 at 1 is 1·2 = 2, E = 1 + T² = 2, a = 1 + 2T.
     assert_eq!(full(&mut a), "A(1,7,7,1,2,2,1)");
 }

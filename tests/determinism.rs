@@ -41,15 +41,16 @@ fn several_files_print_one_line_each() {
     let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
         .args([
             "print",
-            &format!("{dir}ab.lm"),
             &format!("{dir}timed.lm"),
+            &format!("{dir}ab.lm"),
             "--frame",
-            "40",
+            "4",
         ])
         .output()
         .unwrap();
-    // The first file's Δt (0.1) drives both: frame 40 is T = 4.
-    assert_eq!(String::from_utf8(out.stdout).unwrap(), "b\nS[+B]S\n");
+    // The first file's Δt (1) drives both: frame 4 is T = 4 (with ab's own
+    // Δt of 0.1 it would be T = 0.4, where ab prints `a`).
+    assert_eq!(String::from_utf8(out.stdout).unwrap(), "S[+B]S\nb\n");
 }
 
 #[test]

@@ -63,7 +63,7 @@ fn cast_reports_distance_material_normal_and_vision_colour() {
 #[test]
 fn identical_for_any_thread_count() {
     let mut a = load("cours_tree3.lm");
-    a.advance_to(100, &mut NoSensors);
+    a.advance_to(100, &mut NoSensors).unwrap();
     let (s, _) = scene(&mut a);
     let mut st = Settings::final_quality(64, 48);
     st.spp = 4;
@@ -89,13 +89,20 @@ fn identical_for_any_thread_count() {
 
 #[test]
 fn pathologically_deep_scene_finds_everything() {
-    // 250 concentric spheres, radii 0.9^k: their boxes nest, so the builder
+    // 250 nested spheres, radii 0.9^k: their boxes nest, so the builder
     // can only merge the two smallest at a time — a chain far deeper than
     // a fixed traversal stack (obvhs's wide one has 32 entries) could hold.
+    // Each is off centre by 10⁻⁴ of its radius: coincident centres would
+    // be grouped into a balanced tree.
     let n = 250;
     let mut axiom = String::new();
     for k in 0..n {
-        axiom.push_str(&format!("a () () () () ({}) ", 2.0 * 0.9f64.powi(k)));
+        let r = 0.9f64.powi(k);
+        let d = 1e-4 * r;
+        axiom.push_str(&format!(
+            "f () () () () ({d}) a () () () () ({}) f () () () () ({d}_) ",
+            2.0 * r
+        ));
     }
     let s = scene_of(&format!("Axiom\n{axiom}\n"));
     let accel = Accel::new(&s);

@@ -29,7 +29,7 @@ fn fnv(img: &Image) -> u64 {
 
 fn image(file: &str, time: f64, settings: Settings) -> Image {
     let mut a = load(file);
-    a.advance_to(a.frame_at(time), &mut NoSensors);
+    a.advance_to(a.frame_at(time), &mut NoSensors).unwrap();
     let (s, _) = scene(&mut a);
     let mut st = settings;
     st.frame = a.frame;

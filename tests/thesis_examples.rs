@@ -7,9 +7,9 @@ use lmfilm::lsys::NoSensors;
 #[test]
 fn a_to_b_example_of_2_1_4() {
     let mut a = load("ab.lm");
-    a.advance_to(a.frame_at(0.5), &mut NoSensors);
+    a.advance_to(a.frame_at(0.5), &mut NoSensors).unwrap();
     assert_eq!(full(&mut a), "a(0.5,2,1,3,1,3,0.5)");
-    a.advance_to(a.frame_at(1.5), &mut NoSensors);
+    a.advance_to(a.frame_at(1.5), &mut NoSensors).unwrap();
     assert_eq!(full(&mut a), "b(0.5,4,5,6,2,7,10)");
 }
 
@@ -17,7 +17,7 @@ fn a_to_b_example_of_2_1_4() {
 fn growing_tree_of_2_1_2() {
     let mut a = load("growing_tree.lm");
     let mut at = |t: f64| {
-        a.advance_to(a.frame_at(t), &mut NoSensors);
+        a.advance_to(a.frame_at(t), &mut NoSensors).unwrap();
         full(&mut a)
     };
     assert_eq!(at(0.5), "+(0.5,0,0,0,90,0,0) p(0.5,1,0,0,3,0,0)");
@@ -86,8 +86,8 @@ fn a_due_symbol_without_applicable_production_keeps_ageing() {
         "Camera_AnimationParameters\nt_final_interval 10 0.5\nAxiom\na\n\
          Productions\na (1) [(T2-)>]\n1.0 b EndProb\nEnd\nEndProductions\n",
     );
-    a.advance_to(5, &mut NoSensors);
+    a.advance_to(5, &mut NoSensors).unwrap();
     assert_eq!(full(&mut a), "a(2.5,0,0,0,0,0,0)");
-    a.advance_to(6, &mut NoSensors);
+    a.advance_to(6, &mut NoSensors).unwrap();
     assert_eq!(full(&mut a), "b(0,0,0,0,0,0,0)");
 }

@@ -31,7 +31,7 @@ fn near(a: Vec3A, b: Vec3) -> bool {
 #[test]
 fn growing_tree_tips_where_the_thesis_draws_them() {
     let mut a = load("growing_tree_drawn.lm");
-    a.advance_to(a.frame_at(1.5), &mut NoSensors);
+    a.advance_to(a.frame_at(1.5), &mut NoSensors).unwrap();
     let (s, _) = scene(&mut a);
     let seg = segments(&s);
     assert_eq!(seg.len(), 3);
@@ -94,7 +94,7 @@ fn code_6_2_1_bends_toward_the_force_and_follows_the_wind() {
     let text = std::fs::read_to_string(example("cours_tree3.lm")).unwrap();
     let at = |text: &str| {
         let mut a = from_text(text);
-        a.advance_to(a.frame_at(3.0), &mut NoSensors);
+        a.advance_to(a.frame_at(3.0), &mut NoSensors).unwrap();
         crown(&scene(&mut a).0)
     };
     let still = at(&text.replace("v () (1) () () (2.5) (1) ()", "v () (2)"));
@@ -133,10 +133,11 @@ fn query_symbol_and_state_tables_persist_across_frames() {
             &mut NoSensors,
             &mut NoWorld,
             Options::default(),
-        );
+        )
+        .unwrap();
         let q = a.systems[0].word()[4];
         assert_eq!(q.par, [frame as f64, 0.0, 0.0]);
-        a.step(&mut NoSensors);
+        a.step(&mut NoSensors).unwrap();
     }
 }
 
@@ -238,7 +239,7 @@ fn repetition_shares_one_geometry() {
 #[test]
 fn snapshot_round_trip_is_bit_exact() {
     let mut a = load("cours_tree3.lm");
-    a.advance_to(60, &mut NoSensors);
+    a.advance_to(60, &mut NoSensors).unwrap();
     let (s, _) = scene(&mut a);
     let bytes = snapshot::encode(&s);
     let back = snapshot::decode(&bytes).unwrap();
@@ -277,7 +278,7 @@ fn a_forest_costs_one_tree_plus_transforms() {
     assert_ne!(forest, text);
     let size = |t: &str| {
         let mut a = from_text(t);
-        a.advance_to(200, &mut NoSensors);
+        a.advance_to(200, &mut NoSensors).unwrap();
         let (s, _) = scene(&mut a);
         (
             s.geometries[0].shapes.len(),
@@ -296,7 +297,7 @@ fn a_forest_costs_one_tree_plus_transforms() {
 #[test]
 fn imported_surfaces_are_instances_in_the_turtle_frame() {
     let mut a = load("leaves.lm");
-    a.advance_to(a.frame_at(4.0), &mut NoSensors);
+    a.advance_to(a.frame_at(4.0), &mut NoSensors).unwrap();
     let (s, messages) = scene(&mut a);
     assert!(messages.is_empty(), "{messages:?}");
     // Geometry 0 is the leaf, 1 the stem; 4 leaves placed as instances.

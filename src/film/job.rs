@@ -28,6 +28,7 @@ use super::record::{
     FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
 use super::{assemble, mux as ffmpeg, Film};
+use crate::lsys::Limits;
 use crate::render::{self, output, Settings};
 use crate::scene::atomic::{remove_stale_temps, write_atomic};
 use crate::scene::{snapshot, Scene};
@@ -465,6 +466,7 @@ pub fn render_frames(
     frames: &[u64],
     settings: &Settings,
     formats: Formats,
+    max_pixels: u64,
     progress: Progress,
 ) -> Result<u64, Error> {
     let rec = open(dir)?;
@@ -498,6 +500,10 @@ pub fn render_frames(
             if st.width == 0 || st.height == 0 {
                 (st.width, st.height) = (scene.camera.width, scene.camera.height);
             }
+            let snap = dir.join(snapshot_path(k));
+            let refuse = |e: String| Error::input(format!("{}: {e}", snap.display()));
+            Limits::check_pixels(st.width, st.height, max_pixels).map_err(refuse)?;
+            render::check(&scene).map_err(refuse)?;
             st.frame = k;
             st.layers = formats != Formats::Png;
             let img = render::render(&scene, &st);

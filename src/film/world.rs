@@ -274,7 +274,21 @@ impl Film {
         opts: Options,
     ) -> Result<Film, String> {
         let mut ears = Ears::default();
-        let anim = Animation::from_sources(sources, &mut ears).map_err(|e| e.to_string())?;
+        let mut anim = Animation::from_sources(sources, &mut ears).map_err(|e| e.to_string())?;
+        anim.limits = opts.limits;
+        let frames = anim.frame_count();
+        if frames > opts.limits.frames {
+            let msg = format!(
+                "the film has {frames} frames (t_final / Δt + 1), over the limit of {}; raise it with --max-frames N",
+                opts.limits.frames
+            );
+            // The first file with a camera section set t_final and Δt.
+            let file = anim.systems.iter().position(|s| s.def.has_camera);
+            return Err(match file.and_then(|k| sources.get(k)) {
+                Some(src) => src.error(anim.camera.t_final_at, msg).to_string(),
+                None => msg,
+            });
+        }
         let surfaces = Surfaces::load(&anim)?;
         let search = library::search_path(dir, None);
         let air = Air::new(&sound_inits(&anim), scene_library(&anim), search.clone())?;
@@ -361,7 +375,7 @@ impl Film {
             &mut self.ears,
             &mut hooks,
             self.opts,
-        );
+        )?;
         if let Some(e) = hooks.error {
             return Err(format!("frame {}: {e}", self.anim.frame));
         }
@@ -439,7 +453,7 @@ impl Film {
     /// particles: those the step declared join the table, and the table
     /// evolves over Δt (DESIGN §1, steps 6–7).
     pub fn step(&mut self) -> Result<(), String> {
-        self.anim.step(&mut self.ears);
+        self.anim.step(&mut self.ears).map_err(|e| e.to_string())?;
         self.physics
             .register(&self.anim)
             .map_err(|e| format!("frame {}: {e}", self.anim.frame))?;

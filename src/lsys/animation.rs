@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use super::definition::CameraParams;
+use super::limits::{LimitError, Limits};
 use super::parse::parse;
 use super::sensors::Sensors;
 use super::source::{Diagnostic, Source};
@@ -17,6 +18,8 @@ pub struct Animation {
     pub camera: CameraParams,
     /// Steps taken; the global time is `frame · Δt`.
     pub frame: u64,
+    /// How far a step may grow a word (and what the film may do).
+    pub limits: Limits,
     next_id: u64,
 }
 
@@ -68,6 +71,7 @@ impl Animation {
             systems,
             camera,
             frame: 0,
+            limits: Limits::default(),
             next_id,
         })
     }
@@ -77,9 +81,10 @@ impl Animation {
         self.frame as f64 * self.camera.dt
     }
 
-    /// Number of frames of the whole animation: times 0, Δt, … ≤ t_final.
+    /// Number of frames of the whole animation: times 0, Δt, … ≤ t_final
+    /// (u64::MAX when there are more).
     pub fn frame_count(&self) -> u64 {
-        (self.camera.t_final / self.camera.dt + 1e-9).floor() as u64 + 1
+        ((self.camera.t_final / self.camera.dt + 1e-9).floor() as u64).saturating_add(1)
     }
 
     /// The frame nearest to time `t`.
@@ -87,8 +92,9 @@ impl Animation {
         (t / self.camera.dt).round().max(0.0) as u64
     }
 
-    /// Steps every L-system from T to T + Δt, in file order.
-    pub fn step(&mut self, sensors: &mut dyn Sensors) {
+    /// Steps every L-system from T to T + Δt, in file order; stops at the
+    /// first word that would grow past [`Limits::symbols`].
+    pub fn step(&mut self, sensors: &mut dyn Sensors) -> Result<(), LimitError> {
         let time = self.time();
         for ls in &mut self.systems {
             ls.step(
@@ -97,15 +103,24 @@ impl Animation {
                 self.camera.seed,
                 &mut self.next_id,
                 sensors,
-            );
+                self.limits.symbols,
+            )
+            .map_err(|symbols| LimitError {
+                file: ls.def.name.clone(),
+                frame: self.frame + 1,
+                symbols,
+                max: self.limits.symbols,
+            })?;
         }
         self.frame += 1;
+        Ok(())
     }
 
     /// Steps until the current frame is `frame`.
-    pub fn advance_to(&mut self, frame: u64, sensors: &mut dyn Sensors) {
+    pub fn advance_to(&mut self, frame: u64, sensors: &mut dyn Sensors) -> Result<(), LimitError> {
         while self.frame < frame {
-            self.step(sensors);
+            self.step(sensors)?;
         }
+        Ok(())
     }
 }

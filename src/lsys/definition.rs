@@ -27,6 +27,9 @@ pub struct CameraParams {
     pub t_final: f64,
     /// Δt, the time between two frames.
     pub dt: f64,
+    /// Byte offset of the `t_final_interval` line (0 when there is none),
+    /// where an error about the film's length points.
+    pub t_final_at: usize,
 }
 
 impl Default for CameraParams {
@@ -45,6 +48,7 @@ impl Default for CameraParams {
             seed: 0,
             t_final: 10.0,
             dt: 0.04,
+            t_final_at: 0,
         }
     }
 }

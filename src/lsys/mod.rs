@@ -9,6 +9,7 @@ pub mod definition;
 pub mod eval;
 pub mod expr;
 pub mod functions;
+pub mod limits;
 pub mod options;
 pub mod parse;
 pub mod print;
@@ -21,6 +22,7 @@ pub mod word;
 
 pub use animation::{Animation, LoadError};
 pub use definition::Definition;
+pub use limits::{LimitError, Limits};
 pub use parse::parse;
 pub use sensors::{NoSensors, Sensors, Who};
 pub use source::{Diagnostic, Source};

@@ -153,6 +153,7 @@ impl<'a> Parser<'a> {
                     })?;
                 }
                 "t_final_interval" => {
+                    c.t_final_at = at;
                     c.t_final = s.number("the duration of the animation")?;
                     let dat = s.peek_word()?.0;
                     c.dt = s.number("the time interval Δt")?;

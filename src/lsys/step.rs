@@ -177,7 +177,10 @@ impl LSystem {
     }
 
     /// S: derives the word at `time + dt` from the word at `time`.
-    /// `step` numbers the step (keys of random conditions).
+    /// `step` numbers the step (keys of random conditions). A next word
+    /// of more than `max_symbols` symbols is never allocated: the step
+    /// stops, the word stays as it was, and the error holds how many
+    /// symbols the next word had reached.
     pub fn step(
         &mut self,
         time: f64,
@@ -185,11 +188,12 @@ impl LSystem {
         seed: u64,
         ids: &mut u64,
         sensors: &mut dyn Sensors,
-    ) {
+        max_symbols: usize,
+    ) -> Result<(), usize> {
         self.events.clear();
         let limit = self.def.repetition.time_const;
         if limit > 0.0 && time > limit {
-            return;
+            return Ok(());
         }
         let old = std::mem::take(&mut self.word);
         self.next.clear();
@@ -235,11 +239,20 @@ impl LSystem {
                             None => n,
                         },
                     };
+                    if let Err(need) = room(&mut self.next, self.scratch.symbols.len(), max_symbols)
+                    {
+                        self.word = old;
+                        return Err(need);
+                    }
                     self.append_scratch(ids);
                     continue;
                 }
             }
             // Axiom 2: the symbol keeps ageing.
+            if let Err(need) = room(&mut self.next, 1, max_symbols) {
+                self.word = old;
+                return Err(need);
+            }
             let mut s = s;
             s.ticks += 1;
             self.next.push(s);
@@ -247,6 +260,7 @@ impl LSystem {
         }
         self.word = old;
         std::mem::swap(&mut self.word, &mut self.next);
+        Ok(())
     }
 
     /// The first production, in file order, whose age, context and
@@ -329,6 +343,21 @@ impl LSystem {
             self.events.push(e);
         }
     }
+}
+
+/// Makes room in `next` for `more` symbols, growing it by doubling but
+/// never past `max` symbols: a word over the limit is refused before it
+/// is allocated. The error is the length `next` would need.
+fn room(next: &mut Vec<Symbol>, more: usize, max: usize) -> Result<(), usize> {
+    let need = next.len().saturating_add(more);
+    if need > max {
+        return Err(need);
+    }
+    if need > next.capacity() {
+        let want = next.capacity().saturating_mul(2).clamp(need, max);
+        next.reserve_exact(want - next.len());
+    }
+    Ok(())
 }
 
 /// Symbols and events of one applied right side, before they get ids.

@@ -97,7 +97,13 @@ fn aabb(b: (Vec3A, Vec3A)) -> Aabb {
     Aabb::new(b.0, b.1)
 }
 
-fn transformed(a: &Aabb, m: &Affine3A) -> Option<Aabb> {
+/// The box around `a` transformed by `m`; None when not finite or beyond
+/// ±[`crate::scene::MAX_COORDINATE`].
+pub(super) fn transformed(a: &Aabb, m: &Affine3A) -> Option<Aabb> {
+    // `extend` may drop a NaN corner: the transform is checked itself.
+    if !m.is_finite() {
+        return None;
+    }
     let mut out = Aabb::empty();
     for i in 0..8 {
         let c = Vec3A::new(
@@ -107,11 +113,12 @@ fn transformed(a: &Aabb, m: &Affine3A) -> Option<Aabb> {
         );
         out.extend(m.transform_point3a(c));
     }
-    (out.min.is_finite() && out.max.is_finite()).then_some(out)
+    intersect::within(out.min, out.max).then_some(out)
 }
 
-/// The bottom level of one geometry; primitives with non-finite bounds
-/// never reach the builder.
+/// The bottom level of one geometry; primitives with bounds that are not
+/// finite or beyond ±[`crate::scene::MAX_COORDINATE`] never reach the
+/// builder (its surface areas would overflow).
 fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
     let mut prims = Vec::with_capacity(g.shapes.len() + g.triangles.len());
     let mut boxes = Vec::with_capacity(prims.capacity());

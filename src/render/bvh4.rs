@@ -14,6 +14,7 @@ use glam::{Vec3A, Vec4};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::bvh2::{Bvh2, Bvh2Node};
+use obvhs::ploc::build_ploc_from_leafs;
 use obvhs::BvhBuildParams;
 
 /// Child slot tag: a leaf (index into `leaves`) rather than a node.
@@ -157,8 +158,9 @@ const PACK_COST: f32 = 1.0;
 /// `max_leaf` primitives is a leaf when the surface-area heuristic says
 /// testing all its primitives beats descending. A 4-wide
 /// node stands for about three binary ones, so each binary node is
-/// charged a third of a node test.
-fn leaf_choice(b: &Bvh2, max_leaf: u32) -> Vec<bool> {
+/// charged a third of a node test. Also returns each node's primitive
+/// count.
+fn leaf_choice(b: &Bvh2, max_leaf: u32) -> (Vec<bool>, Vec<u32>) {
     let mut count = vec![0u32; b.nodes.len()];
     let mut cost = vec![0f32; b.nodes.len()];
     let mut leaf = vec![false; b.nodes.len()];
@@ -180,7 +182,88 @@ fn leaf_choice(b: &Bvh2, max_leaf: u32) -> Vec<bool> {
         leaf[i] = count[i] <= max_leaf && whole <= split;
         cost[i] = if leaf[i] { whole } else { split };
     }
-    leaf
+    (leaf, count)
+}
+
+/// Primitives whose boxes share a centre, grouped: PLOC pairs nodes by
+/// their Morton codes and merges only mutual nearest pairs, so n
+/// coincident boxes (all one code, all one merged area) merged one pair
+/// per pass: O(n²), minutes for 10⁵ identical faces. Each group becomes
+/// one leaf node for PLOC (its members in `order`, smallest box first,
+/// then input order), which [`split_leaves`] divides afterwards. None
+/// when no two centres coincide: the plain build.
+fn coincident(aabbs: &[Aabb]) -> Option<(Vec<Bvh2Node>, Vec<u32>)> {
+    let key = |b: &Aabb| b.center().to_array().map(f32::to_bits);
+    // First a sort of 64-bit digests of the centres, a few percent of the
+    // build (a hash map of every primitive cost a third of it); equal
+    // digests are then told apart exactly.
+    let mut digests: Vec<u64> = aabbs
+        .iter()
+        .map(|b| {
+            let [x, y, z] = key(b).map(u64::from);
+            (x << 32 | y).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ z
+        })
+        .collect();
+    digests.sort_unstable();
+    if digests.windows(2).all(|w| w[0] != w[1]) {
+        return None;
+    }
+    // Sorted by centre, then index.
+    let mut keyed: Vec<([u32; 3], u32)> = aabbs
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (key(b), i as u32))
+        .collect();
+    keyed.sort_unstable();
+    if keyed.windows(2).all(|w| w[0].0 != w[1].0) {
+        return None;
+    }
+    // One run per centre, in the order of its first member.
+    let mut runs: Vec<&[([u32; 3], u32)]> = keyed.chunk_by(|a, b| a.0 == b.0).collect();
+    runs.sort_unstable_by_key(|r| r[0].1);
+    let mut leaves = Vec::with_capacity(runs.len());
+    let mut order = Vec::with_capacity(aabbs.len());
+    let area = |k: u32| aabbs[k as usize].half_area();
+    for run in runs {
+        let start = order.len();
+        order.extend(run.iter().map(|&(_, i)| i));
+        order[start..].sort_by(|&a, &b| area(a).total_cmp(&area(b)).then(a.cmp(&b)));
+        let aabb = order[start..]
+            .iter()
+            .fold(Aabb::empty(), |t, &k| t.union(&aabbs[k as usize]));
+        leaves.push(Bvh2Node::new(aabb, run.len() as u32, start as u32));
+    }
+    Some((leaves, order))
+}
+
+/// Halves every leaf of more than `max_leaf` primitives (in their
+/// order) until none is: a balanced subtree, so a group of coincident
+/// boxes is as deep as log₂ of its size, and no leaf holds more than
+/// `max_leaf`. New nodes go at the end (children after their parent).
+fn split_leaves(b: &mut Bvh2, aabbs: &[Aabb], max_leaf: u32) {
+    let max_leaf = max_leaf.max(1);
+    let mut todo: Vec<usize> = (0..b.nodes.len())
+        .filter(|&i| b.nodes[i].prim_count > max_leaf)
+        .collect();
+    while let Some(i) = todo.pop() {
+        let n = b.nodes[i];
+        let half = n.prim_count / 2;
+        let first = b.nodes.len();
+        for (start, count) in [
+            (n.first_index, half),
+            (n.first_index + half, n.prim_count - half),
+        ] {
+            let members = &b.primitive_indices[start as usize..(start + count) as usize];
+            let aabb = members
+                .iter()
+                .fold(Aabb::empty(), |t, &k| t.union(&aabbs[k as usize]));
+            if count > max_leaf {
+                todo.push(b.nodes.len());
+            }
+            b.nodes.push(Bvh2Node::new(aabb, count, start));
+        }
+        b.nodes[i] = Bvh2Node::new(n.aabb, 0, first as u32);
+    }
 }
 
 impl Bvh4 {
@@ -192,20 +275,36 @@ impl Bvh4 {
             return None;
         }
         let p = BvhBuildParams::fast_build();
-        let indices = (0..aabbs.len() as u32).collect();
-        let mut b = p.ploc_search_distance.build(
-            aabbs,
-            indices,
-            p.sort_precision,
-            p.search_depth_threshold,
-        );
+        let mut b = match coincident(aabbs) {
+            None => p.ploc_search_distance.build(
+                aabbs,
+                (0..aabbs.len() as u32).collect(),
+                p.sort_precision,
+                p.search_depth_threshold,
+            ),
+            Some((leaves, order)) => {
+                let total = leaves.iter().fold(Aabb::empty(), |t, n| t.union(&n.aabb));
+                Bvh2 {
+                    // 6: fast_build's search distance (PlocSearchDistance::Low).
+                    nodes: build_ploc_from_leafs::<6>(
+                        leaves,
+                        total,
+                        p.sort_precision,
+                        p.search_depth_threshold,
+                    ),
+                    primitive_indices: order,
+                    max_depth: None,
+                }
+            }
+        };
         ReinsertionOptimizer::run(&mut b, p.reinsertion_batch_ratio, None);
+        split_leaves(&mut b, aabbs, max_leaf);
         b.nodes = depth_first(&b.nodes);
         Some(Self::collapse(&b, max_leaf))
     }
 
     fn collapse(b: &Bvh2, max_leaf: u32) -> Bvh4 {
-        let leaf = leaf_choice(b, max_leaf);
+        let (leaf, count) = leaf_choice(b, max_leaf);
         let is_leaf = |i: usize| leaf[i];
         let mut out = Bvh4 {
             nodes: Vec::with_capacity(b.nodes.len() / 3 + 1),
@@ -240,9 +339,12 @@ impl Bvh4 {
                 let f = b.nodes[i].first_index as usize;
                 let (mut kids, mut len) = ([f, f + 1, 0, 0], 2);
                 while len < 4 {
+                    // Equal areas (coincident boxes): the fuller child, so
+                    // a balanced tree stays balanced.
                     let widest = (0..len).filter(|&k| !is_leaf(kids[k])).max_by(|&a, &c| {
                         let (sa, sc) = (b.nodes[kids[a]].aabb, b.nodes[kids[c]].aabb);
-                        sa.half_area().total_cmp(&sc.half_area())
+                        let fuller = count[kids[a]].cmp(&count[kids[c]]);
+                        sa.half_area().total_cmp(&sc.half_area()).then(fuller)
                     });
                     let Some(w) = widest else { break };
                     let f = b.nodes[kids[w]].first_index as usize;
@@ -433,6 +535,51 @@ mod tests {
             all.sort();
             assert_eq!(all, [0, 1, 2]);
         }
+    }
+
+    /// Every input index once, in some leaf of at most `max_leaf`.
+    fn check_leaves(t: &Bvh4, n: usize, max_leaf: usize) {
+        let mut all: Vec<u32> = (0..t.leaf_count())
+            .flat_map(|l| {
+                assert!(t.leaf(l).len() <= max_leaf, "leaf of {}", t.leaf(l).len());
+                t.leaf(l).to_vec()
+            })
+            .collect();
+        all.sort();
+        assert_eq!(all, (0..n as u32).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn coincident_boxes_build_a_balanced_tree_fast() {
+        // 10⁵ identical faces: PLOC merged one pair per pass (minutes).
+        let b = Aabb::new(Vec3A::new(0.0, 0.0, 0.0), Vec3A::new(1.0, 1.0, 0.0));
+        let boxes = vec![b; 100_000];
+        let start = std::time::Instant::now();
+        let t = Bvh4::build(&boxes, 16).unwrap();
+        let took = start.elapsed();
+        check_leaves(&t, boxes.len(), 16);
+        // 6,250 leaves of 16: 13 binary levels, 7 four-wide ones.
+        assert!(t.depth() <= 8, "depth {}", t.depth());
+        assert!(took.as_secs_f64() < 10.0, "{took:?}");
+        // The top level: one instance per leaf.
+        let t = Bvh4::build(&boxes[..20_000], 1).unwrap();
+        check_leaves(&t, 20_000, 1);
+        assert!(t.depth() <= 9, "depth {}", t.depth());
+    }
+
+    #[test]
+    fn concentric_and_scattered_boxes_mixed() {
+        // Nested boxes around one centre among distinct ones.
+        let mut boxes: Vec<Aabb> = (1..=5000)
+            .map(|k| Aabb::new(Vec3A::splat(-(k as f32)), Vec3A::splat(k as f32)))
+            .collect();
+        boxes.extend((0..5000).map(|k| {
+            let p = Vec3A::new(k as f32 * 3.0, 1.0, 2.0);
+            Aabb::new(p, p + Vec3A::ONE)
+        }));
+        let t = Bvh4::build(&boxes, 4).unwrap();
+        check_leaves(&t, boxes.len(), 4);
+        assert!(t.depth() <= 20, "depth {}", t.depth());
     }
 
     #[test]

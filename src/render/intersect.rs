@@ -8,9 +8,11 @@
 //! conditioned however far away the ray starts, and that distance rejects
 //! most misses before any root is taken.
 
-use glam::{Affine3A, Vec3, Vec3A};
+use glam::Vec3A;
 
-use crate::scene::{Shape, ShapeKind};
+pub use crate::scene::shape::{bounds, local_bounds, triangle_bounds, within};
+use crate::scene::shape::{valid_capsule, valid_trunk};
+use crate::scene::ShapeKind;
 
 /// A hit in the shape's local space: ray parameter t and the outward
 /// geometric normal (local space, need not be normalised).
@@ -36,73 +38,6 @@ pub fn shape(kind: ShapeKind, o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Optio
         ShapeKind::Capsule { length } => capsule(length, o, d, tmin, tmax),
         ShapeKind::Trunk { length, r0, r1 } => trunk(length, r0, r1, o, d, tmin, tmax),
     }
-}
-
-/// Local-space AABB (min, max) of a unit shape; NaN for parameters that
-/// describe no solid (negative, NaN or infinite sizes), so that [`bounds`]
-/// rejects them.
-pub fn local_bounds(kind: ShapeKind) -> (Vec3A, Vec3A) {
-    match kind {
-        ShapeKind::Box => (Vec3A::new(0.0, -0.5, -0.5), Vec3A::new(1.0, 0.5, 0.5)),
-        ShapeKind::Sphere => (Vec3A::splat(-1.0), Vec3A::ONE),
-        ShapeKind::Cylinder => (Vec3A::new(0.0, -1.0, -1.0), Vec3A::ONE),
-        ShapeKind::Capsule { length } if valid_capsule(length) => {
-            (Vec3A::splat(-1.0), Vec3A::new(length + 1.0, 1.0, 1.0))
-        }
-        ShapeKind::Trunk { length, r0, r1 } if valid_trunk(length, r0, r1) => {
-            let r = r0.max(r1);
-            (
-                Vec3A::new((-r0).min(length - r1), -r, -r),
-                Vec3A::new(r0.max(length + r1), r, r),
-            )
-        }
-        _ => (Vec3A::NAN, Vec3A::NAN),
-    }
-}
-
-/// Conservative AABB of a shape in its geometry's coordinates: the box
-/// around the 8 transformed corners of [`local_bounds`], padded by a few
-/// ulps against rounding. None for non-finite transforms or shapes.
-pub fn bounds(shape: &Shape) -> Option<(Vec3A, Vec3A)> {
-    let (lo, hi) = local_bounds(shape.kind);
-    transformed_box(&shape.transform, lo, hi)
-}
-
-/// AABB of a triangle; None when a coordinate is not finite.
-pub fn triangle_bounds(v: &[Vec3; 3]) -> Option<(Vec3A, Vec3A)> {
-    let (a, b, c) = (Vec3A::from(v[0]), Vec3A::from(v[1]), Vec3A::from(v[2]));
-    let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
-    (a.is_finite() && b.is_finite() && c.is_finite()).then_some((lo, hi))
-}
-
-fn transformed_box(m: &Affine3A, lo: Vec3A, hi: Vec3A) -> Option<(Vec3A, Vec3A)> {
-    if !(m.is_finite() && lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let c = (lo + hi) * 0.5;
-    let e = (hi - lo) * 0.5;
-    let m3 = &m.matrix3;
-    let wc = m.transform_point3a(c);
-    let we = m3.x_axis.abs() * e.x + m3.y_axis.abs() * e.y + m3.z_axis.abs() * e.z;
-    let pad = (wc.abs() + we) * (4.0 * f32::EPSILON);
-    let (min, max) = (wc - we - pad, wc + we + pad);
-    (min.is_finite() && max.is_finite()).then_some((min, max))
-}
-
-fn valid_capsule(length: f32) -> bool {
-    length.is_finite() && length >= 0.0
-}
-
-/// A trunk needs one positive radius; a zero radius makes a pointed cone
-/// and a zero length the larger of two concentric spheres.
-fn valid_trunk(length: f32, r0: f32, r1: f32) -> bool {
-    length.is_finite()
-        && length >= 0.0
-        && r0.is_finite()
-        && r1.is_finite()
-        && r0 >= 0.0
-        && r1 >= 0.0
-        && r0.max(r1) > 0.0
 }
 
 #[inline]

@@ -16,10 +16,58 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use rayon::prelude::*;
 
-use crate::scene::Scene;
+use crate::scene::{Scene, MAX_COORDINATE};
 pub use accel::{Accel, Hit};
 pub use output::Image;
 pub use sample::{Filter, Settings};
+
+/// Refuses a scene the ray tracer cannot hold (snapshots come from
+/// disk): a primitive or an instance whose bounds are not finite or reach
+/// beyond ±[`MAX_COORDINATE`]. [`Accel::new`] leaves such ones out
+/// rather than fail; this names the first.
+pub fn check(scene: &Scene) -> Result<(), String> {
+    let beyond = format!("is not finite or reaches beyond ±{MAX_COORDINATE:e}");
+    let mut boxes = Vec::with_capacity(scene.geometries.len());
+    for (k, g) in scene.geometries.iter().enumerate() {
+        let mut b = obvhs::aabb::Aabb::empty();
+        for (i, s) in g.shapes.iter().enumerate() {
+            let (lo, hi) = intersect::bounds(s).ok_or_else(|| {
+                format!(
+                    "geometry {k} ({}): shape {i} (symbol {}) {beyond}",
+                    g.name, s.symbol
+                )
+            })?;
+            b.extend(lo);
+            b.extend(hi);
+        }
+        for (i, t) in g.triangles.iter().enumerate() {
+            let (lo, hi) = intersect::triangle_bounds(&t.v).ok_or_else(|| {
+                format!(
+                    "geometry {k} ({}): triangle {i} (symbol {}) {beyond}",
+                    g.name, t.symbol
+                )
+            })?;
+            b.extend(lo);
+            b.extend(hi);
+        }
+        boxes.push((!g.is_empty()).then_some(b));
+    }
+    for (k, i) in scene.instances.iter().enumerate() {
+        let Some(b) = boxes.get(i.geometry as usize) else {
+            return Err(format!(
+                "instance {k} places geometry {}, which the scene does not have",
+                i.geometry
+            ));
+        };
+        if b.is_some_and(|b| accel::transformed(&b, &i.transform).is_none()) {
+            return Err(format!(
+                "instance {k} (of geometry {}) {beyond}",
+                i.geometry
+            ));
+        }
+    }
+    Ok(())
+}
 
 /// Renders `scene` into an image. Rows are computed independently into
 /// fixed slots, so the result does not depend on the thread count.

@@ -73,6 +73,34 @@ pub fn expand(scene: &Scene) -> Vec<Triangle> {
     out
 }
 
+/// How many triangles [`expand`] makes, without keeping them: each
+/// shared geometry is tessellated once, one shape at a time, so an
+/// export can be refused before its triangles are allocated.
+pub fn expanded_count(scene: &Scene) -> u64 {
+    let mut per_geometry: Vec<Option<u64>> = vec![None; scene.geometries.len()];
+    let mut scratch = Vec::new();
+    let mut total = 0u64;
+    for inst in &scene.instances {
+        let k = inst.geometry as usize;
+        let (Some(g), Some(count)) = (scene.geometries.get(k), per_geometry.get_mut(k)) else {
+            continue;
+        };
+        total += *count.get_or_insert_with(|| {
+            let shapes: u64 = g
+                .shapes
+                .iter()
+                .map(|s| {
+                    scratch.clear();
+                    tessellate(s, g.resolution, &mut scratch);
+                    scratch.len() as u64
+                })
+                .sum();
+            shapes + g.triangles.len() as u64
+        });
+    }
+    total
+}
+
 /// A mirroring transform turns counter-clockwise into clockwise; swapping
 /// two vertices keeps the normals pointing outwards.
 fn fix_winding(tris: &mut [Triangle], transform: &Affine3A) {

@@ -9,6 +9,8 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::MAX_COORDINATE;
+
 /// Bytes per chunk: large enough that the per-chunk work is negligible.
 const CHUNK: usize = 1 << 20;
 
@@ -193,6 +195,12 @@ fn parse_line(
                     .ok()
                     .filter(|v| v.is_finite())
                     .ok_or_else(|| format!("coordinate {} is not a finite number: '{w}'", k + 1))?;
+                if v.abs() > MAX_COORDINATE {
+                    return Err(format!(
+                        "coordinate {} is beyond ±{MAX_COORDINATE:e}, the largest the renderer takes: '{w}'",
+                        k + 1
+                    ));
+                }
             }
             c.positions.push(Vec3::from(p));
         }

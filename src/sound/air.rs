@@ -44,6 +44,11 @@ pub struct Air {
     sources: BTreeMap<u32, DVec3>,
     /// Sources whose position changed this frame.
     moved: BTreeMap<u32, DVec3>,
+    /// The last move of each source this frame (`T` par1 = 2): where to,
+    /// and how many on-going events there were then. Those events take
+    /// the position at the end of the frame, so a move costs O(log n)
+    /// rather than a walk over every on-going event.
+    moves: BTreeMap<u32, (usize, DVec3)>,
     time: f64,
     warnings: Vec<String>,
 }
@@ -70,6 +75,7 @@ impl Air {
             follow_camera: false,
             sources: BTreeMap::new(),
             moved: BTreeMap::new(),
+            moves: BTreeMap::new(),
             time: 0.0,
             warnings: Vec::new(),
         };
@@ -115,6 +121,7 @@ impl Air {
     pub fn begin_frame(&mut self, t: f64) -> Result<(), String> {
         self.time = t;
         self.log.frame(t).map_err(|e| e.to_string())?;
+        self.apply_moves();
         self.ongoing.retain(|e| e.end > t);
         Ok(())
     }
@@ -177,13 +184,28 @@ impl Air {
         self.log.play(source, file).map_err(|e| e.to_string())
     }
 
-    /// Moves source `source` (`T` par1 = 2).
+    /// Moves source `source` (`T` par1 = 2), and with it the events it
+    /// emits (at the end of the frame: [`Air::apply_moves`]).
     pub fn move_source(&mut self, source: u32, at: DVec3) -> Result<(), String> {
         self.place(source, at)?;
-        for e in self.ongoing.iter_mut().filter(|e| e.source == source) {
-            e.position = at;
-        }
+        self.moves.insert(source, (self.ongoing.len(), at));
         Ok(())
+    }
+
+    /// Each event started before its source's last move takes the
+    /// position of that move; the events started after it keep theirs.
+    fn apply_moves(&mut self) {
+        if self.moves.is_empty() {
+            return;
+        }
+        for (k, e) in self.ongoing.iter_mut().enumerate() {
+            if let Some(&(before, at)) = self.moves.get(&e.source) {
+                if k < before {
+                    e.position = at;
+                }
+            }
+        }
+        self.moves.clear();
     }
 
     /// The microphones' centre: where sounds with no place are heard.
@@ -194,6 +216,7 @@ impl Air {
     /// Writes the frame's microphone and moved source positions; the
     /// camera ended the frame at `eye`.
     pub fn end_frame(&mut self, eye: DVec3) -> Result<(), String> {
+        self.apply_moves();
         if self.follow_camera {
             self.mics.insert(0, eye);
         }
@@ -225,6 +248,8 @@ impl Air {
         source_of_sound(&self.ongoing, sound)
     }
 
+    /// The on-going events, at their positions as of the last
+    /// [`Air::end_frame`].
     pub fn ongoing(&self) -> &[Ongoing] {
         &self.ongoing
     }

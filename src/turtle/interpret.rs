@@ -10,8 +10,9 @@ use super::special;
 use super::state::{bend, Turtle};
 use super::{Builder, ParticleMapping, SoundRequest, TurtleWorld};
 use crate::lsys::word::NO_ORIGIN;
-use crate::lsys::{LSystem, Sensors, Symbol, Who};
-use crate::scene::material;
+use crate::lsys::{LSystem, Limits, Sensors, Symbol, Who};
+use crate::scene::shape::{bounds, triangle_bounds};
+use crate::scene::{material, MAX_COORDINATE};
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
 
 /// Settings of the interpretation that the thesis leaves to the renderer.
@@ -19,12 +20,15 @@ use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
 pub struct Options {
     /// Diameter of the thin cylinders drawn for segments `R S`.
     pub segment_width: f64,
+    /// How big words, scenes, films and images may grow.
+    pub limits: Limits,
 }
 
 impl Default for Options {
     fn default() -> Self {
         Options {
             segment_width: 0.05,
+            limits: Limits::default(),
         }
     }
 }
@@ -194,8 +198,10 @@ impl Interpreter<'_> {
         }
     }
 
-    /// A shape whose sizes are all finite and > 0; others are skipped with
-    /// one warning per symbol kind.
+    /// A shape whose sizes are all finite and > 0 and whose bounds lie
+    /// within ±[`MAX_COORDINATE`]; others are skipped with one warning per
+    /// symbol kind. Past the scene's primitive limit nothing is drawn
+    /// (the builder reports it).
     fn shape(
         &mut self,
         s: &Symbol,
@@ -207,13 +213,22 @@ impl Interpreter<'_> {
         if self.skipped(s, sizes, transform.is_finite()) {
             return;
         }
-        let symbol = s.id;
-        self.geometry().shapes.push(Shape {
+        let shape = Shape {
             kind,
             transform,
             material,
-            symbol,
-        });
+            symbol: s.id,
+        };
+        if bounds(&shape).is_none() {
+            self.warn(&format!(
+                "`{}` reaching beyond ±{MAX_COORDINATE:e} is skipped",
+                s.ch as char
+            ));
+            return;
+        }
+        if self.b.count(1) {
+            self.geometry().shapes.push(shape);
+        }
     }
 
     /// Whether a shape of these sizes is skipped, warning of mistakes: a
@@ -233,15 +248,25 @@ impl Interpreter<'_> {
         true
     }
 
-    fn triangle(&mut self, v: [DVec3; 3], material: u32, symbol: u64) {
-        if !v.iter().all(|p| p.is_finite()) {
+    /// A triangle of symbol `s` whose corners lie within
+    /// ±[`MAX_COORDINATE`]; others are skipped with one warning per
+    /// symbol kind.
+    fn triangle(&mut self, v: [DVec3; 3], material: u32, s: &Symbol) {
+        let v = v.map(v3);
+        if triangle_bounds(&v).is_none() {
+            self.warn(&format!(
+                "a triangle of `{}` not finite or beyond ±{MAX_COORDINATE:e} is skipped",
+                s.ch as char
+            ));
             return;
         }
-        self.geometry().triangles.push(Triangle {
-            v: v.map(v3),
-            material,
-            symbol,
-        });
+        if self.b.count(1) {
+            self.geometry().triangles.push(Triangle {
+                v,
+                material,
+                symbol: s.id,
+            });
+        }
     }
 
     /// Bends the turtle toward the tropism force at its position.
@@ -540,10 +565,10 @@ impl Interpreter<'_> {
         let base = [c(1.0, 1.0), c(-1.0, 1.0), c(-1.0, -1.0), c(1.0, -1.0)];
         for k in 0..4 {
             // Sides face outward: (b_k, b_{k+1}, apex) winds around +H.
-            self.triangle([base[k], base[(k + 1) % 4], apex], self.material, s.id);
+            self.triangle([base[k], base[(k + 1) % 4], apex], self.material, s);
         }
-        self.triangle([base[0], base[2], base[1]], self.material, s.id);
-        self.triangle([base[0], base[3], base[2]], self.material, s.id);
+        self.triangle([base[0], base[2], base[1]], self.material, s);
+        self.triangle([base[0], base[3], base[2]], self.material, s);
     }
 
     /// `}` with its variants: par1 = 1 inverts the normal; par2 = 1 adds a
@@ -559,7 +584,7 @@ impl Interpreter<'_> {
         let m = self.material;
         for t in &tris {
             let v = [poly[t[0]], poly[t[1]], poly[t[2]]];
-            self.triangle(if invert { [v[0], v[2], v[1]] } else { v }, m, s.id);
+            self.triangle(if invert { [v[0], v[2], v[1]] } else { v }, m, s);
         }
         if flags[1] != 1.0 || !depth.is_finite() {
             return;
@@ -571,7 +596,7 @@ impl Interpreter<'_> {
         let off: Vec<DVec3> = poly.iter().map(|p| *p + depth * n).collect();
         for t in &tris {
             let v = [off[t[0]], off[t[1]], off[t[2]]];
-            self.triangle(if invert { v } else { [v[0], v[2], v[1]] }, m, s.id);
+            self.triangle(if invert { v } else { [v[0], v[2], v[1]] }, m, s);
         }
         let k = poly.len();
         match flags[2] as i64 {
@@ -585,7 +610,7 @@ impl Interpreter<'_> {
                         [[p, qq, q], [p, pp, qq]]
                     };
                     for tri in quad {
-                        self.triangle(tri, m, s.id);
+                        self.triangle(tri, m, s);
                     }
                 }
             }
@@ -662,8 +687,8 @@ impl Interpreter<'_> {
         self.material = m;
     }
 
-    pub(super) fn push_triangle(&mut self, v: [DVec3; 3], material: u32, symbol: u64) {
-        self.triangle(v, material, symbol);
+    pub(super) fn push_triangle(&mut self, v: [DVec3; 3], material: u32, s: &Symbol) {
+        self.triangle(v, material, s);
     }
 
     pub(super) fn push_shape(

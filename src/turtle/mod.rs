@@ -152,10 +152,14 @@ pub struct Builder {
     /// Bounding boxes of `D` par1 = 20 … 21 (min, max).
     pub bounding_boxes: Vec<(Vec3, Vec3)>,
     bbox_start: Vec<(usize, usize)>,
+    /// Primitives (shapes, triangles, instances) in the scene so far, and
+    /// the most it may hold ([`crate::lsys::Limits::shapes`]).
+    primitives: usize,
+    max_primitives: usize,
 }
 
 impl Builder {
-    fn new(camera: Camera, surface_materials: &[Material]) -> Self {
+    fn new(camera: Camera, surface_materials: &[Material], max_primitives: usize) -> Self {
         let mut materials = material::table();
         materials.extend_from_slice(surface_materials);
         Builder {
@@ -170,7 +174,21 @@ impl Builder {
             messages: Vec::new(),
             bounding_boxes: Vec::new(),
             bbox_start: Vec::new(),
+            primitives: 0,
+            max_primitives,
         }
+    }
+
+    /// Counts `n` more primitives; false once the scene would hold more
+    /// than its limit, so nothing past it is drawn or allocated.
+    fn count(&mut self, n: usize) -> bool {
+        self.primitives = self.primitives.saturating_add(n);
+        self.primitives <= self.max_primitives
+    }
+
+    /// Whether the scene went over its primitive limit.
+    fn over(&self) -> bool {
+        self.primitives > self.max_primitives
     }
 
     /// Records a warning once per frame: each names its symbol, so there
@@ -380,7 +398,9 @@ fn surface_in(
 }
 
 /// Builds the scene of the animation's current frame. `tables` keeps the
-/// turtle state tables of each L-system from frame to frame.
+/// turtle state tables of each L-system from frame to frame. A scene of
+/// more primitives than `opts.limits.shapes` is an error naming the file
+/// and the frame.
 pub fn build_scene(
     anim: &mut Animation,
     surfaces: &Surfaces,
@@ -388,7 +408,7 @@ pub fn build_scene(
     sensors: &mut dyn Sensors,
     world: &mut dyn TurtleWorld,
     opts: Options,
-) -> (Scene, Vec<String>) {
+) -> Result<(Scene, Vec<String>), String> {
     let cam = &anim.camera;
     let [x1, x2, y1, y2] = cam.pref_pos;
     let camera = Camera {
@@ -402,14 +422,29 @@ pub fn build_scene(
         width: (x2 - x1).unsigned_abs().clamp(1, 16384) as u32,
         height: (y2 - y1).unsigned_abs().clamp(1, 16384) as u32,
     };
-    let mut b = Builder::new(camera, &surfaces.materials);
+    let max = opts.limits.shapes;
+    let mut b = Builder::new(camera, &surfaces.materials, max);
     let (time, seed, frame) = (anim.time(), anim.camera.seed, anim.frame);
+    let too_many = |file: &str| {
+        format!(
+            "{file}: frame {frame}: the scene would hold more than {max} primitives (shapes, triangles and copies), the limit; raise it with --max-shapes N"
+        )
+    };
+    let imported: usize = surfaces.geometries.iter().map(|g| g.triangles.len()).sum();
+    if !b.count(imported) {
+        return Err(too_many(&anim.systems[0].def.name));
+    }
     tables.resize(anim.systems.len(), Tables::default());
     let mut geometries: Vec<Geometry> = surfaces.geometries.clone();
     let mut recoloured = BTreeMap::new();
     let mut instances = Vec::new();
     for (k, ls) in anim.systems.iter_mut().enumerate() {
         let st = interpret(ls, time, seed, &mut b, &mut tables[k], sensors, world, opts);
+        // Each copy is one instance of the word and one per placement.
+        let nbr = ls.def.repetition.start_side_nbr_dist.2.max(1) as usize;
+        if b.over() || !b.count(nbr.saturating_mul(1 + st.placements.len())) {
+            return Err(too_many(&ls.def.name));
+        }
         let copies = repetition::transforms(&ls.def.repetition, seed, k);
         let main = geometries.len() as u32;
         geometries.push(st.geometry);
@@ -474,5 +509,5 @@ pub fn build_scene(
         instances,
         background: b.background,
     };
-    (scene, b.messages)
+    Ok((scene, b.messages))
 }

@@ -97,8 +97,8 @@ fn ground(it: &mut Interpreter, s: &Symbol, h: f64, m: u32) {
     let c = |x: f64, z: f64| DVec3::new(x * GROUND, h, z * GROUND);
     let (a, b, cc, d) = (c(-1.0, -1.0), c(1.0, -1.0), c(1.0, 1.0), c(-1.0, 1.0));
     // Counter-clockwise seen from above (+y).
-    it.push_triangle([a, d, cc], m, s.id);
-    it.push_triangle([a, cc, b], m, s.id);
+    it.push_triangle([a, d, cc], m, s);
+    it.push_triangle([a, cc, b], m, s);
 }
 
 /// A flat box in the x–z plane: [x0,x1] × [y, y+h] × [z0,z1].

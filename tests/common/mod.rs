@@ -39,7 +39,7 @@ pub fn full(a: &mut Animation) -> String {
 }
 
 pub fn at_frame(a: &mut Animation, n: u64) -> String {
-    a.advance_to(n, &mut NoSensors);
+    a.advance_to(n, &mut NoSensors).unwrap();
     symbols(a)
 }
 
@@ -56,4 +56,5 @@ pub fn scene(a: &mut Animation) -> (lmfilm::scene::Scene, Vec<String>) {
         &mut NoWorld,
         Options::default(),
     )
+    .unwrap_or_else(|e| panic!("{e}"))
 }
