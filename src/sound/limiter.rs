@@ -121,7 +121,11 @@ impl Limiter {
                 sum = 0.0;
             }
             if j >= 0 {
-                gains.push((sum / l as f64).min(0.0).exp());
+                gains.push(if sum < 0.0 {
+                    (sum / l as f64).exp()
+                } else {
+                    1.0
+                });
             }
         }
         deepest * 20.0 / std::f64::consts::LN_10

@@ -114,7 +114,7 @@ const TRUE_PEAK_PHASES: [[f64; 12]; 4] = [
 /// The limiter aims this far below the ceiling, dB: room for the true
 /// peak's small rise where the limiter's gain changes within the
 /// interpolation filter, and for meters finer than annex 2's 4×.
-const MARGIN: f64 = 0.05;
+const MARGIN: f64 = 0.1;
 
 /// The most the limiter may lower a peak, dB. A track needing more is so
 /// sparse (a lone click in seconds of silence) that limiting no longer
