@@ -58,6 +58,7 @@ pub struct Limiter {
 }
 
 impl Limiter {
+    /// The limiter for `rate` Hz (0 taken as 1).
     pub fn new(rate: u32) -> Limiter {
         let fs = f64::from(rate.max(1));
         Limiter {
@@ -67,8 +68,8 @@ impl Limiter {
     }
 
     /// Writes into `gains` one gain in (0, 1] per sample such that
-    /// gain · exp(ln_envelope) ≤ exp(ln_limit) wherever the envelope is;
-    /// returns the deepest reduction asked for, in dB (0: none).
+    /// gain · exp(ln_envelope) ≤ exp(ln_limit) at every sample; returns
+    /// the deepest cut asked for, in dB (negative; 0: none).
     /// `ln_envelope` holds the natural logarithm of the peak envelope
     /// (−∞ where it is 0).
     pub fn gains(&self, ln_envelope: &[f64], ln_limit: f64, gains: &mut Vec<f64>) -> f64 {
@@ -105,12 +106,10 @@ impl Limiter {
             let h = window.front().map_or(0.0, |&(_, v)| v);
             deepest = deepest.min(h);
             // Release, then the attack's running mean over l samples.
-            e = h.min(self.release * e);
-            if e > -1e-9 {
-                // Within 10⁻⁹ of unity, far below an f32's resolution:
-                // unity, so the gain comes back to exactly 1.
-                e = 0.0;
-            }
+            // A release within 10⁻⁹ of unity (far below an f32's
+            // resolution) is unity, so the gain comes back to exactly 1.
+            let released = self.release * e;
+            e = h.min(if released > -1e-9 { 0.0 } else { released });
             let slot = j.rem_euclid(l as isize) as usize;
             nonzero -= usize::from(ring[slot] != 0.0);
             nonzero += usize::from(e != 0.0);
