@@ -237,6 +237,41 @@ fn scenes_are_normalised_and_a_target_can_be_chosen() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+#[test]
+fn one_frog_next_to_one_microphone_reaches_the_target_and_a_lone_beep_says_why() {
+    let dir = fresh_dir("loudness", "frog");
+    // Pulses with silence between: the gentler limiter stays at -17.3
+    // LUFS, the faster one gets there.
+    for (sound, reached) in [("frog", true), ("start", false)] {
+        let events = dir.join(format!("near_{sound}.events"));
+        std::fs::write(
+            &events,
+            format!(
+                "INIT_mic 0 0 1.7 0 0 0 0\nINIT_source 0 1 1.7 0 0 0 0\nTIME 0\nTIME 1\n\
+                 PLAY 0 {sound}.wav\nTIME 3\nTIME 4\n"
+            ),
+        )
+        .unwrap();
+        let (code, err) = lmfilm(&["sound", events.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains("limited up to"), "{err}");
+        let wav = events.with_extension("wav");
+        if reached {
+            assert_normalised(&wav, -16.0, 0.2, &err);
+        } else {
+            // A 10 ms beep, once: too sparse (docs/sound-events.md).
+            let (_, x) = read(&wav);
+            let (l, tp) = (lufs(&x).unwrap(), true_peak(&x));
+            assert!(l < -16.5 && tp <= -1.0, "{l} LUFS, {tp} dBTP");
+            assert!(
+                err.contains("warning") && err.contains("not -16.0"),
+                "{err}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// A mono 48 kHz track normalised to -16 LUFS by the library, as f64.
 fn normalise(mut x: Vec<f32>) -> (sound::loudness::Normalization, Vec<Vec<f64>>) {
     let mut channels = vec![std::mem::take(&mut x)];

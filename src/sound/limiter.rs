@@ -11,11 +11,11 @@
 //! 1. **Need.** ℓ[k] = min(0, ln(limit) − ln(envelope[k])): the log gain
 //!    that brings sample k's peak down to the limit.
 //! 2. **Hold.** h[j] = min ℓ over [j − S, j + L − 1 + S], L the look-ahead
-//!    and S the [`SPREAD`]: a gain is no higher than the need of any
+//!    ([`Stage::lookahead`]) and S the [`SPREAD`]: a gain is no higher than the need of any
 //!    sample it reaches within the look-ahead.
 //! 3. **Release.** e[j] = min(h[j], β·e[j − 1]): after a peak the gain
-//!    recovers exponentially (time constant [`RELEASE`]), not at once,
-//!    which would pump and distort.
+//!    recovers exponentially (time constant [`Stage::release`]), not at
+//!    once, which would click.
 //! 4. **Attack.** a[n] = mean of e over [n − L + 1, n]: the gain glides
 //!    down over the look-ahead instead of jumping. Every e in the mean of
 //!    a sample within S of a peak is at most that peak's need, so
@@ -28,19 +28,45 @@
 
 use std::collections::VecDeque;
 
-/// Look-ahead (the attack glide), seconds: long enough that the gain
-/// change is a smooth dip rather than a click, short enough not to duck
-/// the sound before a hit.
-pub const LOOKAHEAD: f64 = 0.0015;
+/// A limiter's timing, seconds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stage {
+    /// Look-ahead: the attack glide before each peak.
+    pub lookahead: f64,
+    /// Release time constant, exponential in dB: fast after deep cuts,
+    /// gentle after shallow ones.
+    pub release: f64,
+}
 
-/// Release time constant, seconds. Short, because the tracks that need
-/// the limiter are hits (a ball, a racket): their loudness can only come
-/// from the decay after the onset peak, so the gain must come back while
-/// the hit still rings (a ball's thud falls about 4 dB every 10 ms). With
-/// 80 ms the ball scene stayed at −22 LUFS even cut by 30 dB; with 10 ms
-/// it reaches −16 with a 27 dB cut. Being exponential in dB, the release
-/// is fast after deep cuts and gentle after shallow ones.
-pub const RELEASE: f64 = 0.01;
+/// The limiters the normaliser tries, gentlest first; it moves to the
+/// next only when one cannot reach the target within
+/// [`super::loudness::MAX_LIMITING`].
+///
+/// The releases are short because the tracks that need a limiter are
+/// hits (a ball, a racket, a frog): their loudness can only come from the
+/// ring after each onset peak, so the gain must come back while the hit
+/// rings (a ball's thud falls about 4 dB every 10 ms). With a broadcast
+/// limiter's 80 ms release the ball scene stayed at −22 LUFS even cut by
+/// 30 dB.
+///
+/// - 1.5 ms look-ahead, 10 ms release: the films (the ball scene reaches
+///   −16 LUFS with a 27 dB cut, the flyby log with 14 dB); long enough
+///   that the gain dips smoothly instead of clicking.
+/// - 0.5 ms, 2 ms: close to a soft clipper, for a track of short pulses
+///   only (a frog croaking once next to one microphone stays at −17.3
+///   LUFS with the first even cut by 40 dB; this one reaches −16 with a
+///   23 dB cut). It distorts the onsets more, which is what making such a
+///   track that loud means.
+pub const STAGES: [Stage; 2] = [
+    Stage {
+        lookahead: 0.0015,
+        release: 0.01,
+    },
+    Stage {
+        lookahead: 0.0005,
+        release: 0.002,
+    },
+];
 
 /// Samples on either side of a peak held at its gain: twice the half
 /// length of the annex 2 interpolation filter (6 samples), so the
@@ -58,12 +84,12 @@ pub struct Limiter {
 }
 
 impl Limiter {
-    /// The limiter for `rate` Hz (0 taken as 1).
-    pub fn new(rate: u32) -> Limiter {
+    /// The limiter with `stage`'s timing at `rate` Hz (0 taken as 1).
+    pub fn new(rate: u32, stage: Stage) -> Limiter {
         let fs = f64::from(rate.max(1));
         Limiter {
-            lookahead: ((LOOKAHEAD * fs).round() as usize).max(1),
-            release: (-1.0 / (RELEASE * fs)).exp(),
+            lookahead: ((stage.lookahead * fs).round() as usize).max(1),
+            release: (-1.0 / (stage.release * fs)).exp(),
         }
     }
 
@@ -150,7 +176,7 @@ mod tests {
 
     #[test]
     fn nothing_above_the_limit_is_unity_gain() {
-        let lim = Limiter::new(48_000);
+        let lim = Limiter::new(48_000, STAGES[0]);
         let mut g = Vec::new();
         let env = ln(&[0.0, 0.1, 0.5, 0.2, 0.0]);
         assert_eq!(lim.gains(&env, 0.5f64.ln(), &mut g), 0.0);
@@ -162,7 +188,7 @@ mod tests {
     #[test]
     fn a_peak_lands_on_the_limit_with_a_flat_gain_around_it() {
         let rate = 48_000;
-        let lim = Limiter::new(rate);
+        let lim = Limiter::new(rate, STAGES[0]);
         // One peak 12 dB over the limit at sample 1000, one near the end.
         let mut env = vec![0.1f64; 48_000];
         env[1000] = 4.0;
@@ -178,19 +204,23 @@ mod tests {
         }
         assert!((g[1000] - 0.25).abs() < 1e-9 && (g[1000 + SPREAD] - 0.25).abs() < 1e-9);
         // The attack glides down over the look-ahead, the release back up.
-        let l = (LOOKAHEAD * 48_000.0) as usize;
+        let l = (STAGES[0].lookahead * 48_000.0) as usize;
         assert!(g[1000 - SPREAD - l] == 1.0 && g[1000 - SPREAD - l / 2] > 0.4);
         assert!(g.windows(2).skip(1100).take(40_000).all(|w| w[1] >= w[0]));
         let after = |secs: f64| -20.0 * g[1000 + (secs * f64::from(rate)) as usize].log10();
         assert!(after(0.005) > 5.0 && after(0.03) < 1.5 && after(0.1) < 0.01);
         assert!(g[40_000] > 0.9999);
+        // The second stage lets go sooner.
+        let mut fast = Vec::new();
+        Limiter::new(rate, STAGES[1]).gains(&ln(&env), 0.0, &mut fast);
+        assert!(fast[1000] <= 0.25 + 1e-12 && fast[1240] > 0.8 && g[1240] < 0.5);
         assert!(g[47_999] <= 0.5);
     }
 
     #[test]
     fn tiny_rates_and_tracks_are_fine() {
-        for rate in [0, 1, 8000] {
-            let lim = Limiter::new(rate);
+        for (rate, stage) in [0, 1, 8000].into_iter().zip(STAGES.iter().cycle()) {
+            let lim = Limiter::new(rate, *stage);
             let mut g = Vec::new();
             lim.gains(&ln(&[3.0, 0.0]), 0.0, &mut g);
             assert!((g[0] - 1.0 / 3.0).abs() < 1e-12, "{rate}: {g:?}");

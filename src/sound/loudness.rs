@@ -27,7 +27,7 @@ use std::ops::RangeInclusive;
 
 use rayon::prelude::*;
 
-use super::limiter::Limiter;
+use super::limiter::{Limiter, STAGES};
 
 /// The default target: −16 LUFS, the level streaming platforms and
 /// podcasts normalise to (EBU R 128's −23 LUFS is for broadcast with a
@@ -204,9 +204,10 @@ pub fn check_target(target: f64) -> Result<(), String> {
 
 /// Fades both ends in and brings the mix to `target` LUFS with its true
 /// peak at most [`CEILING`]: by gain alone when that keeps the peak
-/// below the ceiling, otherwise by more gain and the [`Limiter`] on the
-/// peaks, the gain adjusted until the limited mix meets the target (or
-/// the limiter cuts [`MAX_LIMITING`]). A silent mix is left silent.
+/// below the ceiling, otherwise by more gain and a [`Limiter`] on the
+/// peaks (the gentlest of [`STAGES`] that can), the gain adjusted until
+/// the limited mix meets the target (or the limiter cuts
+/// [`MAX_LIMITING`]). A silent mix is left silent.
 pub fn normalize(channels: &mut [Vec<f32>], rate: u32, target: f64) -> Normalization {
     fade(channels, rate);
     let mut envelope = peak_envelope(channels);
@@ -246,11 +247,10 @@ pub fn normalize(channels: &mut [Vec<f32>], rate: u32, target: f64) -> Normaliza
     for v in &mut envelope {
         *v = v.ln();
     }
-    let limiter = Limiter::new(rate);
     let mut out = channels.to_vec();
     let mut gains = Vec::new();
     // One attempt: make-up gain `g` dB, limited; (miss in LU, cut in dB).
-    let mut attempt = |g: f64, out: &mut [Vec<f32>]| {
+    let mut attempt = |limiter: &Limiter, g: f64, out: &mut [Vec<f32>]| {
         let ln_limit = (limit - g) * std::f64::consts::LN_10 / 20.0;
         let cut = -limiter.gains(&envelope, ln_limit, &mut gains);
         let a = amplitude(g);
@@ -262,46 +262,57 @@ pub fn normalize(channels: &mut [Vec<f32>], rate: u32, target: f64) -> Normaliza
         let l = integrated(out, rate).unwrap_or(measured + g);
         (l - target, cut)
     };
-    // A safeguarded secant search on the make-up gain: the loudness
-    // rises with it, at most dB for dB (all of it below the limit, less
-    // and less as the limiter cuts deeper). Below `lowest` nothing is
-    // limited and the loudness is known; `highest` is the most limiting.
+    // For each limiter in turn, a safeguarded secant search on the
+    // make-up gain: the loudness rises with it, at most dB for dB (all of
+    // it below the limit, less and less as the limiter cuts deeper).
+    // Below `lowest` nothing is limited and the loudness is known;
+    // `highest` is the most limiting. The next limiter is tried only if
+    // this one cannot reach the target even there.
     let lowest = limit - peak;
     let highest = lowest + MAX_LIMITING;
-    let (mut below, mut above) = ((lowest, measured + lowest - target), None::<(f64, f64)>);
-    let mut last = below;
-    let mut g = plain.min(highest);
-    let mut best = (g, f64::INFINITY, 0.0);
-    let mut tried = f64::NAN;
-    for _ in 0..ATTEMPTS {
-        let (miss, cut) = attempt(g, &mut out);
-        tried = g;
-        if miss.abs() < best.1.abs() {
-            best = (g, miss, cut);
+    let limiters = STAGES.map(|stage| Limiter::new(rate, stage));
+    // (limiter, gain, miss, cut) of the best attempt, and the last one's.
+    let mut best = (0, plain.min(highest), f64::INFINITY, 0.0);
+    let mut tried = (0, f64::NAN);
+    'limiters: for (i, limiter) in limiters.iter().enumerate() {
+        let (mut below, mut above) = ((lowest, measured + lowest - target), None::<(f64, f64)>);
+        let mut last = below;
+        let mut g = plain.min(highest);
+        for _ in 0..ATTEMPTS {
+            let (miss, cut) = attempt(limiter, g, &mut out);
+            tried = (i, g);
+            if miss.abs() < best.2.abs() {
+                best = (i, g, miss, cut);
+            }
+            if miss.abs() <= TOLERANCE {
+                break 'limiters;
+            }
+            if miss < 0.0 && g >= highest {
+                continue 'limiters;
+            }
+            if miss < 0.0 {
+                below = (g, miss);
+            } else {
+                above = Some((g, miss));
+            }
+            // The secant through the last two attempts, if it falls
+            // inside the bracket; else the most limiting gain if nothing
+            // was too loud yet, or halfway into the bracket.
+            let slope = (miss - last.1) / (g - last.0);
+            last = (g, miss);
+            let next = g - miss / slope;
+            g = match above {
+                _ if slope > 0.0 && next > below.0 && next < above.map_or(highest, |a| a.0) => next,
+                None => highest,
+                Some(a) => 0.5 * (below.0 + a.0),
+            };
         }
-        if miss.abs() <= TOLERANCE || (miss < 0.0 && g >= highest) {
-            break;
-        }
-        if miss < 0.0 {
-            below = (g, miss);
-        } else {
-            above = Some((g, miss));
-        }
-        // The secant through the last two attempts, if it falls inside
-        // the bracket; else halfway into it.
-        let slope = (miss - last.1) / (g - last.0);
-        last = (g, miss);
-        let top = above.map_or(highest, |a| a.0);
-        let next = g - miss / slope;
-        g = if slope > 0.0 && next > below.0 && next < top {
-            next
-        } else {
-            0.5 * (below.0 + top)
-        };
+        // Out of attempts short of the tolerance: the best one.
+        break;
     }
-    let (mut gain, mut miss, limiting) = best;
-    if gain != tried {
-        attempt(gain, &mut out);
+    let (i, mut gain, mut miss, limiting) = best;
+    if (i, gain) != tried {
+        attempt(&limiters[i], gain, &mut out);
     }
     // The guarantee: a last plain scale if any true peak is still above
     // the limit (by a hair where the gain moved under a peak).
