@@ -144,7 +144,8 @@ pub struct Normalization {
     /// Integrated loudness of the mix as rendered, LUFS; `None` when it
     /// is silent (no block above the absolute gate), and then left so.
     pub measured: Option<f64>,
-    /// The gain applied, dB (0 for a silent mix).
+    /// The gain applied, dB (0 for a silent mix): with the limiter, the
+    /// make-up gain, before its cuts.
     pub gain: f64,
     /// True peak before the gain, dBTP (−∞ for all zeros).
     pub peak: f64,
