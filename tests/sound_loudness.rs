@@ -145,29 +145,26 @@ fn true_peak(channels: &[Vec<f64>]) -> f64 {
     20.0 * peak.log10()
 }
 
-/// The loudness of a soundtrack normalised to `target`: within ±0.5 LU,
-/// or, when the ceiling held the gain back (said on stderr), quieter but
-/// with its true peak at −1 dBTP.
-fn assert_normalised(wav: &Path, target: f64, stderr: &str) -> f64 {
+/// Asserts a soundtrack's loudness is `target` within `within` LU and its
+/// true peak at most −1 dBTP, by this file's meter (its 8× sinc sees a
+/// little more between samples than annex 2's 4×, which the program
+/// holds to −1.1 dBTP for that), and that the line the
+/// user reads agrees to 0.2 LU.
+fn assert_normalised(wav: &Path, target: f64, within: f64, stderr: &str) {
     let (rate, x) = read(wav);
     assert_eq!(rate, 48_000);
     let l = lufs(&x).expect("the soundtrack is heard");
-    if stderr.contains("true peak above -1 dBTP") {
-        let tp = true_peak(&x);
-        assert!((-1.5..=-0.8).contains(&tp), "{wav:?}: true peak {tp} dBTP");
-        assert!(l < target, "{wav:?}: {l} LUFS");
-    } else {
-        assert!((l - target).abs() <= 0.5, "{wav:?}: {l} LUFS, {stderr}");
-    }
-    // The line the user reads agrees with this meter to 0.5 LU.
+    let tp = true_peak(&x);
+    assert!((l - target).abs() <= within, "{wav:?}: {l} LUFS, {stderr}");
+    assert!(tp <= -1.0, "{wav:?}: {tp} dBTP, {stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
     let said: f64 = stderr
         .split(": ")
         .nth(1)
         .and_then(|s| s.split(" LUFS").next())
         .and_then(|s| s.parse().ok())
         .unwrap_or_else(|| panic!("no loudness in {stderr:?}"));
-    assert!((said - l).abs() <= 0.5, "said {said}, measured {l}");
-    l
+    assert!((said - l).abs() <= 0.2, "said {said}, measured {l}");
 }
 
 #[test]
@@ -183,8 +180,12 @@ fn the_flyby_log_is_normalised_to_minus_16_lufs_with_fades() {
     ];
     let (code, err) = lmfilm_in(&dir, &args, "1");
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("flyby.wav: ") && err.contains("dBTP"), "{err}");
-    assert_normalised(&wav, -16.0, &err);
+    // Its frog is close and loud: plain gain would stop at -21.6 LUFS.
+    assert!(
+        err.contains("flyby.wav: ") && err.contains("limited up to"),
+        "{err}"
+    );
+    assert_normalised(&wav, -16.0, 0.2, &err);
     let (_, x) = read(&wav);
     for ch in &x {
         assert_eq!((ch[0], ch[ch.len() - 1]), (0.0, 0.0), "faded ends");
@@ -200,12 +201,16 @@ fn the_flyby_log_is_normalised_to_minus_16_lufs_with_fades() {
 #[test]
 fn scenes_are_normalised_and_a_target_can_be_chosen() {
     let dir = fresh_dir("loudness", "scenes");
-    for (scene, target) in [
-        ("scenes/physics/bouncing_ball.lm", None),
-        ("scenes/examples/airplane.lm", None),
-        ("scenes/examples/airplane.lm", Some("-23")),
+    for (scene, target, limited) in [
+        // Hits every 1.6 s: plain gain would stop at -24.1 LUFS.
+        ("scenes/physics/bouncing_ball.lm", None, true),
+        ("scenes/physics/bouncing_ball.lm", Some("-23"), true),
+        // A steady engine: gain alone.
+        ("scenes/examples/airplane.lm", None, false),
+        ("scenes/examples/airplane.lm", Some("-23"), false),
     ] {
-        let wav = dir.join(format!("{}.wav", target.unwrap_or("default")));
+        let name = Path::new(scene).file_stem().unwrap().to_str().unwrap();
+        let wav = dir.join(format!("{name}{}.wav", target.unwrap_or("")));
         let scene = repo(scene);
         let mut args = vec![
             "sound",
@@ -218,14 +223,99 @@ fn scenes_are_normalised_and_a_target_can_be_chosen() {
         }
         let (code, err) = lmfilm(&args);
         assert_eq!(code, 0, "{err}");
+        assert_eq!(err.contains("limited up to"), limited, "{err}");
         let target: f64 = target.map_or(-16.0, |t| t.parse().unwrap());
-        let l = assert_normalised(&wav, target, &err);
-        if scene.ends_with("airplane.lm") {
-            // The engine is steady: the target is met, not limited.
-            assert!((l - target).abs() <= 0.5, "{scene:?}: {l}");
+        assert_normalised(&wav, target, 0.2, &err);
+        if limited {
+            // The same bytes on one thread.
+            let first = std::fs::read(&wav).unwrap();
+            let (code, err) = lmfilm_in(&dir, &args, "1");
+            assert_eq!(code, 0, "{err}");
+            assert_eq!(first, std::fs::read(&wav).unwrap(), "not deterministic");
         }
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn one_frog_next_to_one_microphone_reaches_the_target_and_a_lone_beep_says_why() {
+    let dir = fresh_dir("loudness", "frog");
+    // Pulses with silence between: the gentler limiter stays at -17.3
+    // LUFS, the faster one gets there.
+    for (sound, reached) in [("frog", true), ("start", false)] {
+        let events = dir.join(format!("near_{sound}.events"));
+        std::fs::write(
+            &events,
+            format!(
+                "INIT_mic 0 0 1.7 0 0 0 0\nINIT_source 0 1 1.7 0 0 0 0\nTIME 0\nTIME 1\n\
+                 PLAY 0 {sound}.wav\nTIME 3\nTIME 4\n"
+            ),
+        )
+        .unwrap();
+        let (code, err) = lmfilm(&["sound", events.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains("limited up to"), "{err}");
+        let wav = events.with_extension("wav");
+        if reached {
+            assert_normalised(&wav, -16.0, 0.2, &err);
+        } else {
+            // A 10 ms beep, once: too sparse (docs/sound-events.md).
+            let (_, x) = read(&wav);
+            let (l, tp) = (lufs(&x).unwrap(), true_peak(&x));
+            assert!(l < -16.5 && tp <= -1.0, "{l} LUFS, {tp} dBTP");
+            assert!(
+                err.contains("warning") && err.contains("not -16.0"),
+                "{err}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A mono 48 kHz track normalised to -16 LUFS by the library, as f64.
+fn normalise(mut x: Vec<f32>) -> (sound::loudness::Normalization, Vec<Vec<f64>>) {
+    let mut channels = vec![std::mem::take(&mut x)];
+    let n = sound::loudness::normalize(&mut channels, 48_000, -16.0);
+    let y = channels
+        .iter()
+        .map(|c| c.iter().map(|&v| f64::from(v)).collect())
+        .collect();
+    (n, y)
+}
+
+#[test]
+fn hits_reach_the_target_and_lone_clicks_keep_the_ceiling_and_say_why() {
+    // A hit every 0.8 s: a full-scale onset ringing down 4 dB per 10 ms,
+    // like the ball's: limited to the target.
+    let x: Vec<f32> = (0..48_000 * 4)
+        .map(|i| {
+            let t = (i % 38_400) as f64 / 48_000.0;
+            ((-t / 0.02).exp() * (2.0 * PI * 300.0 * t + 1.0).sin()) as f32
+        })
+        .collect();
+    let (n, y) = normalise(x);
+    let l = lufs(&y).unwrap();
+    assert!((l + 16.0).abs() <= 0.2, "{l} LUFS, {n:?}");
+    assert!(true_peak(&y) <= -1.0, "{n:?}");
+    assert!(n.limiting > 0.0 && n.warning().is_none(), "{n:?}");
+    // A single full-scale sample in 3 s of silence, and a track of one
+    // sample: the limiter cannot make a click louder (it cuts it as
+    // much as it raises it), so it stays below the target at the
+    // ceiling, and the warning says why.
+    let mut click = vec![0.0f32; 48_000 * 3];
+    click[70_000] = 1.0;
+    let (n, y) = normalise(click);
+    let l = lufs(&y).unwrap();
+    assert!(l < -30.0, "{l} LUFS");
+    let tp = true_peak(&y);
+    assert!((-1.2..=-1.0).contains(&tp), "{tp} dBTP");
+    let w = n.warning().expect("a warning");
+    assert!(
+        w.contains("not -16.0") && w.contains("true peak above -1 dBTP"),
+        "{w}"
+    );
+    let (n, y) = normalise(vec![1.0]);
+    assert_eq!((n.loudness, y), (None, vec![vec![0.0]]), "faded to silence");
 }
 
 #[test]
@@ -245,9 +335,7 @@ fn float_output_is_normalised_too() {
         hound::WavReader::open(&wav).unwrap().spec().sample_format,
         hound::SampleFormat::Float
     );
-    assert_normalised(&wav, -16.0, &err);
-    let (_, x) = read(&wav);
-    assert!(true_peak(&x) <= -0.9, "below the ceiling");
+    assert_normalised(&wav, -16.0, 0.2, &err);
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -5,6 +5,7 @@
 pub mod air;
 pub mod events;
 pub mod library;
+pub mod limiter;
 pub mod loudness;
 pub mod render;
 mod trajectory;
