@@ -40,7 +40,29 @@ fn v3(a: f32, b: f32, c: f32) -> Vec3 {
 }
 
 fn sample_scene() -> Scene {
-    let w = awkward();
+    scene_with(awkward())
+}
+
+/// The sample scene with finite, moderate numbers only: one `decode`
+/// accepts (it refuses NaNs, infinities and numbers beyond 1e30).
+fn valid_scene() -> Scene {
+    let mut s = scene_with(vec![0.5, -0.0, 1e-3, 2.0, 0.25, 3.0, 1.5, -2.0, 0.75, 4.0, 1.25, 0.1, 6.0]);
+    s.camera.far = 1e30;
+    for g in &mut s.geometries {
+        for sh in &mut g.shapes {
+            if let ShapeKind::Trunk { length, .. } = &mut sh.kind {
+                *length = length.min(1e6);
+            }
+        }
+        for t in &mut g.triangles {
+            t.material %= 3;
+        }
+    }
+    snapshot::validate(&s).unwrap();
+    s
+}
+
+fn scene_with(w: Vec<f32>) -> Scene {
     let at = |i: usize| w[i % w.len()];
     let skew = Affine3A::from_cols_array(&[
         1.0,
@@ -292,7 +314,7 @@ fn scratch_dir(test: &str) -> PathBuf {
 fn round_trip_is_bit_exact() {
     let scene = sample_scene();
     let bytes = snapshot::encode(&scene);
-    let back = snapshot::decode(&bytes).unwrap();
+    let back = snapshot::decode_unchecked(&bytes).unwrap();
     assert_eq!(snapshot::encode(&back), bytes, "re-encoding changed bytes");
     assert_eq!(float_bits(&back), float_bits(&scene));
     assert_eq!(structure(&back), structure(&scene));
@@ -340,7 +362,7 @@ fn round_trip_equals_without_nans() {
         }],
         ..scene
     };
-    let back = snapshot::decode(&snapshot::encode(&clean)).unwrap();
+    let back = snapshot::decode_unchecked(&snapshot::encode(&clean)).unwrap();
     assert_eq!(back, clean);
     assert_eq!(float_bits(&back), float_bits(&clean));
 }
@@ -365,14 +387,14 @@ fn encoding_is_deterministic_and_has_the_documented_layout() {
 fn file_round_trip_and_atomic_write() {
     let dir = scratch_dir("file_round_trip");
     let path = dir.join("0007.snap");
-    let scene = sample_scene();
+    let scene = valid_scene();
     snapshot::write(&scene, &path).unwrap();
     let back = snapshot::read(&path).unwrap();
     assert_eq!(float_bits(&back), float_bits(&scene));
     assert_eq!(std::fs::read(&path).unwrap(), snapshot::encode(&scene));
 
     // Overwriting replaces the file whole, and no temporary file is left.
-    let mut other = sample_scene();
+    let mut other = valid_scene();
     other.frame = 8;
     other.geometries.clear();
     other.instances.clear();
@@ -601,4 +623,61 @@ fn fuzz_truncations_and_flips_never_panic() {
         let _ = snapshot::decode(&noise);
         let _ = snapshot::decode(&seal(&noise));
     }
+}
+
+/// Damage that keeps the hash right (a flipped float, an edited file)
+/// must not reach the renderer: `decode` validates the scene.
+#[test]
+fn impossible_scenes_are_refused_with_what_is_wrong() {
+    let invalid = |s: &Scene| match snapshot::decode(&snapshot::encode(s)) {
+        Err(SnapshotError::Invalid(m)) => m,
+        other => panic!("expected Invalid, got {other:?}"),
+    };
+    // The awkward sample holds NaNs and infinities.
+    assert!(invalid(&sample_scene()).contains("not a finite number"));
+
+    // Regression: gallery frame 5 with one instance's 1.0 flipped to 0.0
+    // panicked in the BVH (accel.rs:58); a singular transform is refused.
+    let mut s = valid_scene();
+    s.instances[1].transform.matrix3.x_axis.x = 0.0;
+    s.instances[1].transform.matrix3.x_axis.y = 0.0;
+    s.instances[1].transform.matrix3.x_axis.z = 0.0;
+    let m = invalid(&s);
+    assert!(m.contains("instance 1") && m.contains("cannot be inverted"), "{m}");
+
+    let mut s = valid_scene();
+    s.geometries[1].triangles[0].v[1].y = f32::INFINITY;
+    assert!(invalid(&s).contains("triangle 0 of geometry 1"));
+
+    let mut s = valid_scene();
+    s.instances[0].geometry = 99;
+    assert!(invalid(&s).contains("places geometry 99, but the scene has 3"));
+
+    let mut s = valid_scene();
+    s.geometries[0].shapes[0].material = 3;
+    assert!(invalid(&s).contains("material 3, but the scene has 3 materials"));
+
+    let mut s = valid_scene();
+    s.camera.width = 0;
+    assert!(invalid(&s).contains("width is 0"));
+
+    let mut s = valid_scene();
+    s.lights[0].position.x = 1e31;
+    assert!(invalid(&s).contains("position of light 0"));
+
+    // Read from a file, the error names it and says to derive again.
+    let dir = scratch_dir("impossible");
+    let path = dir.join("0005.snap");
+    std::fs::write(&path, snapshot::encode(&s)).unwrap();
+    let e = snapshot::read(&path).unwrap_err().to_string();
+    assert!(e.contains("0005.snap") && e.contains("lmfilm derive"), "{e}");
+}
+
+#[test]
+fn a_folder_or_device_is_not_a_snapshot() {
+    let dir = scratch_dir("not_a_file");
+    let e = snapshot::read(&dir).unwrap_err().to_string();
+    assert!(e.contains("is a folder"), "{e}");
+    let e = snapshot::read(std::path::Path::new("/dev/zero")).unwrap_err().to_string();
+    assert!(e.contains("not a regular file"), "{e}");
 }

@@ -9,6 +9,7 @@ use std::rc::Rc;
 use glam::DVec3;
 
 use crate::lsys::options::{Command, OptionItem};
+use crate::lsys::animation::read_source;
 use crate::lsys::{Animation, Sensors, Source, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::scene::Scene;
@@ -253,13 +254,10 @@ impl Film {
     /// Loads the scene files; sound files are looked up in the first
     /// file's folder, then `scenes/sounds/`.
     pub fn load<P: AsRef<Path>>(paths: &[P], opts: Options) -> Result<Film, String> {
-        let mut sources = Vec::new();
-        for p in paths {
-            let name = p.as_ref().display().to_string();
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| format!("{name}: cannot read the file: {e}"))?;
-            sources.push(Source::new(name, text));
-        }
+        let sources = paths
+            .iter()
+            .map(|p| read_source(p.as_ref()).map_err(|e| e.to_string()))
+            .collect::<Result<Vec<_>, _>>()?;
         let dir = paths.first().and_then(|p| p.as_ref().parent());
         Film::from_sources(&sources, dir, opts)
     }

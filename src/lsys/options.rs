@@ -72,6 +72,13 @@ pub enum OptionItem {
     },
 }
 
+/// Largest `MaxPart`: ten million particles is far beyond what a frame
+/// can evolve, yet keeps the particle table's size an honest number.
+pub const MAX_PARTICLES: i64 = 10_000_000;
+
+/// Longest list an option may announce (actors, objects, channels).
+const MAX_LIST: i64 = 100_000;
+
 /// (name, fewest numbers, most numbers, takes a word after the numbers).
 type Spec = (&'static str, usize, usize, bool);
 
@@ -175,7 +182,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
     }
     s.word(kw)?;
     let item = match kw {
-        "MaxPart" => OptionItem::MaxPart(s.int("the maximal number of particles")?),
+        "MaxPart" => OptionItem::MaxPart(s.int_in("the maximal number of particles", 0..=MAX_PARTICLES)?),
         "command_file" => OptionItem::CommandFile {
             number: s.int("the script number")?,
             script: text(s, "the script name")?,
@@ -204,7 +211,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             let mut objects = Vec::new();
             if s.at_keyword("Nbr_exported_actors")? {
                 s.word("Nbr_exported_actors")?;
-                for _ in 0..s.int("the number of exported actors")? {
+                for _ in 0..s.int_in("the number of exported actors", 0..=MAX_LIST)? {
                     exported.push([
                         s.int("a body key")?,
                         s.int("an object key")?,
@@ -218,7 +225,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             ] {
                 if s.at_keyword(key)? {
                     s.word(key)?;
-                    for _ in 0..s.int("a count")? {
+                    for _ in 0..s.int_in("a count", 0..=MAX_LIST)? {
                         list.push(s.int("a number")?);
                     }
                 }
@@ -284,9 +291,9 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             OptionItem::RsSwitch(v.iter().map(|x| *x as i64).collect())
         }
         "NbrChannels_listOfNames" => {
-            let n = s.int("the number of channels")?;
+            let n = s.int_in("the number of channels", 0..=MAX_LIST)?;
             let mut names = Vec::new();
-            for _ in 0..n.max(0) {
+            for _ in 0..n {
                 names.push(text(s, "a channel file name")?);
             }
             OptionItem::Channels(names)

@@ -21,6 +21,28 @@ const SECTIONS: [&str; 8] = [
     "Productions",
 ];
 
+/// Largest window coordinate of `pref_pos_x1_x2_y1_y2`: far beyond any
+/// screen, and differences of two stay far inside `i64`.
+const MAX_WINDOW: i64 = 1 << 20;
+
+/// Most copies `startp_sidel_nbr_dist` may ask for (placing them is
+/// quadratic in their number).
+const MAX_COPIES: i64 = 1_000_000;
+
+/// Most key points of one spline.
+const MAX_KEYS: i64 = 1_000_000;
+
+/// A repetition scale: a copy of scale 0 (or one that rounds to 0 in the
+/// renderer's `f32`) is flat and its transform cannot be inverted.
+fn scale(s: &mut Scanner) -> Result<f64, Diagnostic> {
+    let at = s.peek_word()?.0;
+    let v = s.number("the scale")?;
+    if !(1e-6..=1e6).contains(&v) {
+        return Err(s.error(at, format!("the scale must be 1e-6..=1e6, found {v}")));
+    }
+    Ok(v)
+}
+
 /// Characters that may name a symbol (BNF `Symbol`, plus the query `?`
 /// and the polygon vertex `.` of appendix C).
 pub fn is_symbol_char(c: u8) -> bool {
@@ -129,7 +151,7 @@ impl<'a> Parser<'a> {
             match w {
                 "pref_pos_x1_x2_y1_y2" | "prefpos_x1_x2_y1_y2" => {
                     for v in &mut c.pref_pos {
-                        *v = s.int("a window coordinate")?;
+                        *v = s.int_in("a window coordinate", -MAX_WINDOW..=MAX_WINDOW)?;
                     }
                 }
                 "observer" => c.observer = s.floats("the observer position")?,
@@ -174,15 +196,15 @@ impl<'a> Parser<'a> {
                 "rotate_max" => r.rotate_max = s.floats("a rotation angle")?,
                 "translate" => r.translate = s.floats("a translation")?,
                 "translate_max" => r.translate_max = s.floats("a translation")?,
-                "scale" => r.scale = s.number("the scale")?,
-                "scale_max" => r.scale_max = s.number("the scale")?,
+                "scale" => r.scale = scale(s)?,
+                "scale_max" => r.scale_max = scale(s)?,
                 "time_scale" => r.time_scale = s.number("the time scale")?,
                 "time_const" => r.time_const = s.number("the time limit")?,
                 "startp_sidel_nbr_dist" => {
                     r.start_side_nbr_dist = (
                         s.number("the start point")?,
                         s.number("the side length")?,
-                        s.int("the number of objects")?,
+                        s.int_in("the number of objects", 0..=MAX_COPIES)?,
                         s.number("the minimal distance")?,
                     )
                 }
@@ -217,7 +239,7 @@ impl<'a> Parser<'a> {
                 return Err(self.s.error(at, format!("expected `function time_spline n count scale_arg scale_value …`, found `{w}`")));
             }
             let number = self.s.int("the spline number")?;
-            let count = self.s.int("the number of key points")?;
+            let count = self.s.int_in("the number of key points", 0..=MAX_KEYS)?;
             let sa = self.s.number("the argument scale")?;
             let sv = self.s.number("the value scale")?;
             if !(0..100).contains(&number) || count < 0 {

@@ -8,6 +8,7 @@ pub mod atomic;
 pub mod camera;
 pub mod material;
 pub mod mesh;
+pub mod mtl;
 pub mod obj;
 pub mod obj_parse;
 pub mod shape;
