@@ -437,7 +437,10 @@ fn read_obj_reports_bad_files() {
     // OBJ errors are located: file:line:column, the line and a caret.
     std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n").unwrap();
     let err = read_obj(&bad, 0).unwrap_err();
-    assert!(err.ends_with(":4:7: vertex -7 does not exist (3 vertices so far)\n  f 1 2 -7\n        ^"), "{err}");
+    assert!(
+        err.ends_with(":4:7: vertex -7 does not exist (3 vertices so far)\n  f 1 2 -7\n        ^"),
+        "{err}"
+    );
 
     // A colour with two components made tobj panic; it is a located error
     // in the MTL file now.
@@ -448,7 +451,10 @@ fn read_obj_reports_bad_files() {
     )
     .unwrap();
     let err = read_obj(&bad, 0).unwrap_err();
-    assert!(err.contains("bad.mtl:2:7: `Kd` takes 1 or 3 numbers"), "{err}");
+    assert!(
+        err.contains("bad.mtl:2:7: `Kd` takes 1 or 3 numbers"),
+        "{err}"
+    );
     assert!(err.ends_with("  Kd 1 0\n        ^"), "{err}");
 
     // A folder or a device is not a mesh.

@@ -46,7 +46,9 @@ fn sample_scene() -> Scene {
 /// The sample scene with finite, moderate numbers only: one `decode`
 /// accepts (it refuses NaNs, infinities and numbers beyond 1e30).
 fn valid_scene() -> Scene {
-    let mut s = scene_with(vec![0.5, -0.0, 1e-3, 2.0, 0.25, 3.0, 1.5, -2.0, 0.75, 4.0, 1.25, 0.1, 6.0]);
+    let mut s = scene_with(vec![
+        0.5, -0.0, 1e-3, 2.0, 0.25, 3.0, 1.5, -2.0, 0.75, 4.0, 1.25, 0.1, 6.0,
+    ]);
     s.camera.far = 1e30;
     for g in &mut s.geometries {
         for sh in &mut g.shapes {
@@ -643,7 +645,10 @@ fn impossible_scenes_are_refused_with_what_is_wrong() {
     s.instances[1].transform.matrix3.x_axis.y = 0.0;
     s.instances[1].transform.matrix3.x_axis.z = 0.0;
     let m = invalid(&s);
-    assert!(m.contains("instance 1") && m.contains("cannot be inverted"), "{m}");
+    assert!(
+        m.contains("instance 1") && m.contains("cannot be inverted"),
+        "{m}"
+    );
 
     let mut s = valid_scene();
     s.geometries[1].triangles[0].v[1].y = f32::INFINITY;
@@ -670,7 +675,10 @@ fn impossible_scenes_are_refused_with_what_is_wrong() {
     let path = dir.join("0005.snap");
     std::fs::write(&path, snapshot::encode(&s)).unwrap();
     let e = snapshot::read(&path).unwrap_err().to_string();
-    assert!(e.contains("0005.snap") && e.contains("lmfilm derive"), "{e}");
+    assert!(
+        e.contains("0005.snap") && e.contains("lmfilm derive"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -678,6 +686,8 @@ fn a_folder_or_device_is_not_a_snapshot() {
     let dir = scratch_dir("not_a_file");
     let e = snapshot::read(&dir).unwrap_err().to_string();
     assert!(e.contains("is a folder"), "{e}");
-    let e = snapshot::read(std::path::Path::new("/dev/zero")).unwrap_err().to_string();
+    let e = snapshot::read(std::path::Path::new("/dev/zero"))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("not a regular file"), "{e}");
 }

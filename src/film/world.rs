@@ -8,8 +8,8 @@ use std::rc::Rc;
 
 use glam::DVec3;
 
-use crate::lsys::options::{Command, OptionItem};
 use crate::lsys::animation::read_source;
+use crate::lsys::options::{Command, OptionItem};
 use crate::lsys::{Animation, Sensors, Source, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::scene::Scene;

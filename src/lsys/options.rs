@@ -182,7 +182,9 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
     }
     s.word(kw)?;
     let item = match kw {
-        "MaxPart" => OptionItem::MaxPart(s.int_in("the maximal number of particles", 0..=MAX_PARTICLES)?),
+        "MaxPart" => {
+            OptionItem::MaxPart(s.int_in("the maximal number of particles", 0..=MAX_PARTICLES)?)
+        }
         "command_file" => OptionItem::CommandFile {
             number: s.int("the script number")?,
             script: text(s, "the script name")?,

@@ -115,15 +115,14 @@ impl<'a> Scanner<'a> {
             return Err(self.error(start, format!("expected {what} (a number), found `{w}`")));
         };
         if !v.is_finite() {
-            return Err(self.error(
-                start,
-                format!("{what}: `{w}` is not a finite number"),
-            ));
+            return Err(self.error(start, format!("{what}: `{w}` is not a finite number")));
         }
         if v.abs() > MAX_NUMBER {
             return Err(self.error(
                 start,
-                format!("{what}: `{w}` is too large; numbers are at most {MAX_NUMBER:e} in magnitude"),
+                format!(
+                    "{what}: `{w}` is too large; numbers are at most {MAX_NUMBER:e} in magnitude"
+                ),
             ));
         }
         Ok(v)
@@ -138,7 +137,10 @@ impl<'a> Scanner<'a> {
                 }
                 _ => "not an integer",
             };
-            self.error(start, format!("expected {what} (an integer), found `{w}`: {why}"))
+            self.error(
+                start,
+                format!("expected {what} (an integer), found `{w}`: {why}"),
+            )
         })
     }
 
@@ -227,7 +229,8 @@ fn number_shaped(w: &str) -> Option<f64> {
     let first = *b.first()?;
     let digits_first = first.is_ascii_digit()
         || first == b'.'
-        || ((first == b'-' || first == b'+') && b.get(1).is_some_and(|c| c.is_ascii_digit() || *c == b'.'));
+        || ((first == b'-' || first == b'+')
+            && b.get(1).is_some_and(|c| c.is_ascii_digit() || *c == b'.'));
     if !digits_first {
         return None;
     }

@@ -14,8 +14,8 @@ use glam::Vec3;
 
 use super::material::{self, Material};
 use super::obj_parse::LineError;
-use crate::lsys::source::read_file;
 use super::{mesh, Scene, Triangle};
+use crate::lsys::source::read_file;
 
 /// Writes the frame's triangles to `obj_path` and its materials to the
 /// same path with extension `.mtl` (named by `mtllib`). One `usemtl` per
@@ -73,7 +73,10 @@ pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<M
             Ok(b) => Ok(Some(b)),
             // A missing MTL leaves the faces grey rather than failing the import.
             Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
-            Err(e) => Err(format!("{}: cannot read the material library: {e}", lib_path.display())),
+            Err(e) => Err(format!(
+                "{}: cannot read the material library: {e}",
+                lib_path.display()
+            )),
         }
         .map(|b| b.map(|b| (lib_path.display().to_string(), b)))
     })

@@ -32,7 +32,9 @@ impl LineError {
             .split(|&b| b == b'\n')
             .nth(self.line.saturating_sub(1) as usize)
             .unwrap_or_default();
-        let line = String::from_utf8_lossy(raw).trim_end_matches('\r').to_string();
+        let line = String::from_utf8_lossy(raw)
+            .trim_end_matches('\r')
+            .to_string();
         let mut at = (self.column as usize).min(line.len());
         while !line.is_char_boundary(at) {
             at -= 1;

@@ -337,7 +337,9 @@ fn number(x: f32, what: &str) -> Result<(), String> {
     if x.is_finite() && x.abs() <= MAX_MAGNITUDE {
         Ok(())
     } else {
-        Err(format!("{what} is {x}, not a finite number within ±{MAX_MAGNITUDE:e}"))
+        Err(format!(
+            "{what} is {x}, not a finite number within ±{MAX_MAGNITUDE:e}"
+        ))
     }
 }
 
@@ -348,7 +350,9 @@ fn vec3(v: Vec3, what: &str) -> Result<(), String> {
 /// Finite entries and a finite inverse: the renderer moves rays into the
 /// local frame with the inverse.
 fn transform(m: &Affine3A, what: &str) -> Result<(), String> {
-    m.to_cols_array().iter().try_for_each(|&x| number(x, what))?;
+    m.to_cols_array()
+        .iter()
+        .try_for_each(|&x| number(x, what))?;
     let det = m.matrix3.determinant();
     let inverse_finite = m.inverse().to_cols_array().iter().all(|x| x.is_finite());
     if det == 0.0 || !det.is_finite() || !inverse_finite {
@@ -390,6 +394,7 @@ pub const MAX_SNAPSHOT_BYTES: u64 = 16 << 30;
 /// Reads the snapshot at `path` (a regular file only); every error names
 /// the file.
 pub fn read(path: &Path) -> Result<Scene, SnapshotError> {
-    let bytes = read_file(path, MAX_SNAPSHOT_BYTES).map_err(|e| SnapshotError::Io(e).in_file(path))?;
+    let bytes =
+        read_file(path, MAX_SNAPSHOT_BYTES).map_err(|e| SnapshotError::Io(e).in_file(path))?;
     decode(&bytes).map_err(|e| e.in_file(path))
 }

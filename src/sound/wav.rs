@@ -1,7 +1,7 @@
 //! WAV in and out: library sounds of any rate and channel count read as
 //! mono signals; the soundtrack written as 16-bit PCM or 32-bit float.
 
-use std::io::{Cursor, Read};
+use std::io::Cursor;
 use std::path::Path;
 
 /// A mono sound: samples in [-1, 1] (float files may exceed it) at `rate` Hz.
@@ -48,19 +48,48 @@ impl Signal {
     }
 }
 
-/// Reads a WAV file as a mono signal: channels are averaged.
+/// Largest WAV file read: a bound on what a wrong path costs.
+pub const MAX_WAV_BYTES: u64 = 1 << 30;
+
+/// Most channels a library sound may have.
+pub const MAX_CHANNELS: u16 = 64;
+
+/// Highest sample rate of a library sound, in Hz (the soundtrack's limit).
+pub const MAX_RATE: u32 = 768_000;
+
+/// Reads a WAV file (a regular file only) as a mono signal: channels are
+/// averaged.
 pub fn read(path: &Path) -> Result<Signal, String> {
-    let file =
-        std::fs::File::open(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    decode(std::io::BufReader::new(file)).map_err(|e| format!("{}: {e}", path.display()))
+    let bytes = crate::lsys::source::read_file(path, MAX_WAV_BYTES)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    decode(&bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Decodes WAV bytes (8/16/24/32-bit integer or 32-bit float PCM).
-pub fn decode(reader: impl Read) -> Result<Signal, String> {
-    let reader = hound::WavReader::new(reader).map_err(|e| format!("not a WAV file: {e}"))?;
+/// Decodes WAV bytes (8/16/24/32-bit integer or 32-bit float PCM). The
+/// header's channel count, rate and length are checked against limits and
+/// against the bytes present before anything is allocated.
+pub fn decode(bytes: &[u8]) -> Result<Signal, String> {
+    let reader =
+        hound::WavReader::new(Cursor::new(bytes)).map_err(|e| format!("not a WAV file: {e}"))?;
     let spec = reader.spec();
     if spec.sample_rate == 0 || spec.channels == 0 {
         return Err("the WAV header has no sample rate or no channel".into());
+    }
+    if spec.channels > MAX_CHANNELS || spec.sample_rate > MAX_RATE {
+        return Err(format!(
+            "the WAV header announces {} channels at {} Hz; sounds have 1..={MAX_CHANNELS} channels at 1..={MAX_RATE} Hz",
+            spec.channels, spec.sample_rate
+        ));
+    }
+    // hound reserves the header's sample count up front: a header that
+    // announces more samples than the bytes hold is refused first.
+    let announced = u64::from(reader.len()) * u64::from(spec.bits_per_sample.div_ceil(8));
+    if announced > bytes.len() as u64 {
+        return Err(format!(
+            "the WAV header announces {} samples, more than the file's {} bytes hold (a truncated file?)",
+            reader.len(),
+            bytes.len()
+        ));
     }
     let interleaved: Vec<f32> = match spec.sample_format {
         hound::SampleFormat::Float => reader.into_samples::<f32>().collect::<Result<_, _>>(),
