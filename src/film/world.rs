@@ -10,6 +10,7 @@ use glam::DVec3;
 
 use crate::lsys::animation::read_source;
 use crate::lsys::options::{Command, OptionItem};
+use crate::lsys::source::FileRef;
 use crate::lsys::{Animation, Sensors, Source, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::scene::Scene;
@@ -107,7 +108,7 @@ struct Hooks<'a> {
 }
 
 /// A `command_file` declaration: number, script, two text arguments.
-type Script = (i64, String, String, String);
+type Script = (i64, FileRef, String, String);
 
 impl TurtleWorld for Hooks<'_> {
     fn force(&mut self, p: DVec3) -> DVec3 {
@@ -192,7 +193,16 @@ impl Hooks<'_> {
                 "`E` runs script {number}, which no command_file declares"
             ));
         };
-        let status = std::process::Command::new(dir.join(script))
+        let path = dir.join(&script.name);
+        // A script that is not a file is reported where the scene names it.
+        if !path.is_file() {
+            let e = script.error(format!(
+                "script {} (command_file {number}) is not a file",
+                path.display()
+            ));
+            return self.fail(e.to_string());
+        }
+        let status = std::process::Command::new(&path)
             .current_dir(dir)
             .arg(self.frame.to_string())
             .args([a1, a2])
@@ -201,11 +211,17 @@ impl Hooks<'_> {
         match status {
             Ok(s) if s.success() => {}
             Ok(s) => self.fail(format!(
-                "script {script} (command_file {number}) failed: {s}"
+                "script {} (command_file {number}) failed: {s}",
+                script.name
             )),
-            Err(e) => self.fail(format!(
-                "script {script} (command_file {number}) cannot run: {e}"
-            )),
+            Err(e) => self.fail(
+                script
+                    .error(format!(
+                        "script {} (command_file {number}) cannot run: {e}",
+                        path.display()
+                    ))
+                    .to_string(),
+            ),
         }
     }
 }
@@ -239,15 +255,25 @@ fn sound_inits(anim: &Animation) -> Vec<Command> {
 }
 
 /// The sound library of table D.1 with the scene's own `sound_file`
-/// entries in place of the library's.
-fn scene_library(anim: &Animation) -> Library {
+/// entries in place of the library's; each must be a file found in
+/// `search`, else the error points at the line that names it.
+fn scene_library(anim: &Animation, search: &[PathBuf]) -> Result<Library, String> {
     let mut lib = Library::default();
     for o in anim.systems.iter().flat_map(|s| &s.def.options) {
         if let OptionItem::SoundFile { number, file } = o {
-            lib.set(*number as u32, file.clone());
+            if library::resolve(&file.name, search).is_none() {
+                let dirs: Vec<String> = search.iter().map(|d| d.display().to_string()).collect();
+                let message = format!(
+                    "sound file {:?} not found (or not a file); looked in {}",
+                    file.name,
+                    dirs.join(", ")
+                );
+                return Err(file.error(message).to_string());
+            }
+            lib.set(*number as u32, file.name.clone());
         }
     }
-    lib
+    Ok(lib)
 }
 
 impl Film {
@@ -273,7 +299,8 @@ impl Film {
         let anim = Animation::from_sources(sources, &mut ears).map_err(|e| e.to_string())?;
         let surfaces = Surfaces::load(&anim)?;
         let search = library::search_path(dir, None);
-        let air = Air::new(&sound_inits(&anim), scene_library(&anim), search)?;
+        let lib = scene_library(&anim, &search)?;
+        let air = Air::new(&sound_inits(&anim), lib, search)?;
         let mut physics = Physics::new(&anim);
         physics.register(&anim)?;
         Ok(Film {
@@ -346,7 +373,7 @@ impl Film {
         self.anim.systems.iter().find_map(|s| {
             s.def.options.iter().find_map(|o| match o {
                 OptionItem::CommandFile { number, script, .. } => {
-                    Some(format!("command_file {number} {script}"))
+                    Some(format!("command_file {number} {}", script.name))
                 }
                 _ => None,
             })

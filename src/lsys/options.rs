@@ -2,7 +2,7 @@
 //! where the feature it declares belongs to a later layer.
 
 use super::scan::Scanner;
-use super::source::Diagnostic;
+use super::source::{Diagnostic, FileRef};
 
 /// A keyword with its arguments, as in automata and sound protocol lists.
 #[derive(Debug, Clone, PartialEq)]
@@ -17,7 +17,7 @@ pub enum OptionItem {
     MaxPart(i64),
     CommandFile {
         number: i64,
-        script: String,
+        script: FileRef,
         arg1: String,
         arg2: String,
     },
@@ -53,7 +53,7 @@ pub enum OptionItem {
     /// number N, in place of the library's (table D.1).
     SoundFile {
         number: i64,
-        file: String,
+        file: FileRef,
     },
     RsFilePathName {
         path: String,
@@ -174,6 +174,11 @@ fn text(s: &mut Scanner, what: &str) -> Result<String, Diagnostic> {
     Ok(s.word(what)?.1.to_string())
 }
 
+fn file_ref(s: &mut Scanner, what: &str) -> Result<FileRef, Diagnostic> {
+    let (at, w) = s.word(what)?;
+    Ok(FileRef::new(s.src, at, w))
+}
+
 /// Parses one option; `None` when the next word is not an option keyword.
 pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
     let (at, kw) = s.peek_word()?;
@@ -187,7 +192,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
         }
         "command_file" => OptionItem::CommandFile {
             number: s.int("the script number")?,
-            script: text(s, "the script name")?,
+            script: file_ref(s, "the script name")?,
             arg1: text(s, "the first script argument")?,
             arg2: text(s, "the second script argument")?,
         },
@@ -282,7 +287,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             }
             OptionItem::SoundFile {
                 number,
-                file: text(s, "the sound file name")?,
+                file: file_ref(s, "the sound file name")?,
             }
         }
         "rs_switch" => {

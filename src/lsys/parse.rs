@@ -8,7 +8,7 @@ use super::expr::{Code, Compiler, Expr, Op};
 use super::functions::{constant_arity, Constants, Spline};
 use super::options::{parse_option, unknown_option};
 use super::scan::Scanner;
-use super::source::{Diagnostic, Source};
+use super::source::{Diagnostic, FileRef, Source};
 
 const SECTIONS: [&str; 8] = [
     "Camera_AnimationParameters",
@@ -315,8 +315,8 @@ impl<'a> Parser<'a> {
                 ));
             }
             let n = self.s.int("the surface number")?;
-            let f = self.s.word("the surface file name")?.1.to_string();
-            self.def.surfaces.push((n, f));
+            let (at, f) = self.s.word("the surface file name")?;
+            self.def.surfaces.push((n, FileRef::new(self.s.src, at, f)));
         }
         Ok(())
     }

@@ -65,6 +65,34 @@ impl Source {
     }
 }
 
+/// A file a definition names (a surface's OBJ, a sound, a script) with
+/// where it is named, so a file that cannot be read is reported at the
+/// line that names it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FileRef {
+    pub name: String,
+    /// The location of the name (its message empty).
+    pub at: Diagnostic,
+}
+
+impl FileRef {
+    /// The name of the word at `offset` of `src`.
+    pub fn new(src: &Source, offset: usize, name: &str) -> Self {
+        FileRef {
+            name: name.to_string(),
+            at: src.error(offset, ""),
+        }
+    }
+
+    /// An error about the file, located where the definition names it.
+    pub fn error(&self, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            message: message.into(),
+            ..self.at.clone()
+        }
+    }
+}
+
 /// A user-facing error located in a file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diagnostic {

@@ -64,9 +64,13 @@ pub const MAX_MESH_BYTES: u64 = 4 << 30;
 /// Reflection is not part of MTL and comes back as 0. Only regular files
 /// are read. Errors in either file are `file:line:column: message` with
 /// the line and a caret; malformed input never panics.
-pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<Material>), String> {
-    let bytes = read_file(path, MAX_MESH_BYTES)
-        .map_err(|e| format!("{}: cannot read the OBJ file: {e}", path.display()))?;
+pub fn read_obj(
+    path: &Path,
+    material_base: u32,
+) -> Result<(Vec<Triangle>, Vec<Material>), MeshError> {
+    let bytes = read_file(path, MAX_MESH_BYTES).map_err(|e| {
+        MeshError::Read(format!("{}: cannot read the OBJ file: {e}", path.display()))
+    })?;
     let (tris, materials) = parse_obj(&bytes, material_base, &|lib| {
         let lib_path = path.parent().unwrap_or(Path::new("")).join(lib);
         match read_file(&lib_path, MAX_MESH_BYTES) {
@@ -80,11 +84,33 @@ pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<M
         }
         .map(|b| b.map(|b| (lib_path.display().to_string(), b)))
     })
-    .map_err(|e| match e {
-        ObjError::Obj(e) => e.locate(&path.display().to_string(), &bytes).to_string(),
-        ObjError::Other(e) => e,
+    .map_err(|e| {
+        MeshError::Content(match e {
+            ObjError::Obj(e) => e.locate(&path.display().to_string(), &bytes).to_string(),
+            ObjError::Other(e) => e,
+        })
     })?;
     Ok((tris, materials))
+}
+
+/// Why [`read_obj`] failed: the caller locates a file it cannot read at
+/// the line that names it; problems inside are located in the file.
+#[derive(Debug)]
+pub enum MeshError {
+    /// The OBJ file itself cannot be read (missing, a folder, a device):
+    /// `path: cannot read the OBJ file: why`.
+    Read(String),
+    /// A problem in the OBJ or an MTL file, `file:line:column: message`
+    /// with the line and a caret.
+    Content(String),
+}
+
+impl std::fmt::Display for MeshError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MeshError::Read(e) | MeshError::Content(e) => f.write_str(e),
+        }
+    }
 }
 
 /// Why [`parse_obj`] failed.
