@@ -81,8 +81,8 @@ pub fn decode(bytes: &[u8]) -> Result<Signal, String> {
             spec.channels, spec.sample_rate
         ));
     }
-    // hound reserves the header's sample count up front: a header that
-    // announces more samples than the bytes hold is refused first.
+    // A header that announces more samples than the bytes hold (a
+    // truncated file, a damaged length) is refused before decoding.
     let announced = u64::from(reader.len()) * u64::from(spec.bits_per_sample.div_ceil(8));
     if announced > bytes.len() as u64 {
         return Err(format!(
@@ -177,4 +177,45 @@ pub fn encode(
     }
     w.finalize().map_err(err)?;
     Ok((bytes, clipped))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn one_second() -> Vec<u8> {
+        encode(&[vec![0.25; 100]], 100, SampleFormat::Pcm16)
+            .unwrap()
+            .0
+    }
+
+    /// A header announcing 2 G samples in a small file is refused before
+    /// any sample is decoded.
+    #[test]
+    fn announced_length_beyond_the_bytes_is_refused_before_allocating() {
+        let mut b = one_second();
+        let data = b.windows(4).position(|w| w == b"data").unwrap();
+        b[data + 4..data + 8].copy_from_slice(&(u32::MAX - 1).to_le_bytes());
+        let e = decode(&b).unwrap_err();
+        assert!(e.contains("more than the file's"), "{e}");
+        // Cut short: the same.
+        let mut b = one_second();
+        b.truncate(b.len() - 50);
+        assert!(decode(&b).unwrap_err().contains("truncated"));
+    }
+
+    #[test]
+    fn absurd_channel_counts_and_rates_are_refused() {
+        let mut b = one_second();
+        let fmt = b.windows(4).position(|w| w == b"fmt ").unwrap();
+        b[fmt + 10..fmt + 12].copy_from_slice(&1000u16.to_le_bytes());
+        assert!(decode(&b).is_err());
+        let mut b = one_second();
+        // 10 MHz, with the byte rate (2 bytes a sample) to match.
+        b[fmt + 12..fmt + 16].copy_from_slice(&10_000_000u32.to_le_bytes());
+        b[fmt + 16..fmt + 20].copy_from_slice(&20_000_000u32.to_le_bytes());
+        let e = decode(&b).unwrap_err();
+        assert!(e.contains("10000000 Hz"), "{e}");
+        assert_eq!(decode(&one_second()).unwrap().samples.len(), 100);
+    }
 }
