@@ -1,5 +1,5 @@
 //! A bounded mutation fuzz of every reader, run by CI on every change (the
-//! open-ended fuzzing is `tests/fuzz/`, see docs/film.md "Hostile input").
+//! open-ended fuzzing is `tests/fuzz/`, see docs/hostile-input.md).
 //!
 //! From the repository's own inputs — scenes, the flyby event log, the
 //! leaf OBJ/MTL, a WAV, a snapshot derived from the gallery, a manifest —
@@ -188,9 +188,31 @@ fn mutate_snapshot(input: &[u8], rng: &mut Rng) -> Vec<u8> {
     out
 }
 
-/// A reader under test: its name and what it does with one input
-/// (true when it accepted it, so the report shows how deep cases go).
-type Reader = (&'static str, Box<dyn Fn(&[u8]) -> bool>);
+type ReadFn = dyn Fn(&[u8]) -> bool;
+
+/// A reader under test: its name, what it does with one input (true
+/// when it accepted it, so the report shows how deep cases go), the
+/// inputs to mutate and how.
+struct Target {
+    name: &'static str,
+    read: Box<ReadFn>,
+    corpus: Vec<Vec<u8>>,
+    mutate: fn(&[u8], &mut Rng) -> Vec<u8>,
+}
+
+fn target(
+    name: &'static str,
+    read: impl Fn(&[u8]) -> bool + 'static,
+    corpus: Vec<Vec<u8>>,
+    mutate: fn(&[u8], &mut Rng) -> Vec<u8>,
+) -> Target {
+    Target {
+        name,
+        read: Box::new(read),
+        corpus,
+        mutate,
+    }
+}
 
 fn read_scene(b: &[u8]) -> bool {
     Source::from_bytes("fuzz.lm", b.to_vec()).is_ok_and(|src| lsys::parse(&src).is_ok())
@@ -249,51 +271,48 @@ fn manifest_json() -> Vec<u8> {
 #[test]
 fn every_reader_survives_mutated_inputs() {
     let mtl_bytes = repo("scenes/meshes/leaf.mtl");
-    let readers: Vec<(Reader, Vec<Vec<u8>>, fn(&[u8], &mut Rng) -> Vec<u8>)> = vec![
-        (("scene", Box::new(read_scene)), scenes(), mutate),
-        (("derive", Box::new(derive_scene)), scenes(), mutate),
-        (
-            ("events", Box::new(read_events)),
+    let readers = [
+        target("scene", read_scene, scenes(), mutate),
+        target("derive", derive_scene, scenes(), mutate),
+        target(
+            "events",
+            read_events,
             vec![repo("scenes/examples/flyby.events")],
             mutate,
         ),
-        (
-            (
-                "obj",
-                Box::new(move |b: &[u8]| {
-                    let found = |_: &str| Ok(Some(("leaf.mtl".to_string(), mtl_bytes.clone())));
-                    obj::parse_obj(b, 0, &found).is_ok()
-                }),
-            ),
+        target(
+            "obj",
+            move |b: &[u8]| {
+                let found = |_: &str| Ok(Some(("leaf.mtl".to_string(), mtl_bytes.clone())));
+                obj::parse_obj(b, 0, &found).is_ok()
+            },
             vec![repo("scenes/meshes/leaf.obj")],
             mutate,
         ),
-        (
-            ("mtl", Box::new(|b: &[u8]| mtl::parse(b).is_ok())),
+        target(
+            "mtl",
+            |b: &[u8]| mtl::parse(b).is_ok(),
             vec![repo("scenes/meshes/leaf.mtl")],
             mutate,
         ),
-        (
-            ("wav", Box::new(|b: &[u8]| wav::decode(b).is_ok())),
+        target(
+            "wav",
+            |b: &[u8]| wav::decode(b).is_ok(),
             vec![repo("scenes/sounds/start.wav")],
             mutate,
         ),
-        (
-            (
-                "snapshot",
-                Box::new(|b: &[u8]| snapshot::decode(b).is_ok_and(render_tiny)),
-            ),
+        target(
+            "snapshot",
+            |b: &[u8]| snapshot::decode(b).is_ok_and(render_tiny),
             vec![gallery_snapshot()],
             mutate_snapshot,
         ),
-        (
-            (
-                "manifest",
-                Box::new(|b: &[u8]| {
-                    let text = String::from_utf8_lossy(b);
-                    serde_json::from_str::<lmfilm::film::manifest::Manifest>(&text).is_ok()
-                }),
-            ),
+        target(
+            "manifest",
+            |b: &[u8]| {
+                let text = String::from_utf8_lossy(b);
+                serde_json::from_str::<lmfilm::film::manifest::Manifest>(&text).is_ok()
+            },
             vec![manifest_json()],
             mutate,
         ),
@@ -309,11 +328,12 @@ fn every_reader_survives_mutated_inputs() {
     let start = Instant::now();
     let mut cases = 0;
     let mut found = Vec::new();
-    for (k, ((name, read), corpus, mutator)) in readers.iter().enumerate() {
+    for (k, t) in readers.iter().enumerate() {
+        let (name, read) = (t.name, &t.read);
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ (k as u64 + 1));
         let mut accepted = 0;
         for case in 0..CASES {
-            let input = mutator(&corpus[case % corpus.len()], &mut rng);
+            let input = (t.mutate)(&t.corpus[case % t.corpus.len()], &mut rng);
             cases += 1;
             match panic::catch_unwind(AssertUnwindSafe(|| read(&input))) {
                 Ok(ok) => accepted += usize::from(ok),

@@ -262,7 +262,7 @@ impl EventLog {
         let finite = |v: DVec3, first_arg: usize, what: &str| match v
             .to_array()
             .iter()
-            .position(|x| !(x.abs() <= MAX_VALUE))
+            .position(|x| !(x.is_finite() && x.abs() <= MAX_VALUE))
         {
             Some(i) => Err(LogError::new(
                 first_arg + i,
