@@ -379,6 +379,13 @@ fn non_finite_and_absurd_numbers() {
         "found `inf`",
     );
     check("Constants\na 1 1e999\n", 2, 5, "not a finite number");
+    check(
+        "Constants\na 1 nan\n",
+        2,
+        5,
+        "coefficient 2 of `a` (it takes 2)",
+    );
+    check("Constants\nE 1 2\nAxiom\n", 3, 1, "found `Axiom`");
     check("Options\nfConst 1 2 1e400\n", 2, 12, "not a finite number");
     check(
         "Splines\ntime_spline 0 1 1 1 0 1e999 1e30 1e30\n",

@@ -20,8 +20,16 @@ use lmfilm::scene::{mtl, obj, snapshot, Scene};
 use lmfilm::sound::{events::EventsFile, wav};
 
 /// Mutated inputs per reader: a few seconds for all readers in the test
-/// profile on one core.
+/// profile on one core. `LMFILM_MUTATION_CASES` and `LMFILM_MUTATION_SEED`
+/// run more cases or other ones by hand.
 const CASES: usize = 10_000;
+
+fn setting(name: &str, default: u64) -> u64 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
 
 fn repo(path: &str) -> Vec<u8> {
     let p = format!("{}/{path}", env!("CARGO_MANIFEST_DIR"));
@@ -328,11 +336,16 @@ fn every_reader_survives_mutated_inputs() {
     let start = Instant::now();
     let mut cases = 0;
     let mut found = Vec::new();
+    let cases_per_reader = setting("LMFILM_MUTATION_CASES", CASES as u64) as usize;
+    let seed = setting("LMFILM_MUTATION_SEED", 0x9e37_79b9_7f4a_7c15);
     for (k, t) in readers.iter().enumerate() {
         let (name, read) = (t.name, &t.read);
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ (k as u64 + 1));
+        let mut rng = Rng(seed
+            .wrapping_add(k as u64 + 1)
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            | 1);
         let mut accepted = 0;
-        for case in 0..CASES {
+        for case in 0..cases_per_reader {
             let input = (t.mutate)(&t.corpus[case % t.corpus.len()], &mut rng);
             cases += 1;
             match panic::catch_unwind(AssertUnwindSafe(|| read(&input))) {
@@ -346,7 +359,7 @@ fn every_reader_survives_mutated_inputs() {
                 }
             }
         }
-        println!("mutation: {name}: {CASES} cases, {accepted} accepted");
+        println!("mutation: {name}: {cases_per_reader} cases, {accepted} accepted");
     }
     panic::set_hook(previous);
     println!(

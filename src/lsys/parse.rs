@@ -291,9 +291,20 @@ impl<'a> Parser<'a> {
             })?;
             let v = self.s.numbers(arity, "a coefficient")?;
             if v.len() != arity {
+                // Points at the word that should have been a number
+                // (`nan`, the next letter, the next section).
+                let (nat, next) = self.s.peek_word()?;
+                let found = if next.is_empty() {
+                    "the end of the file".to_string()
+                } else {
+                    format!("`{next}`")
+                };
                 return Err(self.s.error(
-                    at,
-                    format!("`{w}` takes {arity} coefficients, found {}", v.len()),
+                    nat,
+                    format!(
+                        "expected coefficient {} of `{w}` (it takes {arity}), found {found}",
+                        v.len() + 1
+                    ),
                 ));
             }
             let mut k = [0.0; 3];
