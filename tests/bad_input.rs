@@ -499,3 +499,38 @@ fn missing_sound_file_points_at_the_scene_line() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A `command_file` script that is not a file (missing, a folder) is
+/// reported at the scene line that names it when `E` would run it.
+#[test]
+fn script_that_is_not_a_file_points_at_the_scene_line() {
+    let dir = std::env::temp_dir().join(format!("lmfilm-cf-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("folder.sh")).unwrap();
+    let file = dir.join("e.lm");
+    for script in ["nowhere.sh", "folder.sh"] {
+        std::fs::write(
+            &file,
+            format!("Camera_AnimationParameters\nt_final_interval 0.04 0.04\nOptions\ncommand_file 1 {script} a b\nAxiom\nE () (1) (1)\n"),
+        )
+        .unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .args(["derive", file.to_str().unwrap(), "-o"])
+            .arg(dir.join("out"))
+            .arg("--allow-commands")
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("e.lm:4:16: script ") && err.contains("is not a file"),
+            "{err}"
+        );
+        assert!(
+            err.contains(&format!(
+                "  command_file 1 {script} a b\n                 ^"
+            )),
+            "{err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
