@@ -691,3 +691,56 @@ fn a_folder_or_device_is_not_a_snapshot() {
         .to_string();
     assert!(e.contains("not a regular file"), "{e}");
 }
+
+/// Regression (issue 11): a derived snapshot whose instance transform had
+/// a 1.0 flipped to 0.0, its hash fixed up, made `lmfilm render` panic
+/// in the BVH on the gallery (accel.rs:58), and render a wrong picture
+/// here. It is an error naming the file and the fault, exit code 2.
+#[test]
+fn render_refuses_an_edited_snapshot_with_exit_2() {
+    let dir = scratch_dir("edited");
+    let scene = dir.join("one.lm");
+    std::fs::write(
+        &scene,
+        "Camera_AnimationParameters\nt_final_interval 0 0.04\nAxiom\nF\n",
+    )
+    .unwrap();
+    let lmfilm = |args: &[&std::ffi::OsStr]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let out = dir.join("film");
+    let derive = lmfilm(&[
+        "derive".as_ref(),
+        scene.as_ref(),
+        "-o".as_ref(),
+        out.as_ref(),
+    ]);
+    assert!(derive.status.success(), "{derive:?}");
+    let snap = out.join("scene").join("0000.snap");
+    let bytes = std::fs::read(&snap).unwrap();
+    let mut payload = payload_of(&bytes).to_vec();
+    // The last 1.0 of the payload: the instance transform's z_axis.z
+    // (the background after it is black).
+    let one = 1.0f32.to_le_bytes();
+    let at = payload.windows(4).rposition(|w| w == one).unwrap();
+    payload[at..at + 4].copy_from_slice(&0.0f32.to_le_bytes());
+    std::fs::write(&snap, seal(&payload)).unwrap();
+    let render = lmfilm(&[
+        "render".as_ref(),
+        out.as_ref(),
+        "--preset".as_ref(),
+        "preview".as_ref(),
+    ]);
+    let err = String::from_utf8_lossy(&render.stderr);
+    assert_eq!(render.status.code(), Some(2), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("0000.snap")
+            && err.contains("cannot be inverted")
+            && err.contains("lmfilm derive"),
+        "{err}"
+    );
+}
