@@ -76,7 +76,7 @@ pub struct FileRef {
 }
 
 impl FileRef {
-    /// The name of the word at `offset` of `src`.
+    /// The file named by the word `name` at byte `offset` of `src`.
     pub fn new(src: &Source, offset: usize, name: &str) -> Self {
         FileRef {
             name: name.to_string(),
