@@ -44,12 +44,12 @@ fn sample_scene() -> Scene {
 }
 
 /// The sample scene with finite, moderate numbers only: one `decode`
-/// accepts (it refuses NaNs, infinities and numbers beyond 1e30).
+/// accepts (it refuses NaNs, infinities and numbers beyond 1e18).
 fn valid_scene() -> Scene {
     let mut s = scene_with(vec![
         0.5, -0.0, 1e-3, 2.0, 0.25, 3.0, 1.5, -2.0, 0.75, 4.0, 1.25, 0.1, 6.0,
     ]);
-    s.camera.far = 1e30;
+    s.camera.far = 1e18;
     for g in &mut s.geometries {
         for sh in &mut g.shapes {
             if let ShapeKind::Trunk { length, .. } = &mut sh.kind {
@@ -667,7 +667,7 @@ fn impossible_scenes_are_refused_with_what_is_wrong() {
     assert!(invalid(&s).contains("width is 0"));
 
     let mut s = valid_scene();
-    s.lights[0].position.x = 1e31;
+    s.lights[0].position.x = 1e19;
     assert!(invalid(&s).contains("position of light 0"));
 
     // Read from a file, the error names it and says to derive again.
@@ -743,4 +743,32 @@ fn render_refuses_an_edited_snapshot_with_exit_2() {
             && err.contains("lmfilm derive"),
         "{err}"
     );
+}
+
+/// Regression (cargo-fuzz, snapshot target): a triangle vertex at
+/// (1.1e27, -1.5e14, 1.9e17) among the gallery's unit-sized shapes passed
+/// a bound of 1e30 and made the BVH builder panic (obvhs ploc/mod.rs:203).
+/// Coordinates, placed by their instances too, stay within ±1e18.
+#[test]
+fn huge_coordinates_are_refused_before_the_bvh() {
+    let invalid = |s: &Scene| match snapshot::decode(&snapshot::encode(s)) {
+        Err(SnapshotError::Invalid(m)) => m,
+        other => panic!("expected Invalid, got {other:?}"),
+    };
+    let mut s = valid_scene();
+    s.geometries[1].triangles[0].v[2] = v3(1.143_142_7e27, -1.533_450_8e14, 1.905_503_6e17);
+    assert!(invalid(&s).contains("a corner of triangle 0 of geometry 1"));
+
+    // Each number within the bound, the placed geometry beyond it.
+    let mut s = valid_scene();
+    s.geometries[1].triangles[0].v[1] = v3(1e10, 0.0, 0.0);
+    s.instances[1].transform = Affine3A::from_scale(Vec3::splat(1e10));
+    assert!(invalid(&s).contains("a corner of instance 1 (geometry 1)"));
+
+    // A shape's transform may scale its unit shape beyond the bound.
+    let mut s = valid_scene();
+    s.geometries[1].shapes[0].transform =
+        Affine3A::from_scale(v3(9e17, 1.0, 1.0)) * Affine3A::from_translation(v3(0.5, 0.0, 0.0));
+    let m = invalid(&s);
+    assert!(m.contains("a corner of shape 0 of geometry 1"), "{m}");
 }

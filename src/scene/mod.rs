@@ -21,6 +21,11 @@ pub use camera::{Camera, Light, LightKind};
 pub use material::Material;
 pub use shape::{Shape, ShapeKind, Triangle};
 
+/// Largest magnitude of a coordinate, or of any number, in a scene: the
+/// BVH's surface areas and products of coordinates stay finite in `f32`
+/// (a vertex at 1e24 among unit-sized shapes made the BVH builder panic).
+pub const MAX_MAGNITUDE: f32 = 1e18;
+
 /// Shapes drawn in one coordinate frame; placed in the world by instances.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Geometry {

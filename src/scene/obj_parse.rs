@@ -13,9 +13,8 @@ use rayon::prelude::*;
 
 use crate::lsys::Diagnostic;
 
-/// Largest magnitude of a coordinate or material value: as in a
-/// definition file (`lsys::scan::MAX_NUMBER`).
-pub const MAX_VALUE: f32 = 1e30;
+/// Largest magnitude of a coordinate or material value: that of a scene.
+pub const MAX_VALUE: f32 = super::MAX_MAGNITUDE;
 
 /// A problem at a line (from 1) and byte column (from 0) of the text.
 #[derive(Debug, Clone, PartialEq)]

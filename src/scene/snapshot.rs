@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Affine3A, Vec3};
 
-use super::{LightKind, Material, Scene, ShapeKind};
+use super::{Geometry, LightKind, Material, Scene, Shape, ShapeKind, MAX_MAGNITUDE};
 use crate::lsys::source::read_file;
 
 /// First bytes of every snapshot, to reject other files early.
@@ -56,8 +56,9 @@ pub enum SnapshotError {
     /// that changed `Scene` without bumping [`VERSION`]).
     Decode(String),
     /// The scene decodes but is not one `derive` writes: an index out of
-    /// range, a number that is not finite or beyond [`MAX_MAGNITUDE`], a
-    /// transform the renderer cannot invert (see [`validate`]).
+    /// range, a number that is not finite or beyond
+    /// [`super::MAX_MAGNITUDE`], a transform the renderer cannot invert
+    /// (see [`validate`]).
     Invalid(String),
     /// Any of the above, in the named file (what [`read`] returns).
     File {
@@ -235,16 +236,12 @@ pub fn decode_unchecked(bytes: &[u8]) -> Result<Scene, SnapshotError> {
     Ok(scene)
 }
 
-/// Largest magnitude of any number in a valid scene: the largest number a
-/// definition file may write (`lsys::scan::MAX_NUMBER`), far beyond any
-/// world a film shows and well inside `f32`.
-pub const MAX_MAGNITUDE: f32 = 1e30;
-
 /// Largest image side a snapshot's camera may ask for (the turtle's clamp).
 pub const MAX_SIDE: u32 = 16384;
 
-/// Checks that `scene` is one the renderer can use: every geometry index
-/// in range, every number finite and within [`MAX_MAGNITUDE`], every
+/// Checks that `scene` is one the renderer can use: every geometry and
+/// material index in range, every number finite and within
+/// [`MAX_MAGNITUDE`] — every instance's placed bounds too — every
 /// transform of an instance or shape invertible, the camera's image size
 /// in 1..=[`MAX_SIDE`]. The error says what is wrong and where.
 pub fn validate(scene: &Scene) -> Result<(), String> {
@@ -300,6 +297,12 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
                 }
                 ShapeKind::Box | ShapeKind::Sphere | ShapeKind::Cylinder => {}
             }
+            for c in corners(local_box(s)) {
+                vec3(
+                    s.transform.transform_point3(c),
+                    &format!("a corner of {what}"),
+                )?;
+            }
         }
         for (k, t) in geo.triangles.iter().enumerate() {
             material_index(t.material, scene, &format!("triangle {k} of geometry {g}"))?;
@@ -308,17 +311,66 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
             }
         }
     }
+    let bounds: Vec<Option<[Vec3; 2]>> = scene.geometries.iter().map(geometry_bounds).collect();
     for (i, inst) in scene.instances.iter().enumerate() {
-        if inst.geometry as usize >= scene.geometries.len() {
+        let Some(b) = bounds.get(inst.geometry as usize) else {
             return Err(format!(
                 "instance {i} places geometry {}, but the scene has {} geometries",
                 inst.geometry,
                 scene.geometries.len()
             ));
-        }
+        };
         transform(&inst.transform, &format!("the transform of instance {i}"))?;
+        if let Some(b) = b {
+            for c in corners(*b) {
+                vec3(
+                    inst.transform.transform_point3(c),
+                    &format!("a corner of instance {i} (geometry {})", inst.geometry),
+                )?;
+            }
+        }
     }
     Ok(())
+}
+
+/// The 8 corners of the box `[min, max]`.
+fn corners([min, max]: [Vec3; 2]) -> [Vec3; 8] {
+    std::array::from_fn(|k| {
+        Vec3::new(
+            if k & 1 == 0 { min.x } else { max.x },
+            if k & 2 == 0 { min.y } else { max.y },
+            if k & 4 == 0 { min.z } else { max.z },
+        )
+    })
+}
+
+/// A box around a unit shape in its local frame (the shape kinds' docs).
+fn local_box(s: &Shape) -> [Vec3; 2] {
+    let x = |a: f32, b: f32, r: f32| [Vec3::new(a, -r, -r), Vec3::new(b, r, r)];
+    match s.kind {
+        ShapeKind::Box => x(0.0, 1.0, 0.5),
+        ShapeKind::Sphere => x(-1.0, 1.0, 1.0),
+        ShapeKind::Cylinder => x(0.0, 1.0, 1.0),
+        ShapeKind::Capsule { length } => x(-1.0, length.abs() + 1.0, 1.0),
+        ShapeKind::Trunk { length, r0, r1 } => {
+            let r = r0.abs().max(r1.abs());
+            x(-r, length.abs() + r, r)
+        }
+    }
+}
+
+/// Bounds of a geometry's shapes and triangles in its own frame (`None`
+/// when empty); the numbers are already checked finite and bounded.
+fn geometry_bounds(g: &Geometry) -> Option<[Vec3; 2]> {
+    let shapes = g
+        .shapes
+        .iter()
+        .flat_map(|s| corners(local_box(s)).map(|c| s.transform.transform_point3(c)));
+    let points = shapes.chain(g.triangles.iter().flat_map(|t| t.v));
+    points.fold(None, |b, p| match b {
+        None => Some([p, p]),
+        Some([lo, hi]) => Some([lo.min(p), hi.max(p)]),
+    })
 }
 
 fn material_index(m: u32, scene: &Scene, what: &str) -> Result<(), String> {
@@ -356,7 +408,9 @@ fn transform(m: &Affine3A, what: &str) -> Result<(), String> {
     let det = m.matrix3.determinant();
     let inverse_finite = m.inverse().to_cols_array().iter().all(|x| x.is_finite());
     if det == 0.0 || !det.is_finite() || !inverse_finite {
-        return Err(format!("{what} cannot be inverted (determinant {det})"));
+        return Err(format!(
+            "{what} cannot be inverted in f32 (determinant {det})"
+        ));
     }
     Ok(())
 }
