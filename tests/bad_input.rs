@@ -367,6 +367,12 @@ fn non_finite_and_absurd_numbers() {
     );
     check("Camera_AnimationParameters\nfar 1e31\n", 2, 5, "too large");
     check(
+        "Camera_AnimationParameters\nobserver 0 1e19 0\n",
+        2,
+        12,
+        "observer position must be within ±1e18",
+    );
+    check(
         "Camera_AnimationParameters\ntwist nan\n",
         2,
         7,

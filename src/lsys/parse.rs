@@ -32,6 +32,31 @@ const MAX_COPIES: i64 = 1_000_000;
 /// Most key points of one spline.
 const MAX_KEYS: i64 = 1_000_000;
 
+/// Largest camera number: the camera goes into every frame's scene as
+/// `f32`, where coordinates stay within ±1e18 (`scene::MAX_MAGNITUDE`).
+const MAX_CAMERA: f64 = 1e18;
+
+/// A camera number within ±[`MAX_CAMERA`].
+fn camera_number(s: &mut Scanner, what: &str) -> Result<f64, Diagnostic> {
+    let at = s.peek_word()?.0;
+    let v = s.number(what)?;
+    if v.abs() > MAX_CAMERA {
+        return Err(s.error(
+            at,
+            format!("{what} must be within ±{MAX_CAMERA:e}, found {v:e}"),
+        ));
+    }
+    Ok(v)
+}
+
+fn camera_floats(s: &mut Scanner, what: &str) -> Result<[f64; 3], Diagnostic> {
+    Ok([
+        camera_number(s, what)?,
+        camera_number(s, what)?,
+        camera_number(s, what)?,
+    ])
+}
+
 /// A repetition scale: a copy of scale 0 (or one that rounds to 0 in the
 /// renderer's `f32`) is flat and its transform cannot be inverted.
 fn scale(s: &mut Scanner) -> Result<f64, Diagnostic> {
@@ -154,13 +179,15 @@ impl<'a> Parser<'a> {
                         *v = s.int_in("a window coordinate", -MAX_WINDOW..=MAX_WINDOW)?;
                     }
                 }
-                "observer" => c.observer = s.floats("the observer position")?,
-                "lookatPoint" => c.look_at = s.floats("the look-at point")?,
-                "twist" => c.twist = s.number("the twist angle")?,
-                "viewAngle" => c.view_angle = s.number("the view angle in tenths of a degree")?,
-                "aspectRatio" => c.aspect_ratio = s.number("the aspect ratio")?,
-                "near" => c.near = s.number("the near distance")?,
-                "far" => c.far = s.number("the far distance")?,
+                "observer" => c.observer = camera_floats(s, "the observer position")?,
+                "lookatPoint" => c.look_at = camera_floats(s, "the look-at point")?,
+                "twist" => c.twist = camera_number(s, "the twist angle")?,
+                "viewAngle" => {
+                    c.view_angle = camera_number(s, "the view angle in tenths of a degree")?
+                }
+                "aspectRatio" => c.aspect_ratio = camera_number(s, "the aspect ratio")?,
+                "near" => c.near = camera_number(s, "the near distance")?,
+                "far" => c.far = camera_number(s, "the far distance")?,
                 "swapinterval" => c.swap_interval = s.number("the swap interval")?,
                 "nbrCalcStep_seed" => {
                     c.nbr_calc_step = s.int("the number of calculation steps")?;
