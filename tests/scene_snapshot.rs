@@ -772,3 +772,33 @@ fn huge_coordinates_are_refused_before_the_bvh() {
     let m = invalid(&s);
     assert!(m.contains("a corner of shape 0 of geometry 1"), "{m}");
 }
+
+/// Regression (cargo-fuzz, snapshot target): an instance transform with
+/// an axis of 5.9e-39 has a finite determinant (-2.4e-22) and a finite
+/// inverse, whose entries of 1e38 sent rays that the traversal turned
+/// into a leaf index of 2^31 − 1 (accel.rs:58, the panic again).
+/// An inverse beyond ±1e18 is refused like a singular one.
+#[test]
+fn nearly_flat_transforms_are_refused() {
+    let mut s = valid_scene();
+    s.instances[0].transform = Affine3A::from_cols_array(&[
+        -5.293_956e-23,
+        -200_382_860.0,
+        -199_544_000.0,
+        -199_019_710.0,
+        -199_019_710.0,
+        5.675_433e-39,
+        5.934_869e-39,
+        0.0,
+        0.0,
+        5.831_554e-39,
+        5.785_636e-39,
+        5.831_554e-39,
+    ]);
+    match snapshot::decode(&snapshot::encode(&s)) {
+        Err(SnapshotError::Invalid(m)) => {
+            assert!(m.contains("instance 0 cannot be inverted"), "{m}")
+        }
+        other => panic!("expected Invalid, got {other:?}"),
+    }
+}

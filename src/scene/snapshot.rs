@@ -399,17 +399,23 @@ fn vec3(v: Vec3, what: &str) -> Result<(), String> {
     v.to_array().iter().try_for_each(|&x| number(x, what))
 }
 
-/// Finite entries and a finite inverse: the renderer moves rays into the
-/// local frame with the inverse.
+/// Entries within [`MAX_MAGNITUDE`], and an inverse whose entries are
+/// too: the renderer moves rays into the local frame with the inverse, and
+/// a nearly singular transform (an axis of 6e-39) gave it rays of 1e38
+/// whose traversal indexed out of bounds (accel.rs:58).
 fn transform(m: &Affine3A, what: &str) -> Result<(), String> {
     m.to_cols_array()
         .iter()
         .try_for_each(|&x| number(x, what))?;
     let det = m.matrix3.determinant();
-    let inverse_finite = m.inverse().to_cols_array().iter().all(|x| x.is_finite());
-    if det == 0.0 || !det.is_finite() || !inverse_finite {
+    let inverse_bounded = m
+        .inverse()
+        .to_cols_array()
+        .iter()
+        .all(|x| x.is_finite() && x.abs() <= MAX_MAGNITUDE);
+    if det == 0.0 || !det.is_finite() || !inverse_bounded {
         return Err(format!(
-            "{what} cannot be inverted in f32 (determinant {det})"
+            "{what} cannot be inverted in f32 (determinant {det:e}, nearly flat)"
         ));
     }
     Ok(())
