@@ -50,6 +50,9 @@ fn valid_scene() -> Scene {
         0.5, -0.0, 1e-3, 2.0, 0.25, 3.0, 1.5, -2.0, 0.75, 4.0, 1.25, 0.1, 6.0,
     ]);
     s.camera.far = 1e18;
+    for m in &mut s.materials {
+        m.transmit = m.transmit.clamp(0.0, 1.0);
+    }
     for g in &mut s.geometries {
         for sh in &mut g.shapes {
             if let ShapeKind::Trunk { length, .. } = &mut sh.kind {
@@ -801,4 +804,25 @@ fn nearly_flat_transforms_are_refused() {
         }
         other => panic!("expected Invalid, got {other:?}"),
     }
+}
+
+/// Regression (cargo-fuzz, snapshot target): a glass material with an
+/// index of refraction of 0 sent the ray inside along −n, which reached
+/// `accel.rs:58`. Indices are 0.001..=10 (the MTL range), mirroring and
+/// transmission fractions 0..=1.
+#[test]
+fn absurd_materials_are_refused() {
+    let invalid = |s: &Scene| match snapshot::decode(&snapshot::encode(s)) {
+        Err(SnapshotError::Invalid(m)) => m,
+        other => panic!("expected Invalid, got {other:?}"),
+    };
+    let mut s = valid_scene();
+    s.materials[0].ior = 0.0;
+    assert!(invalid(&s).contains("material 0 (\"plain\"): index of refraction is 0"));
+    let mut s = valid_scene();
+    s.materials[1].transmit = 1.5;
+    assert!(invalid(&s).contains("transmission is 1.5"));
+    let mut s = valid_scene();
+    s.materials[2].reflect = -0.25;
+    assert!(invalid(&s).contains("reflection is -0.25"));
 }

@@ -8,6 +8,7 @@ use glam::Vec3;
 
 use super::material::Material;
 use super::obj_parse::{LineError, MAX_VALUE};
+use super::snapshot::IOR_RANGE;
 
 /// The fields a statement may set; unset ones take neutral values.
 #[derive(Default)]
@@ -124,6 +125,16 @@ pub fn parse(text: &[u8]) -> Result<Vec<Material>, LineError> {
                 };
                 match key {
                     "Ns" => m.shininess = Some(v),
+                    "Ni" if !IOR_RANGE.contains(&v) => {
+                        return Err(err(
+                            end,
+                            format!(
+                                "`Ni` (index of refraction) must be {}..={}, found {v}",
+                                IOR_RANGE.start(),
+                                IOR_RANGE.end()
+                            ),
+                        ))
+                    }
                     "Ni" => m.ior = Some(v),
                     "d" => m.dissolve = Some(v),
                     _ => m.dissolve = Some(1.0 - v),
@@ -155,5 +166,8 @@ mod tests {
         assert!(e.message.contains("1 or 3 numbers"), "{}", e.message);
         let e = parse(b"newmtl m\nNs nan\n").unwrap_err();
         assert_eq!((e.line, e.column), (2, 3));
+        let e = parse(b"newmtl m\nd 0.5\nNi 0\n").unwrap_err();
+        assert_eq!(e.line, 3);
+        assert!(e.message.contains("must be 0.001..=10"), "{}", e.message);
     }
 }

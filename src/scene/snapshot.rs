@@ -236,6 +236,9 @@ pub fn decode_unchecked(bytes: &[u8]) -> Result<Scene, SnapshotError> {
     Ok(scene)
 }
 
+/// Indices of refraction a material may have: the MTL range (`Ni`).
+pub const IOR_RANGE: std::ops::RangeInclusive<f32> = 0.001..=10.0;
+
 /// Largest image side a snapshot's camera may ask for (the turtle's clamp).
 pub const MAX_SIDE: u32 = 16384;
 
@@ -421,6 +424,9 @@ fn transform(m: &Affine3A, what: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// Colours and the Phong exponent bounded; mirroring and transmission
+/// fractions in 0..=1; an index of refraction in [`IOR_RANGE`] (an index
+/// of 0 made the refracted ray of a glass surface reach `accel.rs:58`).
 fn material(m: &Material) -> Result<(), String> {
     for (v, what) in [
         (m.ambient, "ambient"),
@@ -430,13 +436,19 @@ fn material(m: &Material) -> Result<(), String> {
     ] {
         vec3(v, what)?;
     }
-    for (x, what) in [
-        (m.shininess, "shininess"),
-        (m.reflect, "reflection"),
-        (m.transmit, "transmission"),
-        (m.ior, "index of refraction"),
-    ] {
-        number(x, what)?;
+    number(m.shininess, "shininess")?;
+    for (x, what) in [(m.reflect, "reflection"), (m.transmit, "transmission")] {
+        if !(0.0..=1.0).contains(&x) {
+            return Err(format!("{what} is {x}, not a fraction 0..=1"));
+        }
+    }
+    if !IOR_RANGE.contains(&m.ior) {
+        return Err(format!(
+            "index of refraction is {}, not {}..={}",
+            m.ior,
+            IOR_RANGE.start(),
+            IOR_RANGE.end()
+        ));
     }
     Ok(())
 }
