@@ -6,9 +6,8 @@
 
 use glam::Vec3;
 
-use super::material::Material;
+use super::material::{Material, IOR_RANGE};
 use super::obj_parse::{LineError, MAX_VALUE};
-use super::snapshot::IOR_RANGE;
 
 /// The fields a statement may set; unset ones take neutral values.
 #[derive(Default)]

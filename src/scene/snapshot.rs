@@ -24,6 +24,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Affine3A, Vec3};
 
+use super::material::IOR_RANGE;
 use super::{Geometry, LightKind, Material, Scene, Shape, ShapeKind, MAX_MAGNITUDE};
 use crate::lsys::source::read_file;
 
@@ -235,9 +236,6 @@ pub fn decode_unchecked(bytes: &[u8]) -> Result<Scene, SnapshotError> {
     }
     Ok(scene)
 }
-
-/// Indices of refraction a material may have: the MTL range (`Ni`).
-pub const IOR_RANGE: std::ops::RangeInclusive<f32> = 0.001..=10.0;
 
 /// Largest image side a snapshot's camera may ask for (the turtle's clamp).
 pub const MAX_SIDE: u32 = 16384;
