@@ -337,8 +337,13 @@ fn export_reports_bad_options_and_missing_surfaces() {
     let out = run(&["-o", dir.join("x.obj").to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
+    // The error points at the line that names the file.
     assert!(
-        err.contains("s.lm: surface 1") && err.contains("nowhere.obj"),
+        err.contains("s.lm:2:11: surface 1: ") && err.contains("nowhere.obj"),
+        "{err}"
+    );
+    assert!(
+        err.contains("  fig_obj 1 nowhere.obj\n            ^"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).ok();
@@ -378,4 +383,196 @@ fn near_miss_keywords_are_named() {
         1,
         "did you mean `viewAngle`?",
     );
+}
+
+/// `nan`, `inf`, `1e999`, numbers beyond 1e30 and integers beyond i64
+/// are located errors wherever a number is read.
+#[test]
+fn non_finite_and_absurd_numbers() {
+    check(
+        "Camera_AnimationParameters\nnear 1e999\n",
+        2,
+        6,
+        "`1e999` is not a finite number",
+    );
+    check(
+        "Camera_AnimationParameters\nfar -1e999\n",
+        2,
+        5,
+        "not a finite number",
+    );
+    check("Camera_AnimationParameters\nfar 1e31\n", 2, 5, "too large");
+    check(
+        "Camera_AnimationParameters\nobserver 0 1e19 0\n",
+        2,
+        12,
+        "observer position must be within ±1e18",
+    );
+    check(
+        "Camera_AnimationParameters\ntwist nan\n",
+        2,
+        7,
+        "found `nan`",
+    );
+    check(
+        "Camera_AnimationParameters\nobserver 0 inf 0\n",
+        2,
+        12,
+        "found `inf`",
+    );
+    check("Constants\na 1 1e999\n", 2, 5, "not a finite number");
+    check(
+        "Constants\na 1 nan\n",
+        2,
+        5,
+        "coefficient 2 of `a` (it takes 2)",
+    );
+    check("Constants\nE 1 2\nAxiom\n", 3, 1, "found `Axiom`");
+    check("Options\nfConst 1 2 1e400\n", 2, 12, "not a finite number");
+    check(
+        "Splines\ntime_spline 0 1 1 1 0 1e999 1e30 1e30\n",
+        2,
+        23,
+        "not a finite number",
+    );
+    // An expression literal of 400 digits overflows to infinity.
+    check(
+        &format!("Axiom\nF ({})\n", "9".repeat(400)),
+        2,
+        4,
+        "at most 1e30",
+    );
+    check(
+        "Options\nMaxPart 1000000000000000000\n",
+        2,
+        9,
+        "maximal number of particles must be 0..=10000000",
+    );
+    check("Options\nMaxPart 1e18\n", 2, 9, "not an integer");
+    check(
+        "Options\nMaxPart 99999999999999999999\n",
+        2,
+        9,
+        "an integer too large to hold",
+    );
+    check(
+        "RepetitionParameters\nstartp_sidel_nbr_dist 0 1 1000000000000 0\n",
+        2,
+        27,
+        "number of objects must be 0..=1000000",
+    );
+    check(
+        "RepetitionParameters\nscale 0\n",
+        2,
+        7,
+        "scale must be 1e-6..=1e6",
+    );
+    // A window of i64 extremes overflowed when its width was taken.
+    check(
+        "Camera_AnimationParameters\npref_pos_x1_x2_y1_y2 -9223372036854775808 9223372036854775807 0 1\n",
+        2,
+        22,
+        "window coordinate must be",
+    );
+    check(
+        "Options\nNbrChannels_listOfNames 1000000000000 a\n",
+        2,
+        25,
+        "number of channels must be",
+    );
+}
+
+/// A scene that is not UTF-8 names the first bad byte; a folder or a
+/// device is refused before it is read.
+#[test]
+fn unreadable_scene_files_are_located() {
+    use lmfilm::lsys::{Animation, LoadError, NoSensors};
+    let dir = std::env::temp_dir().join(format!("lmfilm-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("latin1.lm");
+    std::fs::write(&file, b"Axiom\n/* caf\xe9 */ F\n").unwrap();
+    let Err(LoadError::Syntax(e)) = Animation::load(&[&file], &mut NoSensors) else {
+        panic!("expected a located error");
+    };
+    assert_eq!((e.line, e.column), (2, 7), "{e}");
+    assert!(
+        e.message.contains("0xe9") && e.message.contains("UTF-8"),
+        "{e}"
+    );
+    for (path, why) in [
+        (dir.clone(), "is a folder"),
+        ("/dev/zero".into(), "not a regular file"),
+    ] {
+        let Err(e) = Animation::load(&[&path], &mut NoSensors) else {
+            panic!("{} was read", path.display());
+        };
+        assert!(e.to_string().contains(why), "{e}");
+    }
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args(["print", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("latin1.lm:2:7: byte 0xe9"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A `sound_file` that does not exist is reported at its scene line.
+#[test]
+fn missing_sound_file_points_at_the_scene_line() {
+    let dir = std::env::temp_dir().join(format!("lmfilm-sf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("s.lm");
+    std::fs::write(&file, "Options\nsound_file 3 nowhere.wav\nAxiom\nF\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args(["print", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("s.lm:2:14: sound file \"nowhere.wav\" not found"),
+        "{err}"
+    );
+    assert!(
+        err.contains("  sound_file 3 nowhere.wav\n               ^"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A `command_file` script that is not a file (missing, a folder) is
+/// reported at the scene line that names it when `E` would run it.
+#[test]
+fn script_that_is_not_a_file_points_at_the_scene_line() {
+    let dir = std::env::temp_dir().join(format!("lmfilm-cf-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("folder.sh")).unwrap();
+    let file = dir.join("e.lm");
+    for script in ["nowhere.sh", "folder.sh"] {
+        std::fs::write(
+            &file,
+            format!("Camera_AnimationParameters\nt_final_interval 0.04 0.04\nOptions\ncommand_file 1 {script} a b\nAxiom\nE () (1) (1)\n"),
+        )
+        .unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .args(["derive", file.to_str().unwrap(), "-o"])
+            .arg(dir.join("out"))
+            .arg("--allow-commands")
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("e.lm:4:16: script ") && err.contains("is not a file"),
+            "{err}"
+        );
+        assert!(
+            err.contains(&format!(
+                "  command_file 1 {script} a b\n                 ^"
+            )),
+            "{err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }

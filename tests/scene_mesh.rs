@@ -2,7 +2,7 @@
 
 use std::collections::HashMap;
 use std::f32::consts::PI;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use glam::{Affine3A, Quat, Vec3};
 use lmfilm::scene::mesh::{expand, tessellate};
@@ -419,7 +419,7 @@ fn read_obj_without_materials_gets_default_grey() {
 fn read_obj_reports_bad_files() {
     let dir = temp_dir("bad");
     let missing = dir.join("missing.obj");
-    let err = read_obj(&missing, 0).unwrap_err();
+    let err = read_obj(&missing, 0).unwrap_err().to_string();
     assert!(err.contains("missing.obj"), "{err}");
 
     let bad = dir.join("bad.obj");
@@ -430,20 +430,38 @@ fn read_obj_reports_bad_files() {
         "v 0 0 0\nf 1 2 -7\n",
     ] {
         std::fs::write(&bad, text).unwrap();
-        let err = read_obj(&bad, 0).unwrap_err();
+        let err = read_obj(&bad, 0).unwrap_err().to_string();
         assert!(err.contains("bad.obj"), "{err}");
     }
 
-    // A colour with two components makes tobj panic; it must come back as
-    // an error.
+    // OBJ errors are located: file:line:column, the line and a caret.
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n").unwrap();
+    let err = read_obj(&bad, 0).unwrap_err().to_string();
+    assert!(
+        err.ends_with(":4:7: vertex -7 does not exist (3 vertices so far)\n  f 1 2 -7\n        ^"),
+        "{err}"
+    );
+
+    // A colour with two components made tobj panic; it is a located error
+    // in the MTL file now.
     std::fs::write(dir.join("bad.mtl"), "newmtl a\nKd 1 0\n").unwrap();
     std::fs::write(
         &bad,
         "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
     )
     .unwrap();
-    let err = read_obj(&bad, 0).unwrap_err();
-    assert!(err.contains("bad.obj"), "{err}");
+    let err = read_obj(&bad, 0).unwrap_err().to_string();
+    assert!(
+        err.contains("bad.mtl:2:7: `Kd` takes 1 or 3 numbers"),
+        "{err}"
+    );
+    assert!(err.ends_with("  Kd 1 0\n        ^"), "{err}");
+
+    // A folder or a device is not a mesh.
+    let err = read_obj(&dir, 0).unwrap_err().to_string();
+    assert!(err.contains("is a folder"), "{err}");
+    let err = read_obj(Path::new("/dev/zero"), 0).unwrap_err().to_string();
+    assert!(err.contains("not a regular file"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -40,7 +40,34 @@ fn v3(a: f32, b: f32, c: f32) -> Vec3 {
 }
 
 fn sample_scene() -> Scene {
-    let w = awkward();
+    scene_with(awkward())
+}
+
+/// The sample scene with finite, moderate numbers only: one `decode`
+/// accepts (it refuses NaNs, infinities and numbers beyond 1e18).
+fn valid_scene() -> Scene {
+    let mut s = scene_with(vec![
+        0.5, -0.0, 1e-3, 2.0, 0.25, 3.0, 1.5, -2.0, 0.75, 4.0, 1.25, 0.1, 6.0,
+    ]);
+    s.camera.far = 1e18;
+    for m in &mut s.materials {
+        m.transmit = m.transmit.clamp(0.0, 1.0);
+    }
+    for g in &mut s.geometries {
+        for sh in &mut g.shapes {
+            if let ShapeKind::Trunk { length, .. } = &mut sh.kind {
+                *length = length.min(1e6);
+            }
+        }
+        for t in &mut g.triangles {
+            t.material %= 3;
+        }
+    }
+    snapshot::validate(&s).unwrap();
+    s
+}
+
+fn scene_with(w: Vec<f32>) -> Scene {
     let at = |i: usize| w[i % w.len()];
     let skew = Affine3A::from_cols_array(&[
         1.0,
@@ -292,7 +319,7 @@ fn scratch_dir(test: &str) -> PathBuf {
 fn round_trip_is_bit_exact() {
     let scene = sample_scene();
     let bytes = snapshot::encode(&scene);
-    let back = snapshot::decode(&bytes).unwrap();
+    let back = snapshot::decode_unchecked(&bytes).unwrap();
     assert_eq!(snapshot::encode(&back), bytes, "re-encoding changed bytes");
     assert_eq!(float_bits(&back), float_bits(&scene));
     assert_eq!(structure(&back), structure(&scene));
@@ -340,7 +367,7 @@ fn round_trip_equals_without_nans() {
         }],
         ..scene
     };
-    let back = snapshot::decode(&snapshot::encode(&clean)).unwrap();
+    let back = snapshot::decode_unchecked(&snapshot::encode(&clean)).unwrap();
     assert_eq!(back, clean);
     assert_eq!(float_bits(&back), float_bits(&clean));
 }
@@ -365,14 +392,14 @@ fn encoding_is_deterministic_and_has_the_documented_layout() {
 fn file_round_trip_and_atomic_write() {
     let dir = scratch_dir("file_round_trip");
     let path = dir.join("0007.snap");
-    let scene = sample_scene();
+    let scene = valid_scene();
     snapshot::write(&scene, &path).unwrap();
     let back = snapshot::read(&path).unwrap();
     assert_eq!(float_bits(&back), float_bits(&scene));
     assert_eq!(std::fs::read(&path).unwrap(), snapshot::encode(&scene));
 
     // Overwriting replaces the file whole, and no temporary file is left.
-    let mut other = sample_scene();
+    let mut other = valid_scene();
     other.frame = 8;
     other.geometries.clear();
     other.instances.clear();
@@ -601,4 +628,201 @@ fn fuzz_truncations_and_flips_never_panic() {
         let _ = snapshot::decode(&noise);
         let _ = snapshot::decode(&seal(&noise));
     }
+}
+
+/// Damage that keeps the hash right (a flipped float, an edited file)
+/// must not reach the renderer: `decode` validates the scene.
+#[test]
+fn impossible_scenes_are_refused_with_what_is_wrong() {
+    let invalid = |s: &Scene| match snapshot::decode(&snapshot::encode(s)) {
+        Err(SnapshotError::Invalid(m)) => m,
+        other => panic!("expected Invalid, got {other:?}"),
+    };
+    // The awkward sample holds NaNs and infinities.
+    assert!(invalid(&sample_scene()).contains("not a finite number"));
+
+    // Regression: gallery frame 5 with one instance's 1.0 flipped to 0.0
+    // panicked in the BVH (accel.rs:58); a singular transform is refused.
+    let mut s = valid_scene();
+    s.instances[1].transform.matrix3.x_axis.x = 0.0;
+    s.instances[1].transform.matrix3.x_axis.y = 0.0;
+    s.instances[1].transform.matrix3.x_axis.z = 0.0;
+    let m = invalid(&s);
+    assert!(
+        m.contains("instance 1") && m.contains("cannot be inverted"),
+        "{m}"
+    );
+
+    let mut s = valid_scene();
+    s.geometries[1].triangles[0].v[1].y = f32::INFINITY;
+    assert!(invalid(&s).contains("triangle 0 of geometry 1"));
+
+    let mut s = valid_scene();
+    s.instances[0].geometry = 99;
+    assert!(invalid(&s).contains("places geometry 99, but the scene has 3"));
+
+    let mut s = valid_scene();
+    s.geometries[0].shapes[0].material = 3;
+    assert!(invalid(&s).contains("material 3, but the scene has 3 materials"));
+
+    let mut s = valid_scene();
+    s.camera.width = 0;
+    assert!(invalid(&s).contains("width is 0"));
+
+    let mut s = valid_scene();
+    s.lights[0].position.x = 1e19;
+    assert!(invalid(&s).contains("position of light 0"));
+
+    // Read from a file, the error names it and says to derive again.
+    let dir = scratch_dir("impossible");
+    let path = dir.join("0005.snap");
+    std::fs::write(&path, snapshot::encode(&s)).unwrap();
+    let e = snapshot::read(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("0005.snap") && e.contains("lmfilm derive"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_folder_or_device_is_not_a_snapshot() {
+    let dir = scratch_dir("not_a_file");
+    let e = snapshot::read(&dir).unwrap_err().to_string();
+    assert!(e.contains("is a folder"), "{e}");
+    let e = snapshot::read(std::path::Path::new("/dev/zero"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not a regular file"), "{e}");
+}
+
+/// Regression (issue 11): a derived snapshot whose instance transform had
+/// a 1.0 flipped to 0.0, its hash fixed up, made `lmfilm render` panic
+/// in the BVH on the gallery (accel.rs:58), and render a wrong picture
+/// here. It is an error naming the file and the fault, exit code 2.
+#[test]
+fn render_refuses_an_edited_snapshot_with_exit_2() {
+    let dir = scratch_dir("edited");
+    let scene = dir.join("one.lm");
+    std::fs::write(
+        &scene,
+        "Camera_AnimationParameters\nt_final_interval 0 0.04\nAxiom\nF\n",
+    )
+    .unwrap();
+    let lmfilm = |args: &[&std::ffi::OsStr]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let out = dir.join("film");
+    let derive = lmfilm(&[
+        "derive".as_ref(),
+        scene.as_ref(),
+        "-o".as_ref(),
+        out.as_ref(),
+    ]);
+    assert!(derive.status.success(), "{derive:?}");
+    let snap = out.join("scene").join("0000.snap");
+    let bytes = std::fs::read(&snap).unwrap();
+    let mut payload = payload_of(&bytes).to_vec();
+    // The last 1.0 of the payload: the instance transform's z_axis.z
+    // (the background after it is black).
+    let one = 1.0f32.to_le_bytes();
+    let at = payload.windows(4).rposition(|w| w == one).unwrap();
+    payload[at..at + 4].copy_from_slice(&0.0f32.to_le_bytes());
+    std::fs::write(&snap, seal(&payload)).unwrap();
+    let render = lmfilm(&[
+        "render".as_ref(),
+        out.as_ref(),
+        "--preset".as_ref(),
+        "preview".as_ref(),
+    ]);
+    let err = String::from_utf8_lossy(&render.stderr);
+    assert_eq!(render.status.code(), Some(2), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("0000.snap")
+            && err.contains("cannot be inverted")
+            && err.contains("lmfilm derive"),
+        "{err}"
+    );
+}
+
+/// Regression (cargo-fuzz, snapshot target): a triangle vertex at
+/// (1.1e27, -1.5e14, 1.9e17) among the gallery's unit-sized shapes passed
+/// a bound of 1e30 and made the BVH builder panic (obvhs ploc/mod.rs:203).
+/// Coordinates, placed by their instances too, stay within ±1e18.
+#[test]
+fn huge_coordinates_are_refused_before_the_bvh() {
+    let invalid = |s: &Scene| match snapshot::decode(&snapshot::encode(s)) {
+        Err(SnapshotError::Invalid(m)) => m,
+        other => panic!("expected Invalid, got {other:?}"),
+    };
+    let mut s = valid_scene();
+    s.geometries[1].triangles[0].v[2] = v3(1.143_142_7e27, -1.533_450_8e14, 1.905_503_6e17);
+    assert!(invalid(&s).contains("a corner of triangle 0 of geometry 1"));
+
+    // Each number within the bound, the placed geometry beyond it.
+    let mut s = valid_scene();
+    s.geometries[1].triangles[0].v[1] = v3(1e10, 0.0, 0.0);
+    s.instances[1].transform = Affine3A::from_scale(Vec3::splat(1e10));
+    assert!(invalid(&s).contains("a corner of instance 1 (geometry 1)"));
+
+    // A shape's transform may scale its unit shape beyond the bound.
+    let mut s = valid_scene();
+    s.geometries[1].shapes[0].transform =
+        Affine3A::from_scale(v3(9e17, 1.0, 1.0)) * Affine3A::from_translation(v3(0.5, 0.0, 0.0));
+    let m = invalid(&s);
+    assert!(m.contains("a corner of shape 0 of geometry 1"), "{m}");
+}
+
+/// Regression (cargo-fuzz, snapshot target): an instance transform with
+/// an axis of 5.9e-39 has a finite determinant (-2.4e-22) and a finite
+/// inverse, whose entries of 1e38 sent rays that the traversal turned
+/// into a leaf index of 2^31 − 1 (accel.rs:58, the issue's panic again).
+/// An inverse beyond ±1e18 is refused like a singular one.
+#[test]
+fn nearly_flat_transforms_are_refused() {
+    let mut s = valid_scene();
+    s.instances[0].transform = Affine3A::from_cols_array(&[
+        -5.293_956e-23,
+        -200_382_860.0,
+        -199_544_000.0,
+        -199_019_710.0,
+        -199_019_710.0,
+        5.675_433e-39,
+        5.934_869e-39,
+        0.0,
+        0.0,
+        5.831_554e-39,
+        5.785_636e-39,
+        5.831_554e-39,
+    ]);
+    match snapshot::decode(&snapshot::encode(&s)) {
+        Err(SnapshotError::Invalid(m)) => {
+            assert!(m.contains("instance 0 cannot be inverted"), "{m}")
+        }
+        other => panic!("expected Invalid, got {other:?}"),
+    }
+}
+
+/// Regression (cargo-fuzz, snapshot target): a glass material with an
+/// index of refraction of 0 sent the ray inside along −n, which reached
+/// `accel.rs:58`. Indices are 0.001..=10 (the MTL range), mirroring and
+/// transmission fractions 0..=1.
+#[test]
+fn absurd_materials_are_refused() {
+    let invalid = |s: &Scene| match snapshot::decode(&snapshot::encode(s)) {
+        Err(SnapshotError::Invalid(m)) => m,
+        other => panic!("expected Invalid, got {other:?}"),
+    };
+    let mut s = valid_scene();
+    s.materials[0].ior = 0.0;
+    assert!(invalid(&s).contains("material 0 (\"plain\"): index of refraction is 0"));
+    let mut s = valid_scene();
+    s.materials[1].transmit = 1.5;
+    assert!(invalid(&s).contains("transmission is 1.5"));
+    let mut s = valid_scene();
+    s.materials[2].reflect = -0.25;
+    assert!(invalid(&s).contains("reflection is -0.25"));
 }

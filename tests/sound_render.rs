@@ -537,10 +537,18 @@ fn cli_bad_input_exits_2_with_file_and_line() {
         assert_eq!(code, 2, "{err}");
         assert!(err.contains(needle), "{err}");
     }
-    std::fs::write(&events, "INIT_mic 0 0 0 0 0 0 0\nTIME 1e300\n").unwrap();
+    std::fs::write(&events, "INIT_mic 0 0 0 0 0 0 0\nTIME 1e7\n").unwrap();
     let (code, err) = lmfilm(&["sound", e], "1");
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("does not fit in a WAV file"), "{err}");
+    // Beyond a year, the reader refuses the time where it is written.
+    std::fs::write(&events, "INIT_mic 0 0 0 0 0 0 0\nTIME 1e300\n").unwrap();
+    let (code, err) = lmfilm(&["sound", e], "1");
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("bad.events:2:6: TIME must be a time ≥ 0"),
+        "{err}"
+    );
     let (code, err) = lmfilm(&["sound", e, "--speed-of-sound", "0"], "1");
     assert_eq!(code, 2, "{err}");
     let (code, err) = lmfilm(&["sound", dir.join("none.events").to_str().unwrap()], "1");

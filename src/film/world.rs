@@ -8,7 +8,9 @@ use std::rc::Rc;
 
 use glam::DVec3;
 
+use crate::lsys::animation::read_source;
 use crate::lsys::options::{Command, OptionItem};
+use crate::lsys::source::FileRef;
 use crate::lsys::{Animation, Sensors, Source, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::scene::Scene;
@@ -106,7 +108,7 @@ struct Hooks<'a> {
 }
 
 /// A `command_file` declaration: number, script, two text arguments.
-type Script = (i64, String, String, String);
+type Script = (i64, FileRef, String, String);
 
 impl TurtleWorld for Hooks<'_> {
     fn force(&mut self, p: DVec3) -> DVec3 {
@@ -191,7 +193,16 @@ impl Hooks<'_> {
                 "`E` runs script {number}, which no command_file declares"
             ));
         };
-        let status = std::process::Command::new(dir.join(script))
+        let path = dir.join(&script.name);
+        // A script that is not a file is reported where the scene names it.
+        if !path.is_file() {
+            let e = script.error(format!(
+                "script {} (command_file {number}) is not a file",
+                path.display()
+            ));
+            return self.fail(e.to_string());
+        }
+        let status = std::process::Command::new(&path)
             .current_dir(dir)
             .arg(self.frame.to_string())
             .args([a1, a2])
@@ -200,11 +211,17 @@ impl Hooks<'_> {
         match status {
             Ok(s) if s.success() => {}
             Ok(s) => self.fail(format!(
-                "script {script} (command_file {number}) failed: {s}"
+                "script {} (command_file {number}) failed: {s}",
+                script.name
             )),
-            Err(e) => self.fail(format!(
-                "script {script} (command_file {number}) cannot run: {e}"
-            )),
+            Err(e) => self.fail(
+                script
+                    .error(format!(
+                        "script {} (command_file {number}) cannot run: {e}",
+                        path.display()
+                    ))
+                    .to_string(),
+            ),
         }
     }
 }
@@ -240,28 +257,35 @@ fn sound_inits(anim: &Animation) -> Vec<Command> {
 }
 
 /// The sound library of table D.1 with the scene's own `sound_file`
-/// entries in place of the library's.
-fn scene_library(anim: &Animation) -> Library {
+/// entries in place of the library's; each must be a file found in
+/// `search`, else the error points at the line that names it.
+fn scene_library(anim: &Animation, search: &[PathBuf]) -> Result<Library, String> {
     let mut lib = Library::default();
     for o in anim.systems.iter().flat_map(|s| &s.def.options) {
         if let OptionItem::SoundFile { number, file } = o {
-            lib.set(*number as u32, file.clone());
+            if library::resolve(&file.name, search).is_none() {
+                let dirs: Vec<String> = search.iter().map(|d| d.display().to_string()).collect();
+                let message = format!(
+                    "sound file {:?} not found (or not a file); looked in {}",
+                    file.name,
+                    dirs.join(", ")
+                );
+                return Err(file.error(message).to_string());
+            }
+            lib.set(*number as u32, file.name.clone());
         }
     }
-    lib
+    Ok(lib)
 }
 
 impl Film {
     /// Loads the scene files; sound files are looked up in the first
     /// file's folder, then the library built into lmfilm.
     pub fn load<P: AsRef<Path>>(paths: &[P], opts: Options) -> Result<Film, String> {
-        let mut sources = Vec::new();
-        for p in paths {
-            let name = p.as_ref().display().to_string();
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| format!("{name}: cannot read the file: {e}"))?;
-            sources.push(Source::new(name, text));
-        }
+        let sources = paths
+            .iter()
+            .map(|p| read_source(p.as_ref()).map_err(|e| e.to_string()))
+            .collect::<Result<Vec<_>, _>>()?;
         let dir = paths.first().and_then(|p| p.as_ref().parent());
         Film::from_sources(&sources, dir, opts)
     }
@@ -291,7 +315,8 @@ impl Film {
         }
         let surfaces = Surfaces::load(&anim)?;
         let search = library::search_path(dir, None);
-        let air = Air::new(&sound_inits(&anim), scene_library(&anim), search.clone())?;
+        let lib = scene_library(&anim, &search)?;
+        let air = Air::new(&sound_inits(&anim), lib, search.clone())?;
         let mut physics = Physics::new(&anim);
         physics.register(&anim)?;
         Ok(Film {
@@ -317,17 +342,17 @@ impl Film {
         for ls in &self.anim.systems {
             let dir = Path::new(&ls.def.name).parent().unwrap_or(Path::new("."));
             for (_, file) in &ls.def.surfaces {
-                let obj = dir.join(file);
+                let obj = dir.join(&file.name);
                 let obj_dir = obj.parent().unwrap_or(Path::new(".")).to_path_buf();
                 let libs = crate::scene::obj::mtl_libraries(&obj);
-                files.push((file.clone(), obj));
+                files.push((file.name.clone(), obj));
                 files.extend(libs.into_iter().map(|l| (l.clone(), obj_dir.join(l))));
             }
         }
         files.extend(self.sound_files());
         if let Some((scripts, dir)) = &self.scripts {
             for (_, script, _, _) in scripts {
-                files.push((script.clone(), dir.join(script)));
+                files.push((script.name.clone(), dir.join(&script.name)));
             }
         }
         files.retain(|(_, p)| p.is_file());
@@ -341,7 +366,9 @@ impl Film {
     /// them and where they are; the built-in library's are part of the
     /// program.
     pub fn sound_files(&self) -> Vec<(String, PathBuf)> {
-        let mut files: Vec<(String, PathBuf)> = scene_library(&self.anim)
+        // The load checked the library: it is the one the film plays.
+        let lib = scene_library(&self.anim, &self.search).unwrap_or_default();
+        let mut files: Vec<(String, PathBuf)> = lib
             .iter()
             .filter_map(|(_, file)| match library::resolve(file, &self.search)? {
                 library::Found::File(path) => Some((file.to_string(), path)),
@@ -411,7 +438,7 @@ impl Film {
         self.anim.systems.iter().find_map(|s| {
             s.def.options.iter().find_map(|o| match o {
                 OptionItem::CommandFile { number, script, .. } => {
-                    Some(format!("command_file {number} {script}"))
+                    Some(format!("command_file {number} {}", script.name))
                 }
                 _ => None,
             })

@@ -7,7 +7,7 @@ use super::definition::CameraParams;
 use super::limits::{LimitError, Limits};
 use super::parse::parse;
 use super::sensors::Sensors;
-use super::source::{Diagnostic, Source};
+use super::source::{read_file, Diagnostic, Source};
 use super::step::LSystem;
 
 /// The L-systems of one animation and the global clock.
@@ -26,6 +26,7 @@ pub struct Animation {
 /// Why an animation could not be loaded.
 #[derive(Debug)]
 pub enum LoadError {
+    /// The file could not be read (missing, a folder, a device, too large).
     Io(String, std::io::Error),
     Syntax(Diagnostic),
 }
@@ -41,15 +42,25 @@ impl std::fmt::Display for LoadError {
 
 impl std::error::Error for LoadError {}
 
+/// Largest definition file read: far beyond any hand-written scene, and
+/// a bound on what a wrong path (a disk image, a device) can cost.
+pub const MAX_SCENE_BYTES: u64 = 64 << 20;
+
+/// Reads one definition file: a regular file of at most
+/// [`MAX_SCENE_BYTES`], UTF-8 (else a diagnostic at the first bad byte).
+pub fn read_source(path: &Path) -> Result<Source, LoadError> {
+    let name = path.display().to_string();
+    let bytes = read_file(path, MAX_SCENE_BYTES).map_err(|e| LoadError::Io(name.clone(), e))?;
+    Source::from_bytes(name, bytes).map_err(LoadError::Syntax)
+}
+
 impl Animation {
     /// Reads and parses definition files in order.
     pub fn load<P: AsRef<Path>>(paths: &[P], sensors: &mut dyn Sensors) -> Result<Self, LoadError> {
-        let mut sources = Vec::new();
-        for p in paths {
-            let name = p.as_ref().display().to_string();
-            let text = std::fs::read_to_string(p).map_err(|e| LoadError::Io(name.clone(), e))?;
-            sources.push(Source::new(name, text));
-        }
+        let sources = paths
+            .iter()
+            .map(|p| read_source(p.as_ref()))
+            .collect::<Result<Vec<_>, _>>()?;
         Self::from_sources(&sources, sensors).map_err(LoadError::Syntax)
     }
 

@@ -4,6 +4,7 @@
 use super::expr::{Code, Expr};
 use super::functions::{Constants, Spline};
 use super::options::OptionItem;
+use super::source::FileRef;
 
 /// `Camera_AnimationParameters`, including the two lines the BNF forgets.
 #[derive(Debug, Clone, PartialEq)]
@@ -144,7 +145,7 @@ pub struct Definition {
     pub splines: Vec<Spline>,
     pub constants: Constants,
     /// `fig_sm n file` declarations.
-    pub surfaces: Vec<(i64, String)>,
+    pub surfaces: Vec<(i64, FileRef)>,
     pub axiom: Vec<SymbolTemplate>,
     pub productions: Vec<Production>,
     pub code: Code,

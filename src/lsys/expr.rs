@@ -6,6 +6,7 @@
 //! its column, and evaluation needs no checks.
 
 use super::functions::{constant_index, Constants};
+use super::scan::MAX_NUMBER;
 use super::source::{Diagnostic, Source};
 
 /// Deepest stack a program may use; far beyond any hand-written expression.
@@ -225,7 +226,14 @@ impl<'a> Compiler<'a> {
                     let lit = &text[start..i];
                     let v = lit
                         .parse::<f64>()
-                        .map_err(|_| self.src.error(at, format!("`{lit}` is not a number")))?;
+                        .ok()
+                        .filter(|v| *v <= MAX_NUMBER)
+                        .ok_or_else(|| {
+                            self.src.error(
+                                at,
+                                format!("`{lit}` is not a number of at most {MAX_NUMBER:e}"),
+                            )
+                        })?;
                     self.push(em, Op::Num(v), at)?;
                     continue;
                 }

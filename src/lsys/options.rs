@@ -3,7 +3,7 @@
 
 use super::parse::SECTIONS;
 use super::scan::{suggestion, Scanner};
-use super::source::Diagnostic;
+use super::source::{Diagnostic, FileRef};
 
 /// A keyword with its arguments, as in automata and sound protocol lists.
 #[derive(Debug, Clone, PartialEq)]
@@ -18,7 +18,7 @@ pub enum OptionItem {
     MaxPart(i64),
     CommandFile {
         number: i64,
-        script: String,
+        script: FileRef,
         arg1: String,
         arg2: String,
     },
@@ -54,7 +54,7 @@ pub enum OptionItem {
     /// number N, in place of the library's (table D.1).
     SoundFile {
         number: i64,
-        file: String,
+        file: FileRef,
     },
     RsFilePathName {
         path: String,
@@ -72,6 +72,13 @@ pub enum OptionItem {
         file: String,
     },
 }
+
+/// Largest `MaxPart`: ten million particles is far beyond what a frame
+/// can evolve, yet keeps the particle table's size an honest number.
+pub const MAX_PARTICLES: i64 = 10_000_000;
+
+/// Longest list an option may announce (actors, objects, channels).
+const MAX_LIST: i64 = 100_000;
 
 /// (name, fewest numbers, most numbers, takes a word after the numbers).
 type Spec = (&'static str, usize, usize, bool);
@@ -186,6 +193,11 @@ fn text(s: &mut Scanner, what: &str) -> Result<String, Diagnostic> {
     Ok(s.word(what)?.1.to_string())
 }
 
+fn file_ref(s: &mut Scanner, what: &str) -> Result<FileRef, Diagnostic> {
+    let (at, w) = s.word(what)?;
+    Ok(FileRef::new(s.src, at, w))
+}
+
 /// Parses one option; `None` when the next word is not an option keyword.
 pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
     let (at, kw) = s.peek_word()?;
@@ -194,10 +206,12 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
     }
     s.word(kw)?;
     let item = match kw {
-        "MaxPart" => OptionItem::MaxPart(s.int("the maximal number of particles")?),
+        "MaxPart" => {
+            OptionItem::MaxPart(s.int_in("the maximal number of particles", 0..=MAX_PARTICLES)?)
+        }
         "command_file" => OptionItem::CommandFile {
             number: s.int("the script number")?,
-            script: text(s, "the script name")?,
+            script: file_ref(s, "the script name")?,
             arg1: text(s, "the first script argument")?,
             arg2: text(s, "the second script argument")?,
         },
@@ -223,7 +237,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             let mut objects = Vec::new();
             if s.at_keyword("Nbr_exported_actors")? {
                 s.word("Nbr_exported_actors")?;
-                for _ in 0..s.int("the number of exported actors")? {
+                for _ in 0..s.int_in("the number of exported actors", 0..=MAX_LIST)? {
                     exported.push([
                         s.int("a body key")?,
                         s.int("an object key")?,
@@ -237,7 +251,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             ] {
                 if s.at_keyword(key)? {
                     s.word(key)?;
-                    for _ in 0..s.int("a count")? {
+                    for _ in 0..s.int_in("a count", 0..=MAX_LIST)? {
                         list.push(s.int("a number")?);
                     }
                 }
@@ -302,7 +316,7 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             }
             OptionItem::SoundFile {
                 number,
-                file: text(s, "the sound file name")?,
+                file: file_ref(s, "the sound file name")?,
             }
         }
         "rs_switch" => {
@@ -313,9 +327,9 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             OptionItem::RsSwitch(v.iter().map(|x| *x as i64).collect())
         }
         "NbrChannels_listOfNames" => {
-            let n = s.int("the number of channels")?;
+            let n = s.int_in("the number of channels", 0..=MAX_LIST)?;
             let mut names = Vec::new();
-            for _ in 0..n.max(0) {
+            for _ in 0..n {
                 names.push(text(s, "a channel file name")?);
             }
             OptionItem::Channels(names)

@@ -8,7 +8,7 @@ use super::expr::{Code, Compiler, Expr, Op};
 use super::functions::{constant_arity, Constants, Spline};
 use super::options::{parse_option, unknown_option};
 use super::scan::{suggestion, Scanner};
-use super::source::{Diagnostic, Source};
+use super::source::{Diagnostic, FileRef, Source};
 
 pub(super) const SECTIONS: [&str; 8] = [
     "Camera_AnimationParameters",
@@ -20,6 +20,53 @@ pub(super) const SECTIONS: [&str; 8] = [
     "Axiom",
     "Productions",
 ];
+
+/// Largest window coordinate of `pref_pos_x1_x2_y1_y2`: far beyond any
+/// screen, and differences of two stay far inside `i64`.
+const MAX_WINDOW: i64 = 1 << 20;
+
+/// Most copies `startp_sidel_nbr_dist` may ask for (placing them is
+/// quadratic in their number).
+const MAX_COPIES: i64 = 1_000_000;
+
+/// Most key points of one spline.
+const MAX_KEYS: i64 = 1_000_000;
+
+/// Largest camera number: the camera goes into every frame's scene as
+/// `f32`, where coordinates stay within ±1e18 (`scene::MAX_MAGNITUDE`).
+const MAX_CAMERA: f64 = 1e18;
+
+/// A camera number within ±[`MAX_CAMERA`].
+fn camera_number(s: &mut Scanner, what: &str) -> Result<f64, Diagnostic> {
+    let at = s.peek_word()?.0;
+    let v = s.number(what)?;
+    if v.abs() > MAX_CAMERA {
+        return Err(s.error(
+            at,
+            format!("{what} must be within ±{MAX_CAMERA:e}, found {v:e}"),
+        ));
+    }
+    Ok(v)
+}
+
+fn camera_floats(s: &mut Scanner, what: &str) -> Result<[f64; 3], Diagnostic> {
+    Ok([
+        camera_number(s, what)?,
+        camera_number(s, what)?,
+        camera_number(s, what)?,
+    ])
+}
+
+/// A repetition scale: a copy of scale 0 (or one that rounds to 0 in the
+/// renderer's `f32`) is flat and its transform cannot be inverted.
+fn scale(s: &mut Scanner) -> Result<f64, Diagnostic> {
+    let at = s.peek_word()?.0;
+    let v = s.number("the scale")?;
+    if !(1e-6..=1e6).contains(&v) {
+        return Err(s.error(at, format!("the scale must be 1e-6..=1e6, found {v}")));
+    }
+    Ok(v)
+}
 
 /// Characters that may name a symbol (BNF `Symbol`, plus the query `?`
 /// and the polygon vertex `.` of appendix C).
@@ -134,16 +181,18 @@ impl<'a> Parser<'a> {
             match w {
                 "pref_pos_x1_x2_y1_y2" | "prefpos_x1_x2_y1_y2" => {
                     for v in &mut c.pref_pos {
-                        *v = s.int("a window coordinate")?;
+                        *v = s.int_in("a window coordinate", -MAX_WINDOW..=MAX_WINDOW)?;
                     }
                 }
-                "observer" => c.observer = s.floats("the observer position")?,
-                "lookatPoint" => c.look_at = s.floats("the look-at point")?,
-                "twist" => c.twist = s.number("the twist angle")?,
-                "viewAngle" => c.view_angle = s.number("the view angle in tenths of a degree")?,
-                "aspectRatio" => c.aspect_ratio = s.number("the aspect ratio")?,
-                "near" => c.near = s.number("the near distance")?,
-                "far" => c.far = s.number("the far distance")?,
+                "observer" => c.observer = camera_floats(s, "the observer position")?,
+                "lookatPoint" => c.look_at = camera_floats(s, "the look-at point")?,
+                "twist" => c.twist = camera_number(s, "the twist angle")?,
+                "viewAngle" => {
+                    c.view_angle = camera_number(s, "the view angle in tenths of a degree")?
+                }
+                "aspectRatio" => c.aspect_ratio = camera_number(s, "the aspect ratio")?,
+                "near" => c.near = camera_number(s, "the near distance")?,
+                "far" => c.far = camera_number(s, "the far distance")?,
                 "swapinterval" => c.swap_interval = s.number("the swap interval")?,
                 "nbrCalcStep_seed" => {
                     c.nbr_calc_step = s.int("the number of calculation steps")?;
@@ -180,15 +229,15 @@ impl<'a> Parser<'a> {
                 "rotate_max" => r.rotate_max = s.floats("a rotation angle")?,
                 "translate" => r.translate = s.floats("a translation")?,
                 "translate_max" => r.translate_max = s.floats("a translation")?,
-                "scale" => r.scale = s.number("the scale")?,
-                "scale_max" => r.scale_max = s.number("the scale")?,
+                "scale" => r.scale = scale(s)?,
+                "scale_max" => r.scale_max = scale(s)?,
                 "time_scale" => r.time_scale = s.number("the time scale")?,
                 "time_const" => r.time_const = s.number("the time limit")?,
                 "startp_sidel_nbr_dist" => {
                     r.start_side_nbr_dist = (
                         s.number("the start point")?,
                         s.number("the side length")?,
-                        s.int("the number of objects")?,
+                        s.int_in("the number of objects", 0..=MAX_COPIES)?,
                         s.number("the minimal distance")?,
                     )
                 }
@@ -223,7 +272,7 @@ impl<'a> Parser<'a> {
                 return Err(self.s.error(at, format!("expected `function time_spline n count scale_arg scale_value …`, found `{w}`")));
             }
             let number = self.s.int("the spline number")?;
-            let count = self.s.int("the number of key points")?;
+            let count = self.s.int_in("the number of key points", 0..=MAX_KEYS)?;
             let sa = self.s.number("the argument scale")?;
             let sv = self.s.number("the value scale")?;
             if !(0..100).contains(&number) || count < 0 {
@@ -275,9 +324,20 @@ impl<'a> Parser<'a> {
             })?;
             let v = self.s.numbers(arity, "a coefficient")?;
             if v.len() != arity {
+                // Points at the word that should have been a number
+                // (`nan`, the next letter, the next section).
+                let (nat, next) = self.s.peek_word()?;
+                let found = if next.is_empty() {
+                    "the end of the file".to_string()
+                } else {
+                    format!("`{next}`")
+                };
                 return Err(self.s.error(
-                    at,
-                    format!("`{w}` takes {arity} coefficients, found {}", v.len()),
+                    nat,
+                    format!(
+                        "expected coefficient {} of `{w}` (it takes {arity}), found {found}",
+                        v.len() + 1
+                    ),
                 ));
             }
             let mut k = [0.0; 3];
@@ -299,8 +359,8 @@ impl<'a> Parser<'a> {
                 ));
             }
             let n = self.s.int("the surface number")?;
-            let f = self.s.word("the surface file name")?.1.to_string();
-            self.def.surfaces.push((n, f));
+            let (at, f) = self.s.word("the surface file name")?;
+            self.def.surfaces.push((n, FileRef::new(self.s.src, at, f)));
         }
         Ok(())
     }

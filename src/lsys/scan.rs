@@ -102,21 +102,68 @@ impl<'a> Scanner<'a> {
             && self.word_end(self.pos + kw.len()) == self.pos + kw.len())
     }
 
-    /// True when the next word parses as a number.
+    /// True when the next word is written as a number (even one that
+    /// [`Scanner::number`] then refuses as too large).
     pub fn at_number(&mut self) -> Result<bool, Diagnostic> {
-        Ok(parse_float(self.peek_word()?.1).is_some())
+        Ok(number_shaped(self.peek_word()?.1).is_some())
     }
 
+    /// A finite number within ±[`MAX_NUMBER`].
     pub fn number(&mut self, what: &str) -> Result<f64, Diagnostic> {
         let (start, w) = self.word(what)?;
-        parse_float(w)
-            .ok_or_else(|| self.error(start, format!("expected {what} (a number), found `{w}`")))
+        let Some(v) = number_shaped(w) else {
+            return Err(self.error(start, format!("expected {what} (a number), found `{w}`")));
+        };
+        if !v.is_finite() {
+            return Err(self.error(start, format!("{what}: `{w}` is not a finite number")));
+        }
+        if v.abs() > MAX_NUMBER {
+            return Err(self.error(
+                start,
+                format!(
+                    "{what}: `{w}` is too large; numbers are at most {MAX_NUMBER:e} in magnitude"
+                ),
+            ));
+        }
+        Ok(v)
     }
 
     pub fn int(&mut self, what: &str) -> Result<i64, Diagnostic> {
         let (start, w) = self.word(what)?;
-        w.parse::<i64>()
-            .map_err(|_| self.error(start, format!("expected {what} (an integer), found `{w}`")))
+        w.parse::<i64>().map_err(|e| {
+            let why = match e.kind() {
+                std::num::IntErrorKind::PosOverflow | std::num::IntErrorKind::NegOverflow => {
+                    "an integer too large to hold"
+                }
+                _ => "not an integer",
+            };
+            self.error(
+                start,
+                format!("expected {what} (an integer), found `{w}`: {why}"),
+            )
+        })
+    }
+
+    /// An integer in `range`, or an error naming the range.
+    pub fn int_in(
+        &mut self,
+        what: &str,
+        range: std::ops::RangeInclusive<i64>,
+    ) -> Result<i64, Diagnostic> {
+        let at = self.peek_word()?.0;
+        let n = self.int(what)?;
+        if range.contains(&n) {
+            Ok(n)
+        } else {
+            Err(self.error(
+                at,
+                format!(
+                    "{what} must be {}..={}, found {n}",
+                    range.start(),
+                    range.end()
+                ),
+            ))
+        }
     }
 
     /// Reads up to `max` numbers while the next word is one.
@@ -242,14 +289,24 @@ pub fn suggestion(word: &str, keywords: &[&str]) -> String {
     near_miss(word, keywords).map_or_else(String::new, |k| format!("; did you mean `{k}`?"))
 }
 
-/// Parses a decimal number as the file format writes it (`1`, `0.5`, `1e30`, `-2`).
-pub fn parse_float(w: &str) -> Option<f64> {
+/// Largest magnitude of a number in a definition file: the Splines end
+/// marker `1e30`, and small enough that its square is finite.
+pub const MAX_NUMBER: f64 = 1e30;
+
+/// A word written as a decimal number (`1`, `0.5`, `1e30`, `-2`, also
+/// `1e999`, which overflows to infinity); `None` for other words (`nan`,
+/// `inf`, names).
+fn number_shaped(w: &str) -> Option<f64> {
     let b = w.as_bytes();
     let first = *b.first()?;
-    if !(first.is_ascii_digit() || first == b'-' || first == b'+' || first == b'.') {
+    let digits_first = first.is_ascii_digit()
+        || first == b'.'
+        || ((first == b'-' || first == b'+')
+            && b.get(1).is_some_and(|c| c.is_ascii_digit() || *c == b'.'));
+    if !digits_first {
         return None;
     }
-    w.parse::<f64>().ok().filter(|v| v.is_finite())
+    w.parse::<f64>().ok()
 }
 
 #[cfg(test)]

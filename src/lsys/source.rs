@@ -4,6 +4,8 @@
 //! and puts a caret under the column, so a user can fix it without a debugger.
 
 use std::fmt;
+use std::io::{self, Read};
+use std::path::Path;
 
 /// One definition file's text with its display name.
 #[derive(Debug, Clone)]
@@ -17,6 +19,24 @@ impl Source {
         Source {
             name: name.into(),
             text: text.into(),
+        }
+    }
+
+    /// The text of `bytes`, or a diagnostic at the first byte that is not
+    /// UTF-8 (the line shown up to it).
+    pub fn from_bytes(name: impl Into<String>, bytes: Vec<u8>) -> Result<Self, Diagnostic> {
+        match String::from_utf8(bytes) {
+            Ok(text) => Ok(Source::new(name, text)),
+            Err(e) => {
+                let at = e.utf8_error().valid_up_to();
+                let bad = e.as_bytes()[at];
+                // The valid prefix is the same in the lossy text.
+                let shown = Source::new(name, String::from_utf8_lossy(e.as_bytes()).into_owned());
+                Err(shown.error(
+                    at,
+                    format!("byte 0x{bad:02x} is not UTF-8 text; save the file as UTF-8"),
+                ))
+            }
         }
     }
 
@@ -52,6 +72,34 @@ pub fn position(text: &str, offset: usize) -> (usize, usize, usize) {
     (line_start, line, column)
 }
 
+/// A file a definition names (a surface's OBJ, a sound, a script) with
+/// where it is named, so a file that cannot be read is reported at the
+/// line that names it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FileRef {
+    pub name: String,
+    /// The location of the name (its message empty).
+    pub at: Diagnostic,
+}
+
+impl FileRef {
+    /// The file named by the word `name` at byte `offset` of `src`.
+    pub fn new(src: &Source, offset: usize, name: &str) -> Self {
+        FileRef {
+            name: name.to_string(),
+            at: src.error(offset, ""),
+        }
+    }
+
+    /// An error about the file, located where the definition names it.
+    pub fn error(&self, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            message: message.into(),
+            ..self.at.clone()
+        }
+    }
+}
+
 /// A user-facing error located in a file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diagnostic {
@@ -83,9 +131,45 @@ impl fmt::Display for Diagnostic {
 
 impl std::error::Error for Diagnostic {}
 
+/// Reads a file the user named: only a regular file (not a folder, nor a
+/// device such as `/dev/zero` that never ends, nor a pipe), and at most
+/// `limit` bytes, checked before reading and while reading (a file may
+/// grow). The errors say which of these failed.
+pub fn read_file(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
+    let invalid = |m: String| io::Error::new(io::ErrorKind::InvalidInput, m);
+    let meta = std::fs::metadata(path)?;
+    if meta.is_dir() {
+        return Err(invalid("is a folder, not a file".into()));
+    }
+    if !meta.is_file() {
+        return Err(invalid(
+            "is not a regular file (a device, a pipe or a socket)".into(),
+        ));
+    }
+    let too_big = || invalid(format!("is larger than the limit of {limit} bytes"));
+    if meta.len() > limit {
+        return Err(too_big());
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::fs::File::open(path)?
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_big());
+    }
+    Ok(bytes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn non_utf8_names_the_first_bad_byte() {
+        let d = Source::from_bytes("a.lm", b"Axiom\n  F\xff G\n".to_vec()).unwrap_err();
+        assert_eq!((d.line, d.column), (2, 4));
+        assert!(d.message.contains("0xff"), "{d}");
+    }
 
     #[test]
     fn locates_line_and_column() {

@@ -32,6 +32,9 @@ pub struct Material {
     pub texture: Option<Texture>,
 }
 
+/// Indices of refraction a material may have: the MTL range (`Ni`).
+pub const IOR_RANGE: std::ops::RangeInclusive<f32> = 0.001..=10.0;
+
 /// Number of table entries: the default (0) and materials 1..=27 of table C.2.2.
 pub const COUNT: usize = 28;
 

@@ -8,6 +8,7 @@ pub mod atomic;
 pub mod camera;
 pub mod material;
 pub mod mesh;
+pub mod mtl;
 pub mod obj;
 pub mod obj_parse;
 pub mod shape;
@@ -28,6 +29,12 @@ pub use shape::{Shape, ShapeKind, Triangle};
 /// stays below 1e32 (f32 reaches 3e38), and 1e15 m is still 6,700 times
 /// the Earth–Sun distance.
 pub const MAX_COORDINATE: f32 = 1e15;
+
+/// Largest magnitude of any number in a scene or snapshot (coordinates
+/// of placed primitives are held to [`MAX_COORDINATE`] besides): the
+/// BVH's surface areas and products of coordinates stay finite in `f32`
+/// (a vertex at 1e24 among unit-sized shapes made the BVH builder panic).
+pub const MAX_MAGNITUDE: f32 = 1e18;
 
 /// Shapes drawn in one coordinate frame; placed in the world by instances.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -7,15 +7,15 @@
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write as _;
-use std::fs;
 use std::io;
-use std::panic;
 use std::path::Path;
 
 use glam::Vec3;
 
 use super::material::{self, Material};
+use super::obj_parse::LineError;
 use super::{mesh, Scene, Triangle};
+use crate::lsys::source::read_file;
 
 /// Writes the frame's triangles to `obj_path` and its materials to the
 /// same path with extension `.mtl` (named by `mtllib`). One `usemtl` per
@@ -49,35 +49,105 @@ pub fn write_obj(scene: &Scene, obj_path: &Path) -> io::Result<()> {
     )
 }
 
+/// Largest OBJ or MTL file read: a bound on what a wrong path costs.
+pub const MAX_MESH_BYTES: u64 = 4 << 30;
+
 /// Loads the triangles and materials of an OBJ file (and of the MTL files
-/// it names, looked up next to it, read with `tobj`), polygons fanned into
-/// triangles. The geometry is parsed in parallel ([`super::obj_parse`]).
+/// it names, looked up next to it), polygons fanned into triangles. The
+/// geometry is parsed in parallel ([`super::obj_parse`]).
 ///
 /// Materials are returned in MTL order; a triangle's material is
 /// `material_base` + its index in the returned list. Faces without a usable
 /// material (no `usemtl`, an unknown name, or a missing MTL file) get the
 /// project's default grey, appended once at the end of the list — so a
 /// file without any materials gives `material_base + 0` and one material.
-/// Reflection is not part of MTL and comes back as 0. Errors name the file,
-/// the line and the problem; malformed input never panics (a panic inside
-/// `tobj` is caught and reported, though its message still reaches stderr).
-pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<Material>), String> {
-    let fail = |what: String| format!("cannot read OBJ {}: {what}", path.display());
-    let bytes = fs::read(path).map_err(|e| fail(e.to_string()))?;
-    let obj = super::obj_parse::parse(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-    let dir = path.parent().unwrap_or(Path::new(""));
+/// Reflection is not part of MTL and comes back as 0. Only regular files
+/// are read. Errors in either file are `file:line:column: message` with
+/// the line and a caret; malformed input never panics.
+pub fn read_obj(
+    path: &Path,
+    material_base: u32,
+) -> Result<(Vec<Triangle>, Vec<Material>), MeshError> {
+    let bytes = read_file(path, MAX_MESH_BYTES).map_err(|e| {
+        MeshError::Read(format!("{}: cannot read the OBJ file: {e}", path.display()))
+    })?;
+    let (tris, materials) = parse_obj(&bytes, material_base, &|lib| {
+        let lib_path = path.parent().unwrap_or(Path::new("")).join(lib);
+        match read_file(&lib_path, MAX_MESH_BYTES) {
+            Ok(b) => Ok(Some(b)),
+            // A missing MTL leaves the faces grey rather than failing the import.
+            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(format!(
+                "{}: cannot read the material library: {e}",
+                lib_path.display()
+            )),
+        }
+        .map(|b| b.map(|b| (lib_path.display().to_string(), b)))
+    })
+    .map_err(|e| {
+        MeshError::Content(match e {
+            ObjError::Obj(e) => e.locate(&path.display().to_string(), &bytes).to_string(),
+            ObjError::Other(e) => e,
+        })
+    })?;
+    Ok((tris, materials))
+}
+
+/// Why [`read_obj`] failed: the caller locates a file it cannot read at
+/// the line that names it; problems inside are located in the file.
+#[derive(Debug)]
+pub enum MeshError {
+    /// The OBJ file itself cannot be read (missing, a folder, a device):
+    /// `path: cannot read the OBJ file: why`.
+    Read(String),
+    /// A problem in the OBJ or an MTL file, `file:line:column: message`
+    /// with the line and a caret.
+    Content(String),
+}
+
+impl std::fmt::Display for MeshError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MeshError::Read(e) | MeshError::Content(e) => f.write_str(e),
+        }
+    }
+}
+
+/// Why [`parse_obj`] failed.
+#[derive(Debug)]
+pub enum ObjError {
+    /// A problem in the OBJ text, at a line and column.
+    Obj(LineError),
+    /// A material library that cannot be read or parsed (already located).
+    Other(String),
+}
+
+impl std::fmt::Display for ObjError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ObjError::Obj(e) => e.fmt(f),
+            ObjError::Other(e) => f.write_str(e),
+        }
+    }
+}
+
+/// A named MTL file's (display name, bytes), `None` when it is missing.
+type MtlLoad<'a> = &'a dyn Fn(&str) -> Result<Option<(String, Vec<u8>)>, String>;
+
+/// [`read_obj`] on OBJ bytes; `load_mtl` fetches the libraries it names
+/// (the fuzz targets pass one that finds none or fixed bytes).
+pub fn parse_obj(
+    bytes: &[u8],
+    material_base: u32,
+    load_mtl: MtlLoad,
+) -> Result<(Vec<Triangle>, Vec<Material>), ObjError> {
+    let obj = super::obj_parse::parse(bytes).map_err(ObjError::Obj)?;
     let mut materials = Vec::new();
     for lib in &obj.libraries {
-        let loaded = panic::catch_unwind(|| tobj::load_mtl(dir.join(lib))).map_err(|_| {
-            fail(format!(
-                "material library {lib}: malformed (the MTL parser gave up)"
-            ))
-        })?;
-        match loaded {
-            Ok((m, _)) => materials.extend(m.iter().map(convert_material)),
-            // A missing MTL leaves the faces grey rather than failing the import.
-            Err(tobj::LoadError::OpenFileFailed) => {}
-            Err(e) => return Err(fail(format!("material library {lib}: {e}"))),
+        if let Some((name, text)) = load_mtl(lib).map_err(ObjError::Other)? {
+            let m = super::mtl::parse(&text)
+                .map_err(|e| ObjError::Other(e.locate(&name, &text).to_string()))?;
+            materials.extend(m);
         }
     }
     let known = materials.len();
@@ -106,24 +176,6 @@ pub fn read_obj(path: &Path, material_base: u32) -> Result<(Vec<Triangle>, Vec<M
         materials.push(material::table().swap_remove(0));
     }
     Ok((tris, materials))
-}
-
-/// One MTL material as a scene material; absent fields take neutral values.
-fn convert_material(m: &tobj::Material) -> Material {
-    let rgb = |c: Option<[f32; 3]>, default: f32| c.map_or(Vec3::splat(default), Vec3::from);
-    let diffuse = rgb(m.diffuse, 0.75);
-    Material {
-        name: m.name.clone(),
-        ambient: m.ambient.map_or(diffuse * 0.2, Vec3::from),
-        diffuse,
-        specular: rgb(m.specular, 0.0),
-        shininess: m.shininess.unwrap_or(1.0),
-        reflect: 0.0,
-        transmit: (1.0 - m.dissolve.unwrap_or(1.0)).clamp(0.0, 1.0),
-        ior: m.optical_density.unwrap_or(1.0),
-        vision: diffuse,
-        texture: None,
-    }
 }
 
 /// Unique MTL names by material number: index i of `scene.materials`
@@ -260,7 +312,7 @@ fn vec3(v: Vec3) -> String {
 /// without parsing its geometry: the film records their hashes as inputs.
 /// An unreadable file names none (reading it for real reports the error).
 pub fn mtl_libraries(path: &Path) -> Vec<String> {
-    let Ok(bytes) = fs::read(path) else {
+    let Ok(bytes) = std::fs::read(path) else {
         return Vec::new();
     };
     bytes

@@ -6,10 +6,55 @@
 //! lines and points are skipped. The result does not depend on the
 //! thread count: chunks are cut by size and joined in order.
 
+use std::fmt;
+
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::MAX_COORDINATE;
+
+use crate::lsys::Diagnostic;
+
+/// Largest magnitude of a coordinate or material value: that of a scene.
+pub const MAX_VALUE: f32 = super::MAX_MAGNITUDE;
+
+/// A problem at a line (from 1) and byte column (from 0) of the text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LineError {
+    pub line: u32,
+    pub column: u32,
+    pub message: String,
+}
+
+impl LineError {
+    /// The error as `file:line:column: message` with the line and a caret.
+    pub fn locate(&self, file: &str, text: &[u8]) -> Diagnostic {
+        let raw = text
+            .split(|&b| b == b'\n')
+            .nth(self.line.saturating_sub(1) as usize)
+            .unwrap_or_default();
+        let line = String::from_utf8_lossy(raw)
+            .trim_end_matches('\r')
+            .to_string();
+        let mut at = (self.column as usize).min(line.len());
+        while !line.is_char_boundary(at) {
+            at -= 1;
+        }
+        Diagnostic {
+            file: file.to_string(),
+            line: self.line as usize,
+            column: line[..at].chars().count() + 1,
+            message: self.message.clone(),
+            source_line: line,
+        }
+    }
+}
+
+impl fmt::Display for LineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "line {}: {}", self.line, self.message)
+    }
+}
 
 /// Bytes per chunk: large enough that the per-chunk work is negligible.
 const CHUNK: usize = 1 << 20;
@@ -33,6 +78,8 @@ pub struct Obj {
 struct Corner {
     index: i32,
     seen: u32,
+    /// Byte column of the corner in its line, for errors.
+    column: u32,
 }
 
 #[derive(Default)]
@@ -47,19 +94,22 @@ struct Chunk {
     libraries: Vec<String>,
     /// A `usemtl` after the chunk's last face: it applies to the next.
     trailing: Option<u32>,
-    /// The first problem, with its line in the chunk (from 1).
-    error: Option<(u32, String)>,
+    /// The first problem, its line counted in the chunk (from 1).
+    error: Option<LineError>,
 }
 
-/// Parses `text`; errors are `line N: problem`.
-pub fn parse(text: &[u8]) -> Result<Obj, String> {
+/// Parses `text`; errors name the line and column.
+pub fn parse(text: &[u8]) -> Result<Obj, LineError> {
     let chunks: Vec<&[u8]> = split(text);
     let parsed: Vec<Chunk> = chunks.par_iter().map(|c| parse_chunk(c)).collect();
     let mut obj = Obj::default();
     let (mut line0, mut current) = (0u32, None::<u32>);
     for c in parsed {
-        if let Some((n, e)) = c.error {
-            return Err(format!("line {}: {e}", line0 + n));
+        if let Some(e) = c.error {
+            return Err(LineError {
+                line: line0 + e.line,
+                ..e
+            });
         }
         let base = obj.positions.len() as i64;
         obj.positions.extend_from_slice(&c.positions);
@@ -95,16 +145,19 @@ pub fn parse(text: &[u8]) -> Result<Obj, String> {
                     base + i64::from(corner.seen) + written
                 };
                 if !(0..count).contains(&i) {
-                    return Err(format!(
-                        "line {}: vertex {} does not exist ({} vertices so far)",
-                        line0 + line,
-                        corner.index,
-                        if written > 0 {
-                            count
-                        } else {
-                            base + i64::from(corner.seen)
-                        }
-                    ));
+                    return Err(LineError {
+                        line: line0 + line,
+                        column: corner.column,
+                        message: format!(
+                            "vertex {} does not exist ({} vertices so far)",
+                            corner.index,
+                            if written > 0 {
+                                count
+                            } else {
+                                base + i64::from(corner.seen)
+                            }
+                        ),
+                    });
                 }
                 idx.push(i as u32);
             }
@@ -164,8 +217,12 @@ fn parse_chunk(text: &[u8]) -> Chunk {
             }
             line = joined.clone().into();
         }
-        if let Err(e) = parse_line(&line, &mut c, &mut pending, first) {
-            c.error = Some((first, e));
+        if let Err((column, message)) = parse_line(&line, &mut c, &mut pending, first) {
+            c.error = Some(LineError {
+                line: first,
+                column: column as u32,
+                message,
+            });
             return c;
         }
     }
@@ -175,30 +232,44 @@ fn parse_chunk(text: &[u8]) -> Chunk {
     c
 }
 
+/// Reads one line into the chunk; errors carry the byte column at fault.
 fn parse_line(
     line: &str,
     c: &mut Chunk,
     material: &mut Option<u32>,
     number: u32,
-) -> Result<(), String> {
+) -> Result<(), (usize, String)> {
     let line = line.split('#').next().unwrap_or("");
+    let column = |w: &str| w.as_ptr() as usize - line.as_ptr() as usize;
     let mut words = line.split_ascii_whitespace();
     match words.next() {
         Some("v") => {
             let mut p = [0f32; 3];
             for (k, v) in p.iter_mut().enumerate() {
-                let w = words
-                    .next()
-                    .ok_or("a vertex needs three coordinates: v x y z")?;
+                let w = words.next().ok_or((
+                    line.trim_end().len(),
+                    "a vertex needs three coordinates: v x y z".to_string(),
+                ))?;
                 *v = w
                     .parse::<f32>()
                     .ok()
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| format!("coordinate {} is not a finite number: '{w}'", k + 1))?;
+                    .filter(|v| v.is_finite() && v.abs() <= MAX_VALUE)
+                    .ok_or_else(|| {
+                        (
+                            column(w),
+                            format!(
+                                "coordinate {} is not a finite number of at most {MAX_VALUE:e}: '{w}'",
+                                k + 1
+                            ),
+                        )
+                    })?;
                 if v.abs() > MAX_COORDINATE {
-                    return Err(format!(
-                        "coordinate {} is beyond ±{MAX_COORDINATE:e}, the largest the renderer takes: '{w}'",
-                        k + 1
+                    return Err((
+                        column(w),
+                        format!(
+                            "coordinate {} is beyond ±{MAX_COORDINATE:e}, the largest the renderer takes: '{w}'",
+                            k + 1
+                        ),
                     ));
                 }
             }
@@ -209,15 +280,22 @@ fn parse_line(
             for w in words {
                 let first = w.split('/').next().unwrap_or("");
                 let index: i32 = first.parse().ok().filter(|&i| i != 0).ok_or_else(|| {
-                    format!("'{w}' is not a vertex number (1, 2, … or -1, -2, …)")
+                    (
+                        column(w),
+                        format!("'{w}' is not a vertex number (1, 2, … or -1, -2, …)"),
+                    )
                 })?;
                 c.corners.push(Corner {
                     index,
                     seen: c.positions.len() as u32,
+                    column: column(w) as u32,
                 });
             }
             if c.corners.len() - (start as usize) < 3 {
-                return Err("a face needs at least three vertices".into());
+                return Err((
+                    line.trim_end().len(),
+                    "a face needs at least three vertices".into(),
+                ));
             }
             c.polygons.push((start, number, material.take()));
         }
@@ -232,7 +310,7 @@ fn parse_line(
             };
             *material = Some(i as u32);
         }
-        // The rest of the line, as tobj reads it: file names may hold spaces.
+        // The rest of the line: file names may hold spaces.
         Some("mtllib") => c.libraries.push(words.collect::<Vec<_>>().join(" ")),
         _ => {}
     }

@@ -14,6 +14,13 @@ use glam::DVec3;
 
 use crate::lsys::{Diagnostic, Source};
 
+/// Largest magnitude of a position or orientation: as in a definition
+/// file (`lsys::scan::MAX_NUMBER`).
+pub const MAX_VALUE: f64 = 1e30;
+
+/// Latest `TIME`, in seconds: a year, far beyond any soundtrack.
+pub const MAX_TIME: f64 = 3.2e7;
+
 /// One line of the log after its keyword has been read.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Event {
@@ -149,10 +156,10 @@ impl EventLog {
 
     /// Starts a frame at `time` seconds: finite, ≥ 0, after the previous one.
     pub fn frame(&mut self, time: f64) -> Result<(), LogError> {
-        if !time.is_finite() || time < 0.0 {
+        if !(0.0..=MAX_TIME).contains(&time) {
             return Err(LogError::new(
                 1,
-                format!("TIME must be a time ≥ 0 in seconds, got {time}"),
+                format!("TIME must be a time ≥ 0 and ≤ {MAX_TIME:e} seconds, got {time}"),
             ));
         }
         if let Some(last) = self.frames.last() {
@@ -255,11 +262,11 @@ impl EventLog {
         let finite = |v: DVec3, first_arg: usize, what: &str| match v
             .to_array()
             .iter()
-            .position(|x| !x.is_finite())
+            .position(|x| !(x.is_finite() && x.abs() <= MAX_VALUE))
         {
             Some(i) => Err(LogError::new(
                 first_arg + i,
-                format!("the {what} must be finite, got {v}"),
+                format!("the {what} must be finite and within ±{MAX_VALUE:e}, got {v}"),
             )),
             None => Ok(()),
         };

@@ -19,6 +19,7 @@ pub use library::{Library, Sounds};
 pub use render::{render, Attenuation, Settings, Soundtrack};
 pub use wav::{SampleFormat, Signal};
 
+use crate::lsys::source::read_file;
 use crate::lsys::{Diagnostic, Source};
 use crate::scene::atomic::write_atomic;
 
@@ -86,6 +87,9 @@ pub struct Report {
     pub loudness: Option<loudness::Normalization>,
 }
 
+/// Largest sound event log read: a bound on what a wrong path costs.
+pub const MAX_EVENTS_BYTES: u64 = 1 << 30;
+
 /// Renders the events file `events` into the WAV file `output` (written
 /// atomically), looking sounds up as [`library::search_path`] says.
 pub fn render_file(
@@ -95,9 +99,9 @@ pub fn render_file(
     library: Option<&Path>,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Report, Error> {
-    let text = std::fs::read_to_string(events)
+    let bytes = read_file(events, MAX_EVENTS_BYTES)
         .map_err(|e| Error::Input(format!("{}: cannot read: {e}", events.display())))?;
-    let file = EventsFile::parse(Source::new(events.display().to_string(), text))?;
+    let file = EventsFile::parse(Source::from_bytes(events.display().to_string(), bytes)?)?;
     let search = library::search_path(events.parent(), library);
     let sounds =
         Sounds::load(&file.log, &search).map_err(|e| file.play_error(e.play, e.message))?;

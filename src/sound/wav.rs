@@ -48,19 +48,48 @@ impl Signal {
     }
 }
 
-/// Reads a WAV file as a mono signal: channels are averaged.
+/// Largest WAV file read: a bound on what a wrong path costs.
+pub const MAX_WAV_BYTES: u64 = 1 << 30;
+
+/// Most channels a library sound may have.
+pub const MAX_CHANNELS: u16 = 64;
+
+/// Highest sample rate of a library sound, in Hz (the soundtrack's limit).
+pub const MAX_RATE: u32 = 768_000;
+
+/// Reads a WAV file (a regular file only) as a mono signal: channels are
+/// averaged.
 pub fn read(path: &Path) -> Result<Signal, String> {
-    let file =
-        std::fs::File::open(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    decode(std::io::BufReader::new(file)).map_err(|e| format!("{}: {e}", path.display()))
+    let bytes = crate::lsys::source::read_file(path, MAX_WAV_BYTES)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    decode(&bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Decodes WAV bytes (8/16/24/32-bit integer or 32-bit float PCM).
-pub fn decode(reader: impl Read) -> Result<Signal, String> {
-    let reader = hound::WavReader::new(reader).map_err(|e| format!("not a WAV file: {e}"))?;
+/// Decodes WAV bytes (8/16/24/32-bit integer or 32-bit float PCM). The
+/// header's channel count, rate and length are checked against limits and
+/// against the bytes present before anything is allocated.
+pub fn decode(bytes: &[u8]) -> Result<Signal, String> {
+    let reader =
+        hound::WavReader::new(Cursor::new(bytes)).map_err(|e| format!("not a WAV file: {e}"))?;
     let spec = reader.spec();
     if spec.sample_rate == 0 || spec.channels == 0 {
         return Err("the WAV header has no sample rate or no channel".into());
+    }
+    if spec.channels > MAX_CHANNELS || spec.sample_rate > MAX_RATE {
+        return Err(format!(
+            "the WAV header announces {} channels at {} Hz; sounds have 1..={MAX_CHANNELS} channels at 1..={MAX_RATE} Hz",
+            spec.channels, spec.sample_rate
+        ));
+    }
+    // A header that announces more samples than the bytes hold (a
+    // truncated file, a damaged length) is refused before decoding.
+    let announced = u64::from(reader.len()) * u64::from(spec.bits_per_sample.div_ceil(8));
+    if announced > bytes.len() as u64 {
+        return Err(format!(
+            "the WAV header announces {} samples, more than the file's {} bytes hold (a truncated file?)",
+            reader.len(),
+            bytes.len()
+        ));
     }
     let interleaved: Vec<f32> = match spec.sample_format {
         hound::SampleFormat::Float => reader.into_samples::<f32>().collect::<Result<_, _>>(),
@@ -180,5 +209,41 @@ mod tests {
         let r = hound::WavReader::new(Cursor::new(bytes)).unwrap();
         let got: Vec<f32> = r.into_samples::<f32>().map(Result::unwrap).collect();
         assert_eq!(got, x);
+    }
+
+    fn one_second() -> Vec<u8> {
+        encode(&[vec![0.25; 100]], 100, SampleFormat::Pcm16)
+            .unwrap()
+            .0
+    }
+
+    /// A header announcing 2 G samples in a small file is refused before
+    /// any sample is decoded.
+    #[test]
+    fn announced_length_beyond_the_bytes_is_refused_before_allocating() {
+        let mut b = one_second();
+        let data = b.windows(4).position(|w| w == b"data").unwrap();
+        b[data + 4..data + 8].copy_from_slice(&(u32::MAX - 1).to_le_bytes());
+        let e = decode(&b).unwrap_err();
+        assert!(e.contains("more than the file's"), "{e}");
+        // Cut short: the same.
+        let mut b = one_second();
+        b.truncate(b.len() - 50);
+        assert!(decode(&b).unwrap_err().contains("truncated"));
+    }
+
+    #[test]
+    fn absurd_channel_counts_and_rates_are_refused() {
+        let mut b = one_second();
+        let fmt = b.windows(4).position(|w| w == b"fmt ").unwrap();
+        b[fmt + 10..fmt + 12].copy_from_slice(&1000u16.to_le_bytes());
+        assert!(decode(&b).is_err());
+        let mut b = one_second();
+        // 10 MHz, with the byte rate (2 bytes a sample) to match.
+        b[fmt + 12..fmt + 16].copy_from_slice(&10_000_000u32.to_le_bytes());
+        b[fmt + 16..fmt + 20].copy_from_slice(&20_000_000u32.to_le_bytes());
+        let e = decode(&b).unwrap_err();
+        assert!(e.contains("10000000 Hz"), "{e}");
+        assert_eq!(decode(&one_second()).unwrap().samples.len(), 100);
     }
 }

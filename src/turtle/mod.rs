@@ -112,8 +112,13 @@ impl Surfaces {
             let dir = Path::new(&ls.def.name).parent().unwrap_or(Path::new("."));
             for (n, file) in &ls.def.surfaces {
                 let base = (material::COUNT + s.materials.len()) as u32;
-                let (tris, mats) = obj::read_obj(&dir.join(file), base)
-                    .map_err(|e| format!("{}: surface {n}: {e}", ls.def.name))?;
+                let path = dir.join(&file.name);
+                let (tris, mats) = obj::read_obj(&path, base).map_err(|e| match e {
+                    // Where the scene names the file; problems inside are
+                    // located in the OBJ or MTL file itself.
+                    obj::MeshError::Read(e) => file.error(format!("surface {n}: {e}")).to_string(),
+                    obj::MeshError::Content(e) => e,
+                })?;
                 // `read_obj` appends the default material last for the
                 // faces that name none.
                 let unset = mats
@@ -125,7 +130,7 @@ impl Surfaces {
                 s.materials.extend(mats);
                 s.index.push((ls.index, *n, s.geometries.len()));
                 s.geometries.push(Geometry {
-                    name: file.clone(),
+                    name: file.name.clone(),
                     shapes: Vec::new(),
                     triangles: tris,
                     resolution: 10,
