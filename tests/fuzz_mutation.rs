@@ -235,7 +235,9 @@ fn derive_scene(b: &[u8]) -> bool {
     let Ok(mut a) = Animation::from_sources(&[src], &mut NoSensors) else {
         return false;
     };
-    a.advance_to(2, &mut NoSensors);
+    if a.advance_to(2, &mut NoSensors).is_err() {
+        return false;
+    }
     // Surfaces name files beside `fuzz.lm`, which do not exist.
     if a.systems.iter().any(|s| !s.def.surfaces.is_empty()) {
         return true;
@@ -251,7 +253,7 @@ fn read_events(b: &[u8]) -> bool {
 /// The gallery's frame 5 as a snapshot.
 fn gallery_snapshot() -> Vec<u8> {
     let mut a = common::load("gallery.lm");
-    a.advance_to(5, &mut NoSensors);
+    a.advance_to(5, &mut NoSensors).unwrap();
     let (scene, _) = common::scene(&mut a);
     let bytes = snapshot::encode(&scene);
     snapshot::decode(&bytes).expect("a derived snapshot is valid");
@@ -270,10 +272,36 @@ fn render_tiny(scene: Scene) -> bool {
     true
 }
 
+/// A manifest and a derive record as a film folder holds them.
 fn manifest_json() -> Vec<u8> {
-    let mut m = lmfilm::film::manifest::Manifest::new(0.04, 3);
-    m.add_scene("gallery.lm", b"Axiom\nF\n");
-    m.to_json().into_bytes()
+    br#"{
+  "dt": 0.04,
+  "files": {
+    "derive.json": "9d2b925351c34ae5712bc92014cfde1952935ed95ce4f090814ebed31a411377",
+    "frames/film.0000.exr": "96c74fef6d2cdd9dca514e38420b44bb38163a2aaf108cd97ea2f3397dc96ca9",
+    "scene/0000.snap": "7849c81eebe73d0a0302623184f47129558594d5f3fdd9e7a038e0b8825350f0"
+  },
+  "frame_count": 1,
+  "inputs": [{"file": "leaf.obj", "sha256": "00"}],
+  "lmfilm_version": "0.1.0",
+  "name": "film",
+  "options": {"render.spp": "16"},
+  "scenes": [{"file": "film.lm", "sha256": "69f667ff40a0a240e1e25101cccde1f5068c02891ab2d946b6efa010b0ea12a2"}],
+  "selection": ["0.."]
+}
+"#
+    .to_vec()
+}
+
+fn derive_json() -> Vec<u8> {
+    let inputs = r#"{"files": [], "lmfilm_version": "0.1.0", "name": "film", "options": {}, "scenes": [{"file": "film.lm", "sha256": "00"}]}"#;
+    let parsed: lmfilm::film::record::Inputs = serde_json::from_str(inputs).unwrap();
+    format!(
+        r#"{{"dt": 0.04, "events": "00", "frame_count": 2, "inputs": {inputs}, "key": "{}",
+        "selection": ["0..", "3..=4"], "snapshots": ["00", "11"], "sounds": {{"sounds/a.wav": "22"}}}}"#,
+        parsed.key()
+    )
+    .into_bytes()
 }
 
 #[test]
@@ -319,9 +347,18 @@ fn every_reader_survives_mutated_inputs() {
             "manifest",
             |b: &[u8]| {
                 let text = String::from_utf8_lossy(b);
-                serde_json::from_str::<lmfilm::film::manifest::Manifest>(&text).is_ok()
+                lmfilm::film::manifest::Manifest::parse(&text).is_ok()
             },
             vec![manifest_json()],
+            mutate,
+        ),
+        target(
+            "derive record",
+            |b: &[u8]| {
+                serde_json::from_slice::<lmfilm::film::record::DeriveRecord>(b)
+                    .is_ok_and(|r| r.validate().is_ok())
+            },
+            vec![derive_json()],
             mutate,
         ),
     ];

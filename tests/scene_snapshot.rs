@@ -731,6 +731,13 @@ fn render_refuses_an_edited_snapshot_with_exit_2() {
     let at = payload.windows(4).rposition(|w| w == one).unwrap();
     payload[at..at + 4].copy_from_slice(&0.0f32.to_le_bytes());
     std::fs::write(&snap, seal(&payload)).unwrap();
+    // The derive record's hash would catch the edit first; a record that
+    // agrees with the edited bytes leaves it to the content checks.
+    let rec = out.join("derive.json");
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&rec).unwrap()).unwrap();
+    json["snapshots"][0] = lmfilm::film::manifest::sha256_file(&snap).unwrap().into();
+    std::fs::write(&rec, json.to_string()).unwrap();
     let render = lmfilm(&[
         "render".as_ref(),
         out.as_ref(),

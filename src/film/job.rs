@@ -489,12 +489,9 @@ pub fn render_frames(
             snapshot: snap.clone(),
         };
         if !frame_done(dir, &name, k, &snap, &want) {
-            let scene = snapshot::read(&dir.join(snapshot_path(k))).map_err(|e| {
-                Error::input(format!(
-                    "{e} — derive the film again with this program: lmfilm derive SCENE.lm -o {}",
-                    dir.display()
-                ))
-            })?;
+            // The reader's message says to derive again.
+            let scene = snapshot::read(&dir.join(snapshot_path(k)))
+                .map_err(|e| Error::input(e.to_string()))?;
             let mut st = *settings;
             // 0 × 0: the camera's own size.
             if st.width == 0 || st.height == 0 {

@@ -253,14 +253,11 @@ fn parse_line(
                 *v = w
                     .parse::<f32>()
                     .ok()
-                    .filter(|v| v.is_finite() && v.abs() <= MAX_VALUE)
+                    .filter(|v| v.is_finite())
                     .ok_or_else(|| {
                         (
                             column(w),
-                            format!(
-                                "coordinate {} is not a finite number of at most {MAX_VALUE:e}: '{w}'",
-                                k + 1
-                            ),
+                            format!("coordinate {} is not a finite number: '{w}'", k + 1),
                         )
                     })?;
                 if v.abs() > MAX_COORDINATE {

@@ -1,10 +1,13 @@
-//! A film's manifest.json.
+//! A film's manifest.json and derive.json.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(text) = std::str::from_utf8(data) {
-        let _ = serde_json::from_str::<lmfilm::film::manifest::Manifest>(text);
+        let _ = lmfilm::film::manifest::Manifest::parse(text);
+        if let Ok(r) = serde_json::from_str::<lmfilm::film::record::DeriveRecord>(text) {
+            let _ = r.validate();
+        }
     }
 });
