@@ -203,7 +203,7 @@ impl Found {
         match self {
             Found::File(path) => wav::read(path),
             Found::Embedded(name, bytes) => {
-                wav::decode(*bytes).map_err(|e| format!("built-in {name}: {e}"))
+                wav::decode(bytes).map_err(|e| format!("built-in {name}: {e}"))
             }
         }
     }
@@ -314,7 +314,7 @@ mod tests {
             );
         }
         for (name, bytes) in EMBEDDED {
-            let signal = wav::decode(*bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let signal = wav::decode(bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
             assert!(!signal.samples.is_empty(), "{name}");
         }
         // And nothing in scenes/sounds/ is left out.
