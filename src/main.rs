@@ -523,6 +523,21 @@ fn scene_events(
         Path::to_path_buf,
     );
     let events = wav.with_file_name("soundtrack.events");
+    // A film folder's log and soundtrack belong to its records.
+    if let Some(dir) = wav
+        .parent()
+        .filter(|d| d.join(record::DERIVE_RECORD).exists())
+    {
+        return Err((
+            2,
+            format!(
+                "{}: this folder holds a film, whose soundtrack comes from its own records: \
+                 `lmfilm sound {}` renders it; or write this scene's elsewhere with -o OUT.wav",
+                dir.display(),
+                dir.display()
+            ),
+        ));
+    }
     let scenes = [scene.to_path_buf()];
     let opts = Options {
         limits,

@@ -486,3 +486,24 @@ fn the_folder_carries_the_scenes_own_sounds() {
     assert!(m.contains("sounds/mine.wav"), "{m}");
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// `sound SCENE.lm` never writes into a film's folder, whose log and
+/// soundtrack belong to its records.
+#[test]
+fn sound_of_a_scene_leaves_a_film_folder_alone() {
+    let root = temp("sound-scene");
+    let scene = write(&root, "film.lm", SCENE);
+    let dir = root.join("out");
+    run(&[&scene], &dir, &[]);
+    let wav = dir.join("soundtrack.wav");
+    let before = read(&wav);
+    let err = fails(&["sound", &scene, "-o", s(&wav), "--loudness", "-20"], 2);
+    assert!(
+        err.contains("holds a film") && err.contains("lmfilm sound"),
+        "{err}"
+    );
+    assert_eq!(read(&wav), before);
+    ok(&["verify", s(&dir)]);
+    ok(&["sound", &scene, "-o", s(&root.join("elsewhere/x.wav"))]);
+    std::fs::remove_dir_all(&root).unwrap();
+}
