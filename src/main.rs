@@ -98,7 +98,10 @@ enum Command {
     ///
     /// With no scene, the built-in film (a tree growing in the wind, a
     /// field of flowers, an aeroplane with its Doppler sound) goes to
-    /// renders/lmfilm/. A re-run skips finished frames. Examples:
+    /// renders/lmfilm/. A re-run redoes exactly the outputs whose inputs
+    /// (scenes, the files they name, settings) changed or whose bytes were
+    /// damaged; a folder of another film is refused (`--clean` empties
+    /// it). Examples:
     ///
     ///     lmfilm run
     ///

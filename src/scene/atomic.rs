@@ -21,14 +21,14 @@ static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 pub const HOST_VAR: &str = "LMFILM_HOST";
 
 /// This machine's name as temporary files carry it: `LMFILM_HOST`, else
-/// the kernel's host name; characters other than letters, digits, `-`
+/// `HOSTNAME`, else the kernel's host name; characters other than letters, digits, `-`
 /// and `.` become `_`, so `~` always separates the fields.
 pub fn host_name() -> &'static str {
     static HOST: OnceLock<String> = OnceLock::new();
     HOST.get_or_init(|| {
-        let raw = std::env::var(HOST_VAR)
-            .ok()
-            .filter(|h| !h.is_empty())
+        let raw = [HOST_VAR, "HOSTNAME"]
+            .iter()
+            .find_map(|v| std::env::var(v).ok().filter(|h| !h.is_empty()))
             .or_else(|| {
                 fs::read_to_string("/proc/sys/kernel/hostname")
                     .ok()
