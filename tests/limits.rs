@@ -428,11 +428,7 @@ fn render_refuses_an_out_of_range_snapshot() {
     // record agrees (written by another program) is checked by content.
     let err = lmfilm(&["render", s(&dir), "--preset", "preview"], 60).1;
     assert!(err.contains("does not match derive.json"), "{err}");
-    let rec = dir.join("derive.json");
-    let mut json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&rec).unwrap()).unwrap();
-    json["snapshots"][0] = lmfilm::film::manifest::sha256_file(&snap).unwrap().into();
-    std::fs::write(&rec, json.to_string()).unwrap();
+    common::agree_with_snapshot(&dir);
     let (code, err) = lmfilm(&["render", s(&dir), "--preset", "preview"], 60);
     expect(code, &err, &["0000.snap", "shape 0", "beyond ±1e15"]);
 }
