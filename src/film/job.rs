@@ -184,21 +184,9 @@ fn film_in(dir: &Path) -> Option<Vec<String>> {
     let text = std::fs::read(dir.join(manifest::MANIFEST_FILE)).ok()?;
     let json: serde_json::Value = serde_json::from_slice(&text).ok()?;
     let scenes = json.get("scenes")?.as_array()?;
-    let inputs = Inputs {
-        files: Vec::new(),
-        lmfilm_version: String::new(),
-        name: String::new(),
-        options: BTreeMap::new(),
-        scenes: scenes
-            .iter()
-            .filter_map(|s| s.get("file")?.as_str())
-            .map(|f| FileHash {
-                file: f.into(),
-                sha256: String::new(),
-            })
-            .collect(),
-    };
-    Some(inputs.film())
+    Some(record::film_of(
+        scenes.iter().filter_map(|s| s.get("file")?.as_str()),
+    ))
 }
 
 /// Refuses a folder that holds another film, saying how to start over.

@@ -75,20 +75,24 @@ impl Inputs {
     /// The scenes' file names: what makes a folder one film rather than
     /// another (their contents may change from run to run).
     pub fn film(&self) -> Vec<String> {
-        self.scenes
-            .iter()
-            .map(|s| {
-                Path::new(&s.file)
-                    .file_name()
-                    .map_or(s.file.clone(), |n| n.to_string_lossy().into_owned())
-            })
-            .collect()
+        film_of(self.scenes.iter().map(|s| s.file.as_str()))
     }
 
     /// One hash of all the inputs.
     pub fn key(&self) -> String {
         sha256_bytes(&to_json(self))
     }
+}
+
+/// The file names of a film's scenes, as given: what names the film.
+pub fn film_of<'a>(scenes: impl Iterator<Item = &'a str>) -> Vec<String> {
+    scenes
+        .map(|f| {
+            Path::new(f)
+                .file_name()
+                .map_or(f.to_string(), |n| n.to_string_lossy().into_owned())
+        })
+        .collect()
 }
 
 /// `derive.json`.
