@@ -290,7 +290,7 @@ fn copy_sounds(film: &Film, dir: &Path) -> Result<BTreeMap<String, String>, Erro
         if !plain {
             continue;
         }
-        let bytes = std::fs::read(&path)
+        let bytes = std::fs::read(path)
             .map_err(|e| Error::input(format!("{}: cannot read: {e}", path.display())))?;
         let to = dir.join(SOUNDS_DIR).join(rel);
         let hash = sha256_bytes(&bytes);

@@ -239,8 +239,9 @@ pub struct Film {
     physics: Physics,
     opts: Options,
     scripts: Option<(Vec<Script>, PathBuf)>,
-    /// Where sound files are looked up.
-    search: Vec<PathBuf>,
+    /// The sound files found on disk for the scene's sound numbers, as
+    /// the log's `PLAY` lines name them (see [`Film::sound_files`]).
+    sound_files: Vec<(String, PathBuf)>,
 }
 
 /// The `Sound_event_file` initialisations of the first L-system that
@@ -276,6 +277,21 @@ fn scene_library(anim: &Animation, search: &[PathBuf]) -> Result<Library, String
         }
     }
     Ok(lib)
+}
+
+/// The files of `lib` found on disk along `search` (the built-in
+/// library's are part of the program), each once, in library order.
+fn files_on_disk(lib: &Library, search: &[PathBuf]) -> Vec<(String, PathBuf)> {
+    let mut files: Vec<(String, PathBuf)> = lib
+        .iter()
+        .filter_map(|(_, file)| match library::resolve(file, search)? {
+            library::Found::File(path) => Some((file.to_string(), path)),
+            library::Found::Embedded(..) => None,
+        })
+        .collect();
+    let mut seen = std::collections::BTreeSet::new();
+    files.retain(|f| seen.insert(f.clone()));
+    files
 }
 
 impl Film {
@@ -316,7 +332,8 @@ impl Film {
         let surfaces = Surfaces::load(&anim)?;
         let search = library::search_path(dir, None);
         let lib = scene_library(&anim, &search)?;
-        let air = Air::new(&sound_inits(&anim), lib, search.clone())?;
+        let sound_files = files_on_disk(&lib, &search);
+        let air = Air::new(&sound_inits(&anim), lib, search)?;
         let mut physics = Physics::new(&anim);
         physics.register(&anim)?;
         Ok(Film {
@@ -328,7 +345,7 @@ impl Film {
             physics,
             opts,
             scripts: None,
-            search,
+            sound_files,
         })
     }
 
@@ -349,7 +366,7 @@ impl Film {
                 files.extend(libs.into_iter().map(|l| (l.clone(), obj_dir.join(l))));
             }
         }
-        files.extend(self.sound_files());
+        files.extend(self.sound_files.iter().cloned());
         if let Some((scripts, dir)) = &self.scripts {
             for (_, script, _, _) in scripts {
                 files.push((script.name.clone(), dir.join(&script.name)));
@@ -365,19 +382,8 @@ impl Film {
     /// own folder's, or a `sound_file`'s), as the log's `PLAY` lines name
     /// them and where they are; the built-in library's are part of the
     /// program.
-    pub fn sound_files(&self) -> Vec<(String, PathBuf)> {
-        // The load checked the library: it is the one the film plays.
-        let lib = scene_library(&self.anim, &self.search).unwrap_or_default();
-        let mut files: Vec<(String, PathBuf)> = lib
-            .iter()
-            .filter_map(|(_, file)| match library::resolve(file, &self.search)? {
-                library::Found::File(path) => Some((file.to_string(), path)),
-                library::Found::Embedded(..) => None,
-            })
-            .collect();
-        let mut seen = std::collections::BTreeSet::new();
-        files.retain(|f| seen.insert(f.clone()));
-        files
+    pub fn sound_files(&self) -> &[(String, PathBuf)] {
+        &self.sound_files
     }
 
     /// Interprets the current frame into its scene, logging its sound
