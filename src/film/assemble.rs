@@ -37,21 +37,16 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     for (k, h) in rec.snapshots.iter().enumerate() {
         m.files.insert(key(&snapshot_path(k as u64)), h.clone());
     }
-    let mut settings: BTreeMap<BTreeMap<String, String>, Vec<u64>> = BTreeMap::new();
-    for (k, snap) in rec.snapshots.iter().enumerate() {
-        let rel = frame_record_path(&name, k as u64);
-        let Ok(Some(f)) = record::read::<FrameRecord>(&dir.join(&rel)) else {
-            continue;
-        };
-        if f.snapshot != *snap || f.frame != k as u64 {
-            continue;
-        }
+    let frames = valid_frames(dir, &rec);
+    let mut settings: BTreeMap<&BTreeMap<String, String>, Vec<u64>> = BTreeMap::new();
+    for (k, f) in &frames {
+        let rel = frame_record_path(&name, *k);
         let hash = sha256_file(&dir.join(&rel)).map_err(|e| io(&dir.join(&rel), e))?;
         m.files.insert(key(&rel), hash);
         for (file, h) in &f.outputs {
             m.files.insert(file.clone(), h.clone());
         }
-        settings.entry(f.render).or_default().push(k as u64);
+        settings.entry(&f.render).or_default().push(*k);
     }
     if settings.len() > 1 {
         let groups: Vec<String> = settings
@@ -69,7 +64,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
         )));
     }
     if let Some(s) = settings.keys().next() {
-        for (k, v) in s {
+        for (k, v) in *s {
             m.options.insert(format!("render.{k}"), v.clone());
         }
     }
@@ -86,7 +81,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     let (mp4, mp4_record) = mp4_paths(&name);
     if let Ok(Some(x)) = record::read::<MuxRecord>(&dir.join(&mp4_record)) {
         let track = m.files.get(SOUNDTRACK_FILE).cloned();
-        if x.frames == png_digest(dir, &rec) && x.soundtrack == track {
+        if x.frames == digest(&name, &frames) && x.soundtrack == track {
             let hash = sha256_file(&dir.join(&mp4_record)).map_err(|e| io(dir, e))?;
             m.files.insert(key(&mp4_record), hash);
             m.files.insert(key(&mp4), x.mp4.clone());
@@ -134,20 +129,33 @@ pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
     extra
 }
 
+/// The frames whose record says they were rendered from the derivation's
+/// snapshot, with their records, in frame order.
+fn valid_frames(dir: &Path, rec: &DeriveRecord) -> Vec<(u64, FrameRecord)> {
+    (0..rec.frame_count)
+        .zip(&rec.snapshots)
+        .filter_map(|(k, snap)| {
+            let rp = dir.join(frame_record_path(&rec.inputs.name, k));
+            let f = record::read::<FrameRecord>(&rp).ok()??;
+            (f.snapshot == *snap && f.frame == k).then_some((k, f))
+        })
+        .collect()
+}
+
 /// The PNG frames an MP4 is made of, as one hash over their names and
-/// hashes: the frames of valid records, in order.
-pub(super) fn png_digest(dir: &Path, rec: &DeriveRecord) -> String {
+/// hashes, in frame order.
+fn digest(name: &str, frames: &[(u64, FrameRecord)]) -> String {
     let mut list = String::new();
-    for (k, snap) in rec.snapshots.iter().enumerate() {
-        let rp = dir.join(frame_record_path(&rec.inputs.name, k as u64));
-        if let Ok(Some(f)) = record::read::<FrameRecord>(&rp) {
-            if f.snapshot == *snap {
-                let png = key(&frame_path(&rec.inputs.name, k as u64, "png"));
-                if let Some(h) = f.outputs.get(&png) {
-                    list.push_str(&format!("{png} {h}\n"));
-                }
-            }
+    for (k, f) in frames {
+        let png = key(&frame_path(name, *k, "png"));
+        if let Some(h) = f.outputs.get(&png) {
+            list.push_str(&format!("{png} {h}\n"));
         }
     }
     sha256_bytes(list.as_bytes())
+}
+
+/// The digest of the PNG frames of the folder's valid frame records.
+pub(super) fn png_digest(dir: &Path, rec: &DeriveRecord) -> String {
+    digest(&rec.inputs.name, &valid_frames(dir, rec))
 }

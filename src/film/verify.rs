@@ -184,7 +184,7 @@ fn chain(dir: &Path, rec: &DeriveRecord, assembled: &Manifest) -> Vec<Problem> {
     let mut missing = Vec::new();
     for k in selection.frames(rec.frame_count, super::frames::Shard::all()) {
         let rel = frame_record_path(name, k);
-        let key = rel.to_string_lossy().replace('\\', "/");
+        let key = job::key(&rel);
         if assembled.files.contains_key(&key) {
             continue;
         }
@@ -214,7 +214,7 @@ fn chain(dir: &Path, rec: &DeriveRecord, assembled: &Manifest) -> Vec<Problem> {
         });
     }
     let (mp4, mp4_record) = mp4_paths(name);
-    let mp4_key = mp4.to_string_lossy().into_owned();
+    let mp4_key = job::key(&mp4);
     if dir.join(&mp4).exists() && !assembled.files.contains_key(&mp4_key) {
         let why = if dir.join(&mp4_record).exists() {
             "made from other frames or another soundtrack: `lmfilm mux DIR` makes it again"
