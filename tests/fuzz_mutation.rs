@@ -19,6 +19,8 @@ use lmfilm::render::Settings;
 use lmfilm::scene::{mtl, obj, snapshot, Scene};
 use lmfilm::sound::{events::EventsFile, wav};
 
+use common::Rng;
+
 /// Mutated inputs per reader: a few seconds for all readers in the test
 /// profile on one core. `LMFILM_MUTATION_CASES` and `LMFILM_MUTATION_SEED`
 /// run more cases or other ones by hand.
@@ -55,22 +57,6 @@ fn scenes() -> Vec<Vec<u8>> {
     }
     paths.sort();
     paths.iter().map(|p| std::fs::read(p).unwrap()).collect()
-}
-
-/// Counter-based xorshift: the same cases on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
 }
 
 /// What a hostile or damaged file puts where a number or a name belongs.

@@ -5,6 +5,8 @@ mod common;
 
 use std::path::PathBuf;
 
+use common::Rng;
+
 use glam::{Affine3A, Quat, Vec3};
 use lmfilm::scene::material::Texture;
 use lmfilm::scene::snapshot::{self, SnapshotError, MAGIC, VERSION};
@@ -292,20 +294,6 @@ fn seal(payload: &[u8]) -> Vec<u8> {
 
 fn payload_of(bytes: &[u8]) -> &[u8] {
     &bytes[20..bytes.len() - 8]
-}
-
-/// Counter-based xorshift, reproducible without a dependency.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
 }
 
 fn scratch_dir(test: &str) -> PathBuf {

@@ -70,3 +70,21 @@ pub fn agree_with_snapshot(dir: &std::path::Path) {
     json["snapshots"][0] = lmfilm::film::manifest::sha256_file(&snap).unwrap().into();
     std::fs::write(&rec, json.to_string()).unwrap();
 }
+
+/// Counter-based xorshift: the same cases on every run, without a
+/// dependency.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    /// Uniform in 0..n (0 when n is 0).
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+}
