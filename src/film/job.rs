@@ -256,9 +256,7 @@ pub fn derive(
         Ok(())
     })?;
     let sounds = copy_sounds(film, dir)?;
-    let events = sound::events::write(film.air.log());
-    let events_path = dir.join(EVENTS_FILE);
-    write_atomic(&events_path, events.as_bytes()).map_err(|e| io(&events_path, e))?;
+    let events = write_events(film, &dir.join(EVENTS_FILE))?;
     prune_snapshots(&scene_dir, frames)?;
     let rs = super::frames::rs_switch(&film.anim.systems[0].def.options);
     let selection = FrameSelection::resolve(None, rs).to_text();
@@ -361,12 +359,15 @@ pub fn every_frame(
     Ok(())
 }
 
-/// Writes the film's sound event log to `path`, creating its folder.
-pub fn write_events(film: &Film, path: &Path) -> Result<(), Error> {
+/// Writes the film's sound event log to `path`, creating its folder;
+/// returns the log's text.
+pub fn write_events(film: &Film, path: &Path) -> Result<String, Error> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     }
-    write_atomic(path, sound::events::write(film.air.log()).as_bytes()).map_err(|e| io(path, e))
+    let text = sound::events::write(film.air.log());
+    write_atomic(path, text.as_bytes()).map_err(|e| io(path, e))?;
+    Ok(text)
 }
 
 /// The derive record of a folder (what `render`, `sound` and `mux` start
