@@ -28,9 +28,9 @@ use super::record::{
     FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
 use super::{assemble, mux as ffmpeg, Film};
+use crate::atomic::{remove_stale_temps, write_atomic};
 use crate::lsys::Limits;
 use crate::render::{self, output, Settings};
-use crate::scene::atomic::{remove_stale_temps, write_atomic};
 use crate::scene::{snapshot, Scene};
 use crate::sound;
 

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use super::record::{DeriveRecord, FileHash};
-use crate::scene::atomic::write_atomic;
+use crate::atomic::write_atomic;
 
 /// The manifest's file name inside the output folder.
 pub const MANIFEST_FILE: &str = "manifest.json";

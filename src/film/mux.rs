@@ -10,7 +10,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use crate::scene::atomic::temp_path;
+use crate::atomic::temp_path;
 
 /// The most lines of ffmpeg's own error output an error message keeps.
 const STDERR_LINES: usize = 20;

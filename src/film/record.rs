@@ -25,7 +25,7 @@ use serde::{Deserialize, Serialize};
 
 use super::frames::frame_path;
 use super::manifest::{sha256_bytes, sha256_file};
-use crate::scene::atomic::write_atomic;
+use crate::atomic::write_atomic;
 
 /// The derivation's record, at the folder's root.
 pub const DERIVE_RECORD: &str = "derive.json";

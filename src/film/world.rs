@@ -10,12 +10,12 @@ use glam::DVec3;
 
 use crate::lsys::animation::read_source;
 use crate::lsys::options::{Command, OptionItem};
-use crate::lsys::source::FileRef;
 use crate::lsys::{Animation, Sensors, Source, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::scene::Scene;
 use crate::sound::air::{self, Air, Ongoing, AMBIENT_SOURCE};
 use crate::sound::library::{self, Library};
+use crate::source::FileRef;
 use crate::turtle::interpret::Tables;
 use crate::turtle::{build_scene, Options, ParticleMapping, SoundRequest, Surfaces, TurtleWorld};
 

@@ -7,8 +7,8 @@ use super::definition::CameraParams;
 use super::limits::{LimitError, Limits};
 use super::parse::parse;
 use super::sensors::Sensors;
-use super::source::{read_file, Diagnostic, Source};
 use super::step::LSystem;
+use crate::source::{read_file, Diagnostic, Source};
 
 /// The L-systems of one animation and the global clock.
 pub struct Animation {

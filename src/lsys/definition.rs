@@ -4,7 +4,7 @@
 use super::expr::{Code, Expr};
 use super::functions::{Constants, Spline};
 use super::options::OptionItem;
-use super::source::FileRef;
+use crate::source::FileRef;
 
 /// `Camera_AnimationParameters`, including the two lines the BNF forgets.
 #[derive(Debug, Clone, PartialEq)]
@@ -177,7 +177,7 @@ impl Definition {
             .filter(|o| *o < self.text.len())
         {
             Some(o) => {
-                let (_, line, column) = super::source::position(&self.text, o);
+                let (_, line, column) = crate::source::position(&self.text, o);
                 format!("{}:{line}:{column}", self.name)
             }
             None => self.name.clone(),

@@ -4,8 +4,8 @@
 use super::definition::Definition;
 use super::expr::{Expr, Op, Param, MAX_DEPTH};
 use super::functions::hermite;
-use super::random::{self, Stream};
 use super::sensors::{Sensors, Who};
+use crate::random::{self, Stream};
 
 /// Slots of the symbol memory read by `>`/`?44` and written by `<`.
 pub const MEMORY_SLOTS: usize = 100;

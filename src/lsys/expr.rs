@@ -7,7 +7,7 @@
 
 use super::functions::{constant_index, Constants};
 use super::scan::MAX_NUMBER;
-use super::source::{Diagnostic, Source};
+use crate::source::{Diagnostic, Source};
 
 /// Deepest stack a program may use; far beyond any hand-written expression.
 pub const MAX_DEPTH: usize = 32;

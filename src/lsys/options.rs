@@ -3,7 +3,7 @@
 
 use super::parse::SECTIONS;
 use super::scan::{suggestion, Scanner};
-use super::source::{Diagnostic, FileRef};
+use crate::source::{Diagnostic, FileRef};
 
 /// A keyword with its arguments, as in automata and sound protocol lists.
 #[derive(Debug, Clone, PartialEq)]
@@ -362,7 +362,7 @@ pub fn unknown_option(s: &Scanner, at: usize, w: &str) -> Diagnostic {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lsys::source::Source;
+    use crate::source::Source;
 
     #[test]
     fn every_option_keyword_is_parsed_and_kept() {

@@ -8,7 +8,7 @@ use super::expr::{Code, Compiler, Expr, Op};
 use super::functions::{constant_arity, Constants, Spline};
 use super::options::{parse_option, unknown_option};
 use super::scan::{suggestion, Scanner};
-use super::source::{Diagnostic, FileRef, Source};
+use crate::source::{Diagnostic, FileRef, Source};
 
 pub(super) const SECTIONS: [&str; 8] = [
     "Camera_AnimationParameters",

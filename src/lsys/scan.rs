@@ -1,7 +1,7 @@
 //! A cursor over a definition file: words, numbers, `( )` groups and
 //! `/* */` comments, every read carrying its byte offset for diagnostics.
 
-use super::source::{Diagnostic, Source};
+use crate::source::{Diagnostic, Source};
 
 pub struct Scanner<'a> {
     pub src: &'a Source,

@@ -7,9 +7,9 @@ use super::context::{left_matches, right_matches};
 use super::definition::{Definition, Production, RightSide, SymbolTemplate};
 use super::eval::{Frame, Machine, State};
 use super::expr::Expr;
-use super::random::{self, Stream};
 use super::sensors::{Sensors, Who};
 use super::word::{branch_end, Symbol};
+use crate::random::{self, Stream};
 
 /// An ephemeral `e` symbol met while deriving (appendix C.6): it never
 /// enters the word; later layers create particles or push automata from it.

@@ -19,8 +19,8 @@ use rayon::prelude::*;
 
 use crate::lsys::eval::{Frame, Machine, State};
 use crate::lsys::options::OptionItem;
-use crate::lsys::random::{self, Stream};
 use crate::lsys::{Animation, Definition, Sensors, Who};
+use crate::random::{self, Stream};
 use grid::Grid;
 pub use particles::{Law, Mode, Particle};
 pub use peaks::{Collision, Contact};

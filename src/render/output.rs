@@ -25,7 +25,7 @@ use exr::prelude::{
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{ExtendedColorType, ImageEncoder};
 
-use crate::scene::atomic::write_atomic;
+use crate::atomic::write_atomic;
 
 /// EXR channel holding the object id (u32).
 pub const ID_CHANNEL: &str = "id";

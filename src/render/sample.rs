@@ -5,7 +5,7 @@ use glam::Vec3A;
 
 use super::accel::Accel;
 use super::shade;
-use crate::lsys::random::{self, Stream};
+use crate::random::{self, Stream};
 use crate::scene::Camera;
 
 /// How pixel samples are weighted.

@@ -7,7 +7,7 @@ use glam::{Vec3, Vec3A};
 use super::accel::Accel;
 use super::sample::Settings;
 use super::texture;
-use crate::lsys::random;
+use crate::random;
 use crate::scene::material::Texture;
 use crate::scene::{LightKind, Material};
 

@@ -15,7 +15,7 @@ use glam::Vec3;
 use super::material::{self, Material};
 use super::obj_parse::LineError;
 use super::{mesh, Scene, Triangle};
-use crate::lsys::source::read_file;
+use crate::source::read_file;
 
 /// Writes the frame's triangles to `obj_path` and its materials to the
 /// same path with extension `.mtl` (named by `mtllib`). One `usemtl` per
@@ -42,8 +42,8 @@ pub fn write_obj(scene: &Scene, obj_path: &Path) -> io::Result<()> {
 
     let tris = mesh::expand(scene);
     let names = material_names(scene, &tris);
-    super::atomic::write_atomic(&mtl_path, mtl_text(scene, &names).as_bytes())?;
-    super::atomic::write_atomic(
+    crate::atomic::write_atomic(&mtl_path, mtl_text(scene, &names).as_bytes())?;
+    crate::atomic::write_atomic(
         obj_path,
         obj_text(scene, &tris, &names, &mtl_name).as_bytes(),
     )

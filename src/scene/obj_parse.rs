@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::MAX_COORDINATE;
 
-use crate::lsys::Diagnostic;
+use crate::source::Diagnostic;
 
 /// Largest magnitude of a coordinate or material value: that of a scene.
 pub const MAX_VALUE: f32 = super::MAX_MAGNITUDE;

@@ -26,7 +26,7 @@ use glam::{Affine3A, Vec3};
 
 use super::material::IOR_RANGE;
 use super::{Geometry, LightKind, Material, Scene, Shape, ShapeKind, MAX_MAGNITUDE};
-use crate::lsys::source::read_file;
+use crate::source::read_file;
 
 /// First bytes of every snapshot, to reject other files early.
 pub const MAGIC: [u8; 8] = *b"LMSNAP\0\0";
@@ -455,7 +455,7 @@ fn material(m: &Material) -> Result<(), String> {
 /// never leaves a half-written snapshot that a `render` process could pick
 /// up. Errors name the file.
 pub fn write(scene: &Scene, path: &Path) -> io::Result<()> {
-    super::atomic::write_atomic(path, &encode(scene))
+    crate::atomic::write_atomic(path, &encode(scene))
 }
 
 /// Largest snapshot read: a bound on what a wrong path costs.

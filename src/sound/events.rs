@@ -12,7 +12,7 @@ use std::fmt::{self, Write as _};
 
 use glam::DVec3;
 
-use crate::lsys::{Diagnostic, Source};
+use crate::source::{Diagnostic, Source};
 
 /// Largest magnitude of a position or orientation: as in a definition
 /// file (`lsys::scan::MAX_NUMBER`).

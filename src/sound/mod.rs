@@ -19,9 +19,9 @@ pub use library::{Library, Sounds};
 pub use render::{render, Attenuation, Settings, Soundtrack};
 pub use wav::{SampleFormat, Signal};
 
-use crate::lsys::source::read_file;
-use crate::lsys::{Diagnostic, Source};
-use crate::scene::atomic::write_atomic;
+use crate::atomic::write_atomic;
+use crate::source::read_file;
+use crate::source::{Diagnostic, Source};
 
 /// Why a soundtrack could not be made.
 #[derive(Debug)]

@@ -60,7 +60,7 @@ pub const MAX_RATE: u32 = 768_000;
 /// Reads a WAV file (a regular file only) as a mono signal: channels are
 /// averaged.
 pub fn read(path: &Path) -> Result<Signal, String> {
-    let bytes = crate::lsys::source::read_file(path, MAX_WAV_BYTES)
+    let bytes = crate::source::read_file(path, MAX_WAV_BYTES)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     decode(&bytes).map_err(|e| format!("{}: {e}", path.display()))
 }

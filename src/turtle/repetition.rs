@@ -6,7 +6,7 @@
 use glam::{Affine3A, EulerRot, Quat, Vec3};
 
 use crate::lsys::definition::RepetitionParams;
-use crate::lsys::random::{self, Stream};
+use crate::random::{self, Stream};
 
 /// Tries per copy to find a spot at the minimal distance from the others.
 const ATTEMPTS: u64 = 64;
