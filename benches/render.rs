@@ -31,13 +31,12 @@ fn main() {
         &mut anim,
         &surfaces,
         &mut Vec::new(),
-        &mut NoSensors,
         &mut NoWorld,
         Options::default(),
     )
     .unwrap();
     let t1 = Instant::now();
-    let accel = Accel::new(&scene);
+    let accel = Accel::new(scene.clone());
     let build = t1.elapsed().as_secs_f64();
     let load = (t1 - t0).as_secs_f64();
     let cam = CameraRays::new(&scene.camera, w, h);

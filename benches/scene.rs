@@ -34,7 +34,6 @@ fn interpret(c: &mut Criterion) {
                 &mut a,
                 &surfaces,
                 &mut tables,
-                &mut NoSensors,
                 &mut NoWorld,
                 Options::default(),
             )

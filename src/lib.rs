@@ -7,9 +7,11 @@
 //! numbers, atomic writes, boxes, the error type) serve them all.
 
 pub mod atomic;
+pub mod error;
 pub mod random;
 pub mod source;
 
+pub mod commands;
 pub mod film;
 pub mod lsys;
 pub mod physics;

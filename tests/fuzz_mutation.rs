@@ -254,7 +254,7 @@ fn render_tiny(scene: Scene) -> bool {
         max_depth: 1,
         ..Settings::preview(8, 6)
     };
-    lmfilm::render::render(&scene, &settings);
+    lmfilm::render::render(std::sync::Arc::new(scene), &settings);
     true
 }
 

@@ -349,17 +349,18 @@ fn the_renderer_refuses_out_of_range_primitives() {
     sc.geometries[0].shapes[1].transform.translation.x = 1e20;
     let e = render::check(&sc).unwrap_err();
     assert!(e.contains("shape 1") && e.contains("beyond ±1e15"), "{e}");
-    let img = render::render(&sc, &Settings::preview(8, 6));
+    let img = render::render(sc.clone(), &Settings::preview(8, 6));
     assert_eq!(img.rgba.len(), 48);
     sc.geometries[0].shapes[1].transform.translation.x = f32::INFINITY;
     assert!(render::check(&sc).is_err());
-    let hit = Accel::new(&sc).cast(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z, 0.0, f32::INFINITY);
+    let hit =
+        Accel::new(sc.clone()).cast(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z, 0.0, f32::INFINITY);
     assert!(hit.is_some_and(|h| (h.t - 9.0).abs() < 1e-3), "{hit:?}");
     sc.geometries[0].shapes[1].transform.translation.x = 0.0;
     sc.instances[0].transform.translation = Vec3::new(0.0, 3e38, 0.0).into();
     let e = render::check(&sc).unwrap_err();
     assert!(e.contains("instance 0"), "{e}");
-    render::render(&sc, &Settings::preview(8, 6));
+    render::render(sc.clone(), &Settings::preview(8, 6));
 }
 
 /// An export tessellates every shape into many triangles: those count.

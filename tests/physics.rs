@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use lmfilm::film::Film;
+use lmfilm::lsys::print::Format;
 use lmfilm::lsys::Source;
 use lmfilm::physics::Particle;
 use lmfilm::turtle::Options;
@@ -19,19 +20,16 @@ fn scene(t_final: f64, options: &str, axiom: &str, productions: &str) -> String 
 
 fn film(text: &str) -> Result<Film, String> {
     Film::from_sources(&[Source::new("physics.lm", text)], None, Options::default())
+        .map_err(|e| e.to_string())
 }
 
 /// Every frame's particles, as (time, table).
 fn run(text: &str) -> Vec<(f64, Vec<Particle>)> {
     let mut film = film(text).unwrap();
-    let n = film.anim.frame_count();
     let mut out = Vec::new();
-    for k in 0..n {
-        film.scene().unwrap();
-        out.push((film.anim.time(), film.particles().to_vec()));
-        if k + 1 < n {
-            film.step().unwrap();
-        }
+    while let Some(frame) = film.next_frame().unwrap() {
+        let time = frame.time();
+        out.push((time, film.particles().to_vec()));
     }
     out
 }
@@ -146,12 +144,10 @@ fn exceeding_max_part_is_an_error_naming_the_limit() {
     let drop =
         "X (0.04)\n1.0 X e () (11) () () (0) (9.81_) (0) C () () (1) () (0) (0) (0) EndProb\nEnd";
     let mut f = film(&scene(1.0, "MaxPart 2", "X", drop)).unwrap();
-    f.scene().unwrap();
-    f.step().unwrap();
-    f.scene().unwrap();
-    f.step().unwrap();
-    f.scene().unwrap();
-    let e = f.step().err().unwrap();
+    for _ in 0..3 {
+        f.next_frame().unwrap();
+    }
+    let e = f.next_frame().err().unwrap().to_string();
     assert!(e.contains("MaxPart = 2") && e.contains("frame 3"), "{e}");
 }
 
@@ -197,9 +193,9 @@ fn touched(strength: &str) -> bool {
     let axiom = format!("e () (10) () () (0) ({strength}) (0) C () (1) () () (0) (0) (0) f () () () (2) (7) (1) (2) ?");
     let rule = "? (0) [(?40 4.9 -)>]\n1.0 Q EndProb\nEnd";
     let mut f = film(&scene(1.0, "", &axiom, rule)).unwrap();
-    f.scene().unwrap();
-    f.step().unwrap();
-    f.anim.systems[0].word().iter().any(|s| s.ch == b'Q')
+    f.next_frame().unwrap();
+    f.next_frame().unwrap();
+    f.words(Format::Symbols)[0].contains('Q')
 }
 
 #[test]

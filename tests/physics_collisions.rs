@@ -20,18 +20,12 @@ fn bounce(threads: usize) -> (Vec<f64>, Vec<(usize, u32, String)>) {
         .unwrap();
     pool.install(|| {
         let mut film = Film::load(&[SCENE], Options::default()).unwrap();
-        let n = film.anim.frame_count();
         let mut heights = Vec::new();
-        for k in 0..n {
-            film.scene().unwrap();
+        while film.next_frame().unwrap().is_some() {
             heights.push(film.particles()[0].pos.y);
-            if k + 1 < n {
-                film.step().unwrap();
-            }
         }
         let plays = film
-            .air
-            .log()
+            .events()
             .frames()
             .iter()
             .enumerate()

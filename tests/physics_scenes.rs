@@ -16,14 +16,14 @@ fn scene(name: &str) -> PathBuf {
 fn at(files: &[&str], t: f64) -> Film {
     let paths: Vec<PathBuf> = files.iter().map(|f| scene(f)).collect();
     let mut film = Film::load(&paths, Options::default()).unwrap();
-    let target = film.anim.frame_at(t);
-    film.advance_to(target, |_, _| {}).unwrap();
+    let target = film.frame_at(t);
+    film.seek(target, |_, _| {}).unwrap();
     film
 }
 
 /// Mean x of the shapes of the tree (its first L-system's geometry).
 fn mean_x(film: &mut Film) -> f64 {
-    let (scene, _) = film.scene().unwrap();
+    let scene = film.frame().unwrap().scene();
     let g = &scene.geometries[0];
     let xs: Vec<f64> = g
         .shapes

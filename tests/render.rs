@@ -18,7 +18,7 @@ const SPHERE: &str = "Camera_AnimationParameters\nobserver 0 0 10\nlookatPoint 0
 fn sphere_covers_its_projected_disc() {
     let s = scene_of(SPHERE);
     let (w, h) = (400, 400);
-    let img = render(&s, &Settings::preview(w, h));
+    let img = render(s.clone(), &Settings::preview(w, h));
     let covered = img.rgba.iter().filter(|p| p[3] > 0.5).count() as f64;
     // Silhouette half-angle asin(r/D), projected with the 30° field.
     let alpha = (1.0f64 / 10.0).asin();
@@ -33,7 +33,7 @@ fn sphere_covers_its_projected_disc() {
 #[test]
 fn depth_layer_holds_distance_minus_radius_at_the_centre() {
     let s = scene_of(SPHERE);
-    let img = render(&s, &Settings::preview(41, 41));
+    let img = render(s.clone(), &Settings::preview(41, 41));
     let c = 20 * 41 + 20;
     assert!((img.depth[c] - 9.0).abs() < 1e-4, "{}", img.depth[c]);
     assert!((Vec3::from_array(img.normal[c]) - Vec3::Z).length() < 1e-3);
@@ -45,7 +45,7 @@ fn depth_layer_holds_distance_minus_radius_at_the_centre() {
 #[test]
 fn cast_reports_distance_material_normal_and_vision_colour() {
     let s = scene_of(SPHERE);
-    let accel = Accel::new(&s);
+    let accel = Accel::new(s.clone());
     let hit = accel
         .cast(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z, 0.0, f32::INFINITY)
         .unwrap();
@@ -73,7 +73,7 @@ fn identical_for_any_thread_count() {
             .num_threads(n)
             .build()
             .unwrap();
-        pool.install(|| render(&s, &st))
+        pool.install(|| render(s.clone(), &st))
     };
     let (one, two) = (run(1), run(2));
     let bits = |i: &lmfilm::render::Image| {
@@ -105,7 +105,7 @@ fn pathologically_deep_scene_finds_everything() {
         ));
     }
     let s = scene_of(&format!("Axiom\n{axiom}\n"));
-    let accel = Accel::new(&s);
+    let accel = Accel::new(s.clone());
     assert!(accel.depth() > 32, "a chain {} levels deep", accel.depth());
     for k in 0..n - 1 {
         // From between shells k + 1 and k, outward: shell k is the nearest.
@@ -129,7 +129,7 @@ fn ground_values(light: &str) -> Vec<f32> {
     let mut st = Settings::final_quality(80, 80);
     st.spp = 1;
     st.light_samples = 16;
-    let img = render(&s, &st);
+    let img = render(s.clone(), &st);
     // Pixels of the ground (depth ≈ 20) only, by their red value.
     img.rgba
         .iter()
@@ -175,7 +175,7 @@ fn cloud_layer_is_see_through_and_casts_no_shadow() {
     assert_eq!(clear, cloudy);
     // Looking up: clouds and the sky between them.
     let s = scene_of("Camera_AnimationParameters\nobserver 0 2 0\nlookatPoint 0 50 -100\nAxiom\nD () (15) D () (16) () () (400) (15) (400)\n");
-    let img = render(&s, &Settings::final_quality(64, 36));
+    let img = render(s.clone(), &Settings::final_quality(64, 36));
     let blue: Vec<f32> = img.rgba.iter().map(|p| p[2] - p[0]).collect();
     let (lo, hi) = blue
         .iter()
@@ -303,7 +303,7 @@ fn two_level_bvh_matches_brute_force() {
         if single {
             s.instances.truncate(1);
         }
-        let accel = Accel::new(&s);
+        let accel = Accel::new(s.clone());
         let mut hits = 0;
         for _ in 0..3000 {
             let o = Vec3A::from(rng.vec(40.0));
@@ -377,7 +377,7 @@ fn bvh4_leaves_cover_every_primitive_once() {
 /// material `m` under a sky, rendered with `settings`.
 fn sphere_luminance(m: u32, settings: &Settings) -> f32 {
     let text = SPHERE.replace("m () (7)", &format!("D () (15) m () ({m})"));
-    let img = render(&scene_of(&text), settings);
+    let img = render(scene_of(&text), settings);
     let on: Vec<_> = (0..img.object.len())
         .filter(|&i| img.object[i] != u32::MAX)
         .map(|i| {

@@ -33,7 +33,7 @@ fn image(file: &str, time: f64, settings: Settings) -> Image {
     let (s, _) = scene(&mut a);
     let mut st = settings;
     st.frame = a.frame;
-    render(&s, &st)
+    render(s.clone(), &st)
 }
 
 #[test]

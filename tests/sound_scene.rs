@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use lmfilm::film::Film;
+use lmfilm::lsys::print::Format;
+use lmfilm::sound::air;
 use lmfilm::sound::{self, Event};
 use lmfilm::turtle::Options;
 
@@ -22,20 +24,14 @@ fn airplane() -> PathBuf {
 /// Derives every frame and returns the film.
 fn derive_all(scene: &Path) -> Film {
     let mut film = Film::load(&[scene], Options::default()).unwrap();
-    let n = film.anim.frame_count();
-    for k in 0..n {
-        film.scene().unwrap();
-        if k + 1 < n {
-            film.step().unwrap();
-        }
-    }
+    while film.next_frame().unwrap().is_some() {}
     film
 }
 
 #[test]
 fn the_aeroplane_logs_its_path_and_its_engine() {
     let film = derive_all(&airplane());
-    let log = film.air.log();
+    let log = film.events();
     let frames = log.frames();
     assert_eq!(frames.len(), 151, "0 … 6 s every 40 ms");
     let mut plays = Vec::new();
@@ -85,29 +81,20 @@ fn audition_functions_see_the_ongoing_events() {
     )
     .unwrap();
     let mut film = Film::load(&[&scene], Options::default()).unwrap();
-    film.scene().unwrap();
-    assert_eq!(film.air.playing(), 1);
-    assert_eq!(film.air.sound_of_source(3), Some(6));
-    assert_eq!(film.air.source_of_sound(6), Some(3));
-    assert_eq!(film.air.sound_of_source(4), None);
-    film.step().unwrap();
-    let word: String = film.anim.systems[0]
-        .word()
-        .iter()
-        .map(|s| s.ch as char)
-        .collect();
+    film.next_frame().unwrap();
+    assert_eq!(film.ongoing().len(), 1);
+    assert_eq!(air::sound_of_source(film.ongoing(), 3), Some(6));
+    assert_eq!(air::source_of_sound(film.ongoing(), 6), Some(3));
+    assert_eq!(air::sound_of_source(film.ongoing(), 4), None);
+    film.next_frame().unwrap();
+    let word = film.words(Format::Symbols).remove(0);
     // One event on (A → a); sound 6 comes from source 3 (B → b);
     // source 4 is silent, ?61 = −1 (C → c); D waits for silence.
     assert_eq!(word, "abcD");
     // 10 ms later the sound has ended: at the next frame D hears nothing.
-    film.scene().unwrap();
-    assert_eq!(film.air.playing(), 0);
-    film.step().unwrap();
-    let word: String = film.anim.systems[0]
-        .word()
-        .iter()
-        .map(|s| s.ch as char)
-        .collect();
+    assert_eq!(film.ongoing().len(), 0);
+    film.next_frame().unwrap();
+    let word = film.words(Format::Symbols).remove(0);
     assert_eq!(word, "abcd");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -174,9 +161,9 @@ fn a_scene_declares_its_own_sound_file() {
     )
     .unwrap();
     let mut film = Film::load(&[&scene], Options::default()).unwrap();
-    film.scene().unwrap();
-    assert_eq!(film.air.ongoing()[0].end, 0.5, "bell.wav lasts 0.5 s");
-    let text = sound::events::write(film.air.log());
+    film.next_frame().unwrap();
+    assert_eq!(film.ongoing()[0].end, 0.5, "bell.wav lasts 0.5 s");
+    let text = sound::events::write(film.events());
     assert!(text.contains("PLAY 2 bell.wav"), "{text}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

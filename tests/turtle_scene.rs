@@ -130,7 +130,6 @@ fn query_symbol_and_state_tables_persist_across_frames() {
             &mut a,
             &surfaces,
             &mut tables,
-            &mut NoSensors,
             &mut NoWorld,
             Options::default(),
         )

@@ -7,12 +7,13 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::frames::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
-use super::job::{io, key, open, Error, EVENTS_FILE, SOUNDTRACK_FILE};
+use super::job::{io, key, open, EVENTS_FILE, SOUNDTRACK_FILE};
 use super::manifest::{sha256_bytes, sha256_file, Manifest};
 use super::record::{
     self, frame_record_path, mp4_paths, DeriveRecord, FrameRecord, MuxRecord, SoundRecord,
     DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
+use crate::error::Error;
 
 /// Assembles `manifest.json` from the records and writes it: the stage
 /// that finishes the film (and any single-process stage) calls it.

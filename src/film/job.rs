@@ -27,57 +27,20 @@ use super::record::{
     self, frame_record_path, intact, mp4_paths, parse_frame_file, DeriveRecord, FileHash,
     FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
-use super::{assemble, mux as ffmpeg, Film};
+use super::{assemble, mux as ffmpeg, Film, Frame};
 use crate::atomic::{remove_stale_temps, write_atomic};
+use crate::error::Error;
 use crate::lsys::Limits;
 use crate::render::{self, output, Settings};
-use crate::scene::{snapshot, Scene};
+use crate::scene::snapshot;
 use crate::sound;
 
 /// The log and soundtrack names inside the folder.
 pub const EVENTS_FILE: &str = "soundtrack.events";
 pub const SOUNDTRACK_FILE: &str = "soundtrack.wav";
 
-/// A failed stage: bad input (exit 2) or anything else (exit 1).
-#[derive(Debug)]
-pub struct Error {
-    pub code: u8,
-    pub message: String,
-}
-
-impl Error {
-    pub fn input(message: impl Into<String>) -> Error {
-        Error {
-            code: 2,
-            message: message.into(),
-        }
-    }
-
-    fn other(message: impl Into<String>) -> Error {
-        Error {
-            code: 1,
-            message: message.into(),
-        }
-    }
-}
-
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.message)
-    }
-}
-
-impl From<manifest::Error> for Error {
-    fn from(e: manifest::Error) -> Error {
-        Error::other(e.to_string())
-    }
-}
-
 pub(super) fn io(path: &Path, e: impl fmt::Display) -> Error {
-    Error::other(format!(
-        "{}: {e} (is the folder writable and the disk not full?)",
-        path.display()
-    ))
+    Error::io(path, e)
 }
 
 /// Image formats a render writes.
@@ -242,11 +205,11 @@ pub fn derive(
     if record_path.exists() {
         std::fs::remove_file(&record_path).map_err(|e| io(&record_path, e))?;
     }
-    let frames = film.anim.frame_count();
+    let frames = film.frame_count();
     let mut snapshots = Vec::new();
-    every_frame(film, progress, |k, scene| {
-        let path = dir.join(snapshot_path(k));
-        let bytes = snapshot::encode(scene);
+    every_frame(film, progress, |frame| {
+        let path = dir.join(snapshot_path(frame.number()));
+        let bytes = snapshot::encode(frame.scene());
         let hash = sha256_bytes(&bytes);
         // Derivation is deterministic: an identical snapshot stays.
         if !sha256_file(&path).is_ok_and(|h| h == hash) {
@@ -258,10 +221,9 @@ pub fn derive(
     let sounds = copy_sounds(film, dir)?;
     let events = write_events(film, &dir.join(EVENTS_FILE))?;
     prune_snapshots(&scene_dir, frames)?;
-    let rs = super::frames::rs_switch(&film.anim.systems[0].def.options);
-    let selection = FrameSelection::resolve(None, rs).to_text();
+    let selection = FrameSelection::resolve(None, film.rs_switch()).to_text();
     let rec = DeriveRecord {
-        dt: film.anim.camera.dt,
+        dt: film.dt(),
         events: sha256_bytes(events.as_bytes()),
         frame_count: frames,
         inputs,
@@ -334,24 +296,19 @@ fn prune_snapshots(scene_dir: &Path, frames: u64) -> Result<(), Error> {
     Ok(())
 }
 
-/// Derives every frame of the film from its current one (frame 0),
-/// handing each frame's scene to `each`; the turtle's warnings are shown
-/// once each at the end.
+/// Derives every frame of the film through its frame loop, handing each
+/// frame to `each`; the turtle's warnings are shown once each at the end.
 pub fn every_frame(
     film: &mut Film,
     progress: Progress,
-    mut each: impl FnMut(u64, &Scene) -> Result<(), Error>,
+    mut each: impl FnMut(&Frame) -> Result<(), Error>,
 ) -> Result<(), Error> {
-    let frames = film.anim.frame_count();
+    let frames = film.frame_count();
     let mut warnings = std::collections::BTreeSet::new();
-    for k in 0..frames {
-        let (scene, w) = film.scene().map_err(Error::input)?;
-        warnings.extend(w);
-        each(k, &scene)?;
-        if k + 1 < frames {
-            film.step().map_err(Error::input)?;
-        }
-        progress(k + 1, frames);
+    while let Some(frame) = film.next_frame()? {
+        warnings.extend(frame.warnings().iter().cloned());
+        each(frame)?;
+        progress(frame.number() + 1, frames);
     }
     for w in warnings {
         eprintln!("{w}");
@@ -365,7 +322,7 @@ pub fn write_events(film: &Film, path: &Path) -> Result<String, Error> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     }
-    let text = sound::events::write(film.air.log());
+    let text = sound::events::write(film.events());
     write_atomic(path, text.as_bytes()).map_err(|e| io(path, e))?;
     Ok(text)
 }
@@ -492,7 +449,7 @@ pub fn render_frames(
             render::check(&scene).map_err(refuse)?;
             st.frame = k;
             st.layers = formats != Formats::Png;
-            let img = render::render(&scene, &st);
+            let img = render::render(std::sync::Arc::new(scene), &st);
             for ext in ["exr", "png"] {
                 let p = dir.join(frame_path(&name, k, ext));
                 if exts.contains(&ext) {
@@ -571,11 +528,7 @@ pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<Option<sound
     }
     let sounds = dir.join(SOUNDS_DIR);
     let library = sounds.is_dir().then_some(sounds.as_path());
-    let report = sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, library, &|_, _| {})
-        .map_err(|e| Error {
-            code: e.exit_code(),
-            message: e.to_string(),
-        })?;
+    let report = sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, library, &|_, _| {})?;
     want.soundtrack = sha256_file(&wav).map_err(|e| io(&wav, e))?;
     record::write(&record_path, &want).map_err(|e| io(&record_path, e))?;
     Ok(Some(report))

@@ -84,6 +84,14 @@ impl fmt::Display for Error {
     }
 }
 
+/// A manifest that cannot be read or written is not the input's fault
+/// (exit 1); `verify` says otherwise where it is.
+impl From<Error> for crate::error::Error {
+    fn from(e: Error) -> Self {
+        crate::error::Error::other(e.to_string())
+    }
+}
+
 impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {

@@ -2,7 +2,10 @@
 //! L-systems, the turtle, the renderer and the sound log together, frame
 //! ranges and shards, the manifest, resume and mux.
 
+pub mod frame;
+mod window;
 pub mod world;
+pub use frame::Frame;
 pub use world::Film;
 
 pub mod assemble;
@@ -11,4 +14,5 @@ pub mod job;
 pub mod manifest;
 pub mod mux;
 pub mod record;
+pub mod trace;
 pub mod verify;

@@ -117,7 +117,9 @@ pub fn verify(dir: &Path) -> Result<Report, manifest::Error> {
                     .map(|file| Problem::Extra { file }),
             );
         }
-        Err(e) => problems.push(Problem::Records { what: e.message }),
+        Err(e) => problems.push(Problem::Records {
+            what: e.to_string(),
+        }),
     }
     problems.extend(
         stored

@@ -54,6 +54,10 @@ pub struct Physics {
     all_pairs: bool,
     /// The peak detectors of 7.4.
     peaks: peaks::Peaks,
+    /// The table as the film last sensed it, and its time (see
+    /// [`Physics::sense`]).
+    sensed: Vec<Particle>,
+    sensed_time: f64,
 }
 
 /// Answers `?18` (gravity force of the current particle) while a law of
@@ -102,6 +106,8 @@ impl Physics {
             time: anim.time(),
             all_pairs: false,
             peaks: peaks::Peaks::default(),
+            sensed: Vec::new(),
+            sensed_time: anim.time(),
         }
     }
 
@@ -219,18 +225,39 @@ impl Physics {
         p.placed = time;
     }
 
-    /// The global field Σ f_k at `at` (tropism, `?40`): every placed
-    /// particle's field that reaches `at`, in table order.
+    /// The global field Σ f_k at `at` (tropism): every placed particle's
+    /// field that reaches `at`, in table order.
     pub fn field_at(&self, at: DVec3) -> DVec3 {
+        self.field_of(&self.particles, self.time, at)
+    }
+
+    /// The field of the table `particles` at time `time`.
+    fn field_of(&self, particles: &[Particle], time: f64, at: DVec3) -> DVec3 {
         let mut laws = Laws::new(self);
         let mut f = DVec3::ZERO;
-        for q in &self.particles {
+        for q in particles {
             let r = at.distance(q.pos);
             if let (true, true, Some(law)) = (q.is_placed(), reaches(q.reach, r), q.field) {
-                f += laws.field(q, law, at, q.pos, q.vel, r, self.time);
+                f += laws.field(q, law, at, q.pos, q.vel, r, time);
             }
         }
         f
+    }
+
+    /// The touch sensors take their reading (DESIGN §1 step 3): the table
+    /// as it stands at the end of a frame's interpretation is what
+    /// expressions sense (`?20`, `?34`, `?40`) from that frame's
+    /// derivation through the next frame's interpretation, while the
+    /// table itself evolves and the turtle places particles. The copy
+    /// reuses its buffer from frame to frame.
+    pub fn sense(&mut self) {
+        self.sensed.clone_from(&self.particles);
+        self.sensed_time = self.time;
+    }
+
+    /// What the touch sensors read at their last reading.
+    pub fn touch(&self) -> Touch<'_> {
+        Touch { physics: self }
     }
 
     /// Evolves the integrated particles from the current time to `to`
@@ -366,6 +393,28 @@ impl Physics {
             }
         }
         f / p.mass
+    }
+}
+
+/// The particle table as the touch sensors last read it
+/// ([`Physics::sense`]).
+#[derive(Clone, Copy)]
+pub struct Touch<'a> {
+    physics: &'a Physics,
+}
+
+impl Touch<'_> {
+    /// `?40`: the global field at `at`.
+    pub fn field_at(&self, at: DVec3) -> DVec3 {
+        let p = self.physics;
+        p.field_of(&p.sensed, p.sensed_time, at)
+    }
+
+    /// The particle of `C` symbol `id`, if it had been placed.
+    pub fn get(&self, id: u64) -> Option<&Particle> {
+        let p = self.physics;
+        let q = p.sensed.get(*p.rows.get(&id)?)?;
+        q.is_placed().then_some(q)
     }
 }
 

@@ -2,6 +2,8 @@
 //! shared geometry (4-wide trees built by obvhs, see [`super::bvh4`]),
 //! with exact intersection of every primitive.
 
+use std::sync::Arc;
+
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 
@@ -81,9 +83,11 @@ pub struct Hit {
     pub vision: Vec3,
 }
 
-/// The ray-casting structure of one frame's scene.
-pub struct Accel<'a> {
-    pub scene: &'a Scene,
+/// The ray-casting structure of one frame's scene. It shares the scene
+/// (an [`Arc`]), so the frame that owns both can hand it to vision and to
+/// the camera alike.
+pub struct Accel {
+    pub scene: Arc<Scene>,
     tlas: Option<Bvh4>,
     /// Instance index of each top-level primitive.
     tlas_inst: Vec<u32>,
@@ -170,10 +174,11 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
     Some(b)
 }
 
-impl<'a> Accel<'a> {
+impl Accel {
     /// Builds the bottom levels, then the top level over the instances
     /// whose bounds are finite.
-    pub fn new(scene: &'a Scene) -> Self {
+    pub fn new(scene: impl Into<Arc<Scene>>) -> Self {
+        let scene: Arc<Scene> = scene.into();
         let blas: Vec<Option<Blas>> = scene
             .geometries
             .iter()

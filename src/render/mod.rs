@@ -13,6 +13,7 @@ pub mod texture;
 pub mod tri4;
 
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Arc;
 
 use rayon::prelude::*;
 
@@ -71,7 +72,7 @@ pub fn check(scene: &Scene) -> Result<(), String> {
 
 /// Renders `scene` into an image. Rows are computed independently into
 /// fixed slots, so the result does not depend on the thread count.
-pub fn render(scene: &Scene, settings: &Settings) -> Image {
+pub fn render(scene: impl Into<Arc<Scene>>, settings: &Settings) -> Image {
     render_with(&Accel::new(scene), settings, &|_, _| {})
 }
 

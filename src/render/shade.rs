@@ -58,7 +58,7 @@ pub fn trace(
     let Some(hit) = accel.cast(o, d, if depth == 0 { 0.0 } else { EPS }, f32::INFINITY) else {
         return (background(accel, d), false);
     };
-    let scene = accel.scene;
+    let scene = &*accel.scene;
     let Some(m) = scene.materials.get(hit.material as usize) else {
         return (Vec3::ZERO, true);
     };
@@ -116,7 +116,7 @@ fn shade_surface(
     depth: u32,
     key: u64,
 ) -> Vec3 {
-    let scene = accel.scene;
+    let scene = &*accel.scene;
     let mut local = m.ambient;
     let lift = p + n * EPS * (1.0 + p.abs().max_element());
     for (li, light) in scene.lights.iter().enumerate() {

@@ -38,6 +38,9 @@ pub struct Air {
     /// Length in seconds of each sound file met so far.
     durations: BTreeMap<u32, Option<f64>>,
     ongoing: Vec<Ongoing>,
+    /// The on-going events as the audition sensors last heard them
+    /// ([`Air::sense`]).
+    heard: Vec<Ongoing>,
     mics: BTreeMap<u32, DVec3>,
     /// Microphones that follow the camera (none declared: microphone 0).
     follow_camera: bool,
@@ -71,6 +74,7 @@ impl Air {
             search,
             durations: BTreeMap::new(),
             ongoing: Vec::new(),
+            heard: Vec::new(),
             mics: BTreeMap::new(),
             follow_camera: false,
             sources: BTreeMap::new(),
@@ -231,6 +235,18 @@ impl Air {
             self.log.source_position(s, p).map_err(|e| e.to_string())?;
         }
         Ok(())
+    }
+
+    /// The audition sensors take their reading (DESIGN §1 step 3): what
+    /// `?60`–`?62` hear from this frame's derivation through the next
+    /// frame's interpretation, while new events start.
+    pub fn sense(&mut self) {
+        self.heard.clone_from(&self.ongoing);
+    }
+
+    /// The on-going events at the last reading, oldest first.
+    pub fn heard(&self) -> &[Ongoing] {
+        &self.heard
     }
 
     /// `?60`: the number of on-going sound events.

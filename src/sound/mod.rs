@@ -11,7 +11,6 @@ pub mod render;
 mod trajectory;
 pub mod wav;
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 pub use events::{Event, EventLog, EventsFile, Frame, LogError};
@@ -20,47 +19,9 @@ pub use render::{render, Attenuation, Settings, Soundtrack};
 pub use wav::{SampleFormat, Signal};
 
 use crate::atomic::write_atomic;
+use crate::error::Error;
 use crate::source::read_file;
-use crate::source::{Diagnostic, Source};
-
-/// Why a soundtrack could not be made.
-#[derive(Debug)]
-pub enum Error {
-    /// A line of the events file is wrong, or a sound it plays is missing.
-    At(Diagnostic),
-    /// Other bad input: a sound file's contents, a supersonic source, a
-    /// setting out of range.
-    Input(String),
-    /// The output could not be written.
-    Output(String),
-}
-
-impl Error {
-    /// The process exit code (DESIGN §5): 2 for bad input, 1 otherwise.
-    pub fn exit_code(&self) -> u8 {
-        match self {
-            Error::Output(_) => 1,
-            _ => 2,
-        }
-    }
-}
-
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Error::At(d) => d.fmt(f),
-            Error::Input(m) | Error::Output(m) => f.write_str(m),
-        }
-    }
-}
-
-impl std::error::Error for Error {}
-
-impl From<Diagnostic> for Error {
-    fn from(d: Diagnostic) -> Self {
-        Error::At(d)
-    }
-}
+use crate::source::Source;
 
 /// The events file and soundtrack `lmfilm sound ARG [-o OUT]` means: a
 /// folder stands for its `soundtrack.events`; the soundtrack goes beside
@@ -100,20 +61,20 @@ pub fn render_file(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Report, Error> {
     let bytes = read_file(events, MAX_EVENTS_BYTES)
-        .map_err(|e| Error::Input(format!("{}: cannot read: {e}", events.display())))?;
+        .map_err(|e| Error::input(format!("{}: cannot read: {e}", events.display())))?;
     let file = EventsFile::parse(Source::from_bytes(events.display().to_string(), bytes)?)?;
     let search = library::search_path(events.parent(), library);
     let sounds =
         Sounds::load(&file.log, &search).map_err(|e| file.play_error(e.play, e.message))?;
     let track = render::render_with(&file.log, &sounds, settings, progress)?;
     let (bytes, clipped) =
-        wav::encode(&track.channels, track.rate, settings.format).map_err(Error::Output)?;
+        wav::encode(&track.channels, track.rate, settings.format).map_err(Error::other)?;
     if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| {
-            Error::Output(format!("{}: cannot create the folder: {e}", dir.display()))
+            Error::other(format!("{}: cannot create the folder: {e}", dir.display()))
         })?;
     }
-    write_atomic(output, &bytes).map_err(|e| Error::Output(e.to_string()))?;
+    write_atomic(output, &bytes).map_err(|e| Error::other(e.to_string()))?;
     Ok(Report {
         channels: track.channels.len(),
         samples: track.channels.first().map_or(0, Vec::len),

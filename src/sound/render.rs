@@ -28,7 +28,7 @@ use super::library::Sounds;
 use super::loudness::{self, Normalization};
 use super::trajectory::Trajectory;
 use super::wav::{SampleFormat, Signal};
-use super::Error;
+use crate::error::Error;
 
 /// How loudness falls with the distance d (metres) from the source.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -129,26 +129,26 @@ pub fn render_with(
 ) -> Result<Soundtrack, Error> {
     let c = settings.speed_of_sound;
     if !(c.is_finite() && c > 0.0) {
-        return Err(Error::Input(format!(
+        return Err(Error::input(format!(
             "the speed of sound must be > 0 m/s, got {c}"
         )));
     }
     if settings.rate == 0 {
-        return Err(Error::Input("the sample rate must be ≥ 1 Hz".into()));
+        return Err(Error::input("the sample rate must be ≥ 1 Hz"));
     }
     if let Some(target) = settings.loudness {
-        loudness::check_target(target).map_err(Error::Input)?;
+        loudness::check_target(target).map_err(Error::input)?;
     }
     let world = World::new(log, sounds, settings)?;
     if world.mics.is_empty() {
-        return Err(Error::Input(
-            "the log declares no microphone (INIT_mic): nothing hears the sounds".into(),
+        return Err(Error::input(
+            "the log declares no microphone (INIT_mic): nothing hears the sounds",
         ));
     }
     // A WAV file holds at most 4 GiB of samples.
     let bytes = log.duration() * settings.rate as f64 * world.mics.len() as f64 * 4.0;
     if bytes > u32::MAX as f64 {
-        return Err(Error::Input(format!(
+        return Err(Error::input(format!(
             "a soundtrack of {} s with {} channels at {} Hz does not fit in a WAV file (4 GiB)",
             log.duration(),
             world.mics.len(),
@@ -270,7 +270,7 @@ impl<'a> World<'a> {
                 continue;
             };
             let signal = sounds.get(file).ok_or_else(|| {
-                Error::Input(format!(
+                Error::input(format!(
                     "PLAY {n} {file} at TIME {start}: the sound is not loaded"
                 ))
             })?;
@@ -283,7 +283,7 @@ impl<'a> World<'a> {
             // A unique emission time needs the source slower than sound
             // while it emits something that can still be heard.
             if let Some((speed, when)) = trajectory.reaches_speed(start, end.min(end_of_track), c) {
-                return Err(Error::Input(format!(
+                return Err(Error::input(format!(
                     "source {n} moves at {speed:.1} m/s at t = {when:.4} s while it plays {file}, \
                      not slower than sound ({c} m/s): the time its sound left it has no unique \
                      solution (a sonic boom); slow it down or raise --speed-of-sound"
@@ -354,7 +354,7 @@ impl<'a> World<'a> {
                 };
                 let tau = emission_time(path, &mut hint, m_t, t, c, (e.start, e.end.min(t)), guess)
                     .ok_or_else(|| {
-                        Error::Input(format!(
+                        Error::input(format!(
                             "source {} playing {} approaches microphone {} at the speed of sound \
                              or faster at t = {t:.6} s: the time its sound left it has no unique \
                              solution (a sonic boom)",

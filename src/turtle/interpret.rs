@@ -10,7 +10,7 @@ use super::special;
 use super::state::{bend, Turtle};
 use super::{Builder, ParticleMapping, SoundRequest, TurtleWorld};
 use crate::lsys::word::NO_ORIGIN;
-use crate::lsys::{LSystem, Limits, Sensors, Symbol, Who};
+use crate::lsys::{LSystem, Limits, Symbol, Who};
 use crate::scene::shape::{bounds, triangle_bounds};
 use crate::scene::{material, MAX_COORDINATE};
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
@@ -98,7 +98,6 @@ pub(super) struct Interpreter<'a> {
     ls: &'a mut LSystem,
     b: &'a mut Builder,
     world: &'a mut dyn TurtleWorld,
-    sensors: &'a mut dyn Sensors,
     time: f64,
     seed: u64,
     opts: Options,
@@ -126,7 +125,6 @@ pub fn interpret(
     seed: u64,
     b: &mut Builder,
     tables: &mut Tables,
-    sensors: &mut dyn Sensors,
     world: &mut dyn TurtleWorld,
     opts: Options,
 ) -> Structure {
@@ -134,7 +132,6 @@ pub fn interpret(
         ls,
         b,
         world,
-        sensors,
         time,
         seed,
         opts,
@@ -180,7 +177,7 @@ impl Interpreter<'_> {
     }
 
     fn growth(&mut self, s: &Symbol) -> [f64; 3] {
-        self.ls.growth(s, self.time, self.seed, self.sensors)
+        self.ls.growth(s, self.time, self.seed, self.world)
     }
 
     fn who(&self, s: &Symbol) -> Who {
@@ -274,7 +271,7 @@ impl Interpreter<'_> {
         if !self.tropism.on {
             return;
         }
-        let mut f = self.world.force(self.t.pos);
+        let mut f = self.world.field(self.t.pos);
         if let Some(v) = self.tropism.field {
             // The field's x, y, z are the turtle position (C.4).
             let at = Symbol {
@@ -304,7 +301,7 @@ impl Interpreter<'_> {
             6 => ParticleMapping::Turtle { at: self.t.pos },
             _ => return,
         };
-        if let Some(p) = self.world.particle(self.who(s), mapping) {
+        if let Some(p) = self.world.map_particle(self.who(s), mapping) {
             if p.is_finite() {
                 self.t.pos = p;
             }

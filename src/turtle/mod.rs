@@ -23,15 +23,17 @@ pub use interpret::{interpret, Options, Placed, Structure, Tables};
 pub use state::Turtle;
 
 /// What the turtle may ask of higher layers (particles, trajectories,
-/// the sound log); the defaults answer for a world without them.
-pub trait TurtleWorld {
+/// the sound log); the defaults answer for a world without them. The
+/// same window answers the expressions the turtle evaluates (growth
+/// functions) as their [`Sensors`].
+pub trait TurtleWorld: Sensors {
     /// Force of the particle fields at `p`, added to the tropism force.
-    fn force(&mut self, _p: DVec3) -> DVec3 {
+    fn field(&mut self, _p: DVec3) -> DVec3 {
         DVec3::ZERO
     }
     /// The `C` symbol `who` maps its particle and the turtle (C.4);
     /// returns where the turtle goes, if it moves.
-    fn particle(&mut self, _who: Who, _mapping: ParticleMapping) -> Option<DVec3> {
+    fn map_particle(&mut self, _who: Who, _mapping: ParticleMapping) -> Option<DVec3> {
         None
     }
     /// Velocity of the particle mapped to symbol `who` (`$` par2 = 4).
@@ -85,9 +87,12 @@ pub enum SoundRequest {
     Move { source: u32, at: DVec3 },
 }
 
-/// A world with no particles, trajectories or sound log.
+/// A world with no particles, trajectories or sound log, whose sensors
+/// give their defaults.
 #[derive(Debug, Default, Clone, Copy)]
 pub struct NoWorld;
+
+impl Sensors for NoWorld {}
 
 impl TurtleWorld for NoWorld {}
 
@@ -410,7 +415,6 @@ pub fn build_scene(
     anim: &mut Animation,
     surfaces: &Surfaces,
     tables: &mut Vec<Tables>,
-    sensors: &mut dyn Sensors,
     world: &mut dyn TurtleWorld,
     opts: Options,
 ) -> Result<(Scene, Vec<String>), String> {
@@ -444,7 +448,7 @@ pub fn build_scene(
     let mut recoloured = BTreeMap::new();
     let mut instances = Vec::new();
     for (k, ls) in anim.systems.iter_mut().enumerate() {
-        let st = interpret(ls, time, seed, &mut b, &mut tables[k], sensors, world, opts);
+        let st = interpret(ls, time, seed, &mut b, &mut tables[k], world, opts);
         // Each copy is one instance of the word and one per placement.
         let nbr = ls.def.repetition.start_side_nbr_dist.2.max(1) as usize;
         if b.over() || !b.count(nbr.saturating_mul(1 + st.placements.len())) {

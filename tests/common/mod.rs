@@ -52,7 +52,6 @@ pub fn scene(a: &mut Animation) -> (lmfilm::scene::Scene, Vec<String>) {
         a,
         &surfaces,
         &mut Vec::new(),
-        &mut NoSensors,
         &mut NoWorld,
         Options::default(),
     )

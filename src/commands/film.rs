@@ -1,0 +1,212 @@
+//! The film commands of DESIGN §5: run, derive, render, mux, verify and
+//! `sound DIR`, over the stages of [`crate::film::job`].
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use super::args::{RenderArgs, SoundArgs};
+use super::scenes::{self, Loaded};
+use super::Progress;
+use crate::error::{Error, Result};
+use crate::film::frames::{FrameSelection, Shard, FRAMES_DIR};
+use crate::film::job::{self, EVENTS_FILE, SOUNDTRACK_FILE};
+use crate::film::record::DERIVE_RECORD;
+use crate::film::{assemble, manifest, mux, verify};
+use crate::lsys::Limits;
+use crate::sound;
+use crate::turtle::Options;
+
+/// The options that change a derivation, as its record keeps them.
+fn derive_options(allow_commands: bool) -> BTreeMap<String, String> {
+    BTreeMap::from([
+        ("allow_commands".to_string(), allow_commands.to_string()),
+        (
+            "segment_width".to_string(),
+            Options::default().segment_width.to_string(),
+        ),
+    ])
+}
+
+/// Derives the film into `dir` (nothing when its record is up to date)
+/// and writes the manifest; returns whether it derived.
+fn derive_into(loaded: &mut Loaded, dir: &Path, clean: bool, allow: bool) -> Result<bool> {
+    let Loaded { film, texts, name } = loaded;
+    let inputs = job::inputs(film, texts, name, derive_options(allow))?;
+    let mut p = Progress::new("deriving frame");
+    let (_, derived) = job::derive(film, inputs, dir, clean, &mut |k, n| p.tick(k, n))?;
+    p.done();
+    assemble::finish(dir)?;
+    Ok(derived)
+}
+
+/// Renders the frames of `dir` that `--frames` (else the film's own
+/// selection) and `shard` name; returns (rendered now, selected).
+fn render_into(dir: &Path, args: &RenderArgs, shard: Shard, max_pixels: u64) -> Result<(u64, u64)> {
+    let (settings, formats) = args.settings(max_pixels)?;
+    let rec = job::open(dir)?;
+    let selection = match args.frames {
+        Some(range) => FrameSelection::range(range),
+        None => FrameSelection::from_text(&rec.selection).map_err(|e| {
+            Error::input(format!(
+                "{}: derive.json: {e}; derive the film again",
+                dir.display()
+            ))
+        })?,
+    };
+    let frames = selection.frames(rec.frame_count, shard);
+    let mut p = Progress::new("rendering frame");
+    let n = job::render_frames(dir, &frames, &settings, formats, max_pixels, &mut |k, n| {
+        p.tick(k, n)
+    })?;
+    p.done();
+    Ok((n, frames.len() as u64))
+}
+
+/// What `run` and `derive` start from.
+pub struct FilmArgs<'a> {
+    /// The scene files (none: the built-in film).
+    pub scenes: &'a [PathBuf],
+    pub allow_commands: bool,
+    /// Empty the folder's lmfilm outputs first.
+    pub clean: bool,
+    pub limits: Limits,
+}
+
+/// `lmfilm run`: derive, render, soundtrack, MP4 (with ffmpeg) and the
+/// manifest.
+pub fn run(
+    film: &FilmArgs,
+    out: Option<&Path>,
+    args: &RenderArgs,
+    sound_args: &SoundArgs,
+) -> Result<()> {
+    args.threads();
+    args.settings(film.limits.pixels)?;
+    let sound_settings = sound_args.settings();
+    let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
+    let dir = scenes::output_dir(out, &loaded.film, &loaded.name);
+    let derived = derive_into(&mut loaded, &dir, film.clean, film.allow_commands)?;
+    let (rendered, selected) = render_into(&dir, args, Shard::all(), film.limits.pixels)?;
+    let sounded = soundtrack(&dir, &sound_settings)?;
+    let mp4 = if mux::ffmpeg_available() {
+        Some(job::mux(&dir)?)
+    } else {
+        None
+    };
+    let m = assemble::finish(&dir)?;
+    let now = |done: bool| if done { "made now" } else { "up to date" };
+    println!(
+        "{}: {} frames derived ({}), {rendered} of {selected} frames rendered now (the others up to date), {} ({}), {}",
+        dir.display(),
+        m.frame_count,
+        now(derived),
+        dir.join(SOUNDTRACK_FILE).display(),
+        now(sounded),
+        dir.join(manifest::MANIFEST_FILE).display()
+    );
+    match mp4 {
+        Some((path, made)) => println!("film: {} ({})", path.display(), now(made)),
+        None => println!("ffmpeg is not installed: frames and soundtrack are in {}; `lmfilm mux {}` makes the MP4 once it is", dir.display(), dir.display()),
+    }
+    Ok(())
+}
+
+/// `lmfilm derive`.
+pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
+    let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
+    let derived = derive_into(&mut loaded, out, film.clean, film.allow_commands)?;
+    let rec = job::open(out)?;
+    println!(
+        "{}: {} frames {} (scene/NNNN.snap, {EVENTS_FILE}, {DERIVE_RECORD}, {})",
+        out.display(),
+        rec.frame_count,
+        if derived { "derived" } else { "up to date" },
+        manifest::MANIFEST_FILE
+    );
+    Ok(())
+}
+
+/// `lmfilm render DIR`: a shard leaves the manifest to the stage that
+/// finishes the film (`sound DIR`), since shards on many machines must
+/// never write one file; a whole render writes it.
+pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>, max_pixels: u64) -> Result<()> {
+    args.threads();
+    let (n, selected) = render_into(dir, args, shard.unwrap_or(Shard::all()), max_pixels)?;
+    println!(
+        "{}: {n} of {selected} frames rendered now (the others up to date) in {}",
+        dir.display(),
+        dir.join(FRAMES_DIR).display()
+    );
+    match shard {
+        Some(s) => println!(
+            "shard {s} done; once every shard is, finish the film with: lmfilm sound {}",
+            dir.display()
+        ),
+        None => {
+            assemble::finish(dir)?;
+        }
+    }
+    Ok(())
+}
+
+/// `lmfilm mux DIR`.
+pub fn mux(dir: &Path) -> Result<()> {
+    let (mp4, made) = job::mux(dir)?;
+    assemble::finish(dir)?;
+    println!(
+        "{}{}",
+        mp4.display(),
+        if made { "" } else { " (up to date)" }
+    );
+    Ok(())
+}
+
+/// `lmfilm verify DIR`: each problem named, and an error (exit 1) when
+/// there is one.
+pub fn verify(dir: &Path) -> Result<()> {
+    let report = verify::verify(dir).map_err(|e| Error::input(e.to_string()))?;
+    if report.is_ok() {
+        println!(
+            "{}: complete and intact: {} files match manifest.json and their records",
+            dir.display(),
+            report.checked
+        );
+        return Ok(());
+    }
+    for p in &report.problems {
+        eprintln!("{}: {p}", dir.display());
+    }
+    Err(Error::other(format!(
+        "{}: {} problems ({} files listed in manifest.json)",
+        dir.display(),
+        report.problems.len(),
+        report.checked
+    )))
+}
+
+/// The folder's soundtrack (unless up to date), saying what loudness
+/// normalisation did.
+fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool> {
+    let report = job::soundtrack(dir, settings)?;
+    if let Some(n) = report.as_ref().and_then(|r| r.loudness.as_ref()) {
+        eprintln!("{}: {}", dir.join(SOUNDTRACK_FILE).display(), n.summary());
+        if let Some(w) = n.warning() {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(report.is_some())
+}
+
+/// `lmfilm sound DIR` on a film folder: the soundtrack, then the manifest
+/// (the stage that finishes a film rendered in shards).
+pub fn sound_dir(dir: &Path, settings: &sound::Settings) -> Result<()> {
+    let made = soundtrack(dir, settings)?;
+    assemble::finish(dir)?;
+    println!(
+        "{}{}, {}",
+        dir.join(SOUNDTRACK_FILE).display(),
+        if made { "" } else { " (up to date)" },
+        dir.join(manifest::MANIFEST_FILE).display()
+    );
+    Ok(())
+}

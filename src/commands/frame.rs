@@ -1,0 +1,168 @@
+//! The commands about one frame: `print`, `export` and `still`.
+
+use std::path::Path;
+
+use super::args::{quality, FilterArg, FrameArgs, PresetArg};
+use super::{create_parent, print_line, scenes, Percent, Progress};
+use crate::error::{Error, Result};
+use crate::film::{Film, Frame};
+use crate::lsys::print::Format;
+use crate::lsys::Limits;
+use crate::render;
+use crate::scene::{mesh, obj};
+use crate::turtle::Options;
+
+/// The film, run through its frame loop up to the frame `--frame` or
+/// `--time` names (every frame interpreted on the way, sound events and
+/// `?` queries included).
+fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film> {
+    let mut film = scenes::load_film(&at.scenes, at.allow_commands, opts)?;
+    let last = film.frame_count() - 1;
+    let target = match (at.frame, at.time) {
+        (_, Some(t)) => film.frame_at(t),
+        (Some(n), None) => n,
+        (None, None) => 0,
+    };
+    // A frame past the end is not part of the film: say where it ends.
+    if target > last {
+        let asked = match at.time {
+            Some(t) => format!("--time {t:?}"),
+            None => format!("--frame {target}"),
+        };
+        return Err(Error::input(format!(
+            "{asked} is past the end: the film {} ends at frame {last} (time {} s); its t_final_interval sets its length",
+            at.scenes[0].display(),
+            last as f64 * film.dt()
+        )));
+    }
+    let mut progress = Progress::new("deriving frame");
+    film.seek(target, |k, n| progress.tick(k, n))?;
+    progress.done();
+    Ok(film)
+}
+
+/// The frame the film was run to, its warnings shown.
+fn shown(film: &Film) -> &Frame {
+    let frame = film.frame().expect("derive_to ran the film to its frame");
+    for m in frame.warnings() {
+        eprintln!("{m}");
+    }
+    frame
+}
+
+/// `lmfilm print`: the words of every L-system at the frame, one line per
+/// file. The turtle runs on the printed frame too, so `?` shows its
+/// position; its warnings are about drawing, which `print` does not.
+pub fn print(at: &FrameArgs, full: bool) -> Result<()> {
+    let opts = Options {
+        limits: at.limits.limits(),
+        ..Options::default()
+    };
+    let mut film = derive_to(at, opts)?;
+    let format = if full { Format::Full } else { Format::Symbols };
+    let mut out = std::io::stdout().lock();
+    for line in film.words(format) {
+        if !print_line(&mut out, &line)? {
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// `lmfilm export`: the frame's whole geometry as OUT.obj and OUT.mtl.
+pub fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<()> {
+    let opts = Options {
+        segment_width,
+        limits: at.limits.limits(),
+    };
+    let film = derive_to(at, opts)?;
+    let frame = shown(&film);
+    // Shapes become many triangles each: the count is the export's.
+    let (count, max) = (
+        mesh::expanded_count(frame.scene()),
+        opts.limits.shapes as u64,
+    );
+    if count > max {
+        return Err(Error::input(format!(
+            "{}: frame {}: the export would hold {count} triangles, over the limit of {max}; raise it with --max-shapes N",
+            at.scenes[0].display(),
+            frame.number()
+        )));
+    }
+    create_parent(output)?;
+    obj::write_obj(frame.scene(), output)
+        .map_err(|e| Error::other(format!("{}: cannot write: {e}", output.display())))?;
+    // Say what was written, so the user finds it (and its .mtl).
+    println!(
+        "{}, {}",
+        output.display(),
+        output.with_extension("mtl").display()
+    );
+    Ok(())
+}
+
+/// How `lmfilm still` renders its frame.
+pub struct StillArgs {
+    pub size: (Option<u32>, Option<u32>),
+    pub spp: Option<u32>,
+    pub preset: PresetArg,
+    pub filter: FilterArg,
+    pub segment_width: f64,
+}
+
+/// Whether `output` names an EXR image (else a PNG); any other extension
+/// is a usage error.
+pub fn image_kind(output: &Path) -> Result<bool> {
+    let ext = output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => Ok(false),
+        Some("exr") => Ok(true),
+        _ => Err(Error::input(format!(
+            "{}: the output must end in .png or .exr",
+            output.display()
+        ))),
+    }
+}
+
+/// `lmfilm still`: ray-traces the frame into OUT.png or OUT.exr with the
+/// BVH the frame owns.
+pub fn still(at: &FrameArgs, output: &Path, args: &StillArgs) -> Result<()> {
+    let exr = image_kind(output)?;
+    let limits = at.limits.limits();
+    // Given sizes are checked before the derivation, the camera's after.
+    if let (Some(w), Some(h)) = args.size {
+        Limits::check_pixels(w, h, limits.pixels).map_err(Error::input)?;
+    }
+    let opts = Options {
+        segment_width: args.segment_width,
+        limits,
+    };
+    let film = derive_to(at, opts)?;
+    let frame = shown(&film);
+    let camera = &frame.scene().camera;
+    let w = args.size.0.unwrap_or(camera.width);
+    let h = args.size.1.unwrap_or(camera.height);
+    Limits::check_pixels(w, h, limits.pixels).map_err(|e| {
+        let scene = at.scenes[0].display();
+        Error::input(format!("{scene}: frame {}: {e}", frame.number()))
+    })?;
+    let mut settings = quality(args.preset, w, h, args.spp);
+    settings.filter = args.filter.filter();
+    settings.frame = frame.number();
+    // PNG holds colour only: no need for the layer rays.
+    settings.layers = exr;
+    let percent = Percent::new("rendering");
+    let img = render::render_with(frame.accel(), &settings, &|done, rows| {
+        percent.tick(done, rows)
+    });
+    percent.done();
+    create_parent(output)?;
+    render::output::write(&img, output)
+        .map_err(|e| Error::other(format!("{}: {e}", output.display())))?;
+    // Say what was written, so the user finds it.
+    println!("{} ({w}×{h}, {} spp)", output.display(), settings.spp);
+    Ok(())
+}

@@ -1,0 +1,105 @@
+//! The scenes a command derives: the files given, or the built-in film,
+//! loaded as one [`Film`] with the user's consent to run scripts.
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::film::job::SceneText;
+use crate::film::Film;
+use crate::lsys::{Limits, Source};
+use crate::turtle::Options;
+
+/// The built-in film (`lmfilm run` with no scene): its three files.
+const BUILT_IN: [(&str, &str); 3] = [
+    ("tree.lm", include_str!("../../scenes/film/tree.lm")),
+    ("flowers.lm", include_str!("../../scenes/film/flowers.lm")),
+    ("airplane.lm", include_str!("../../scenes/film/airplane.lm")),
+];
+
+/// Loads the scene files as one film. A scene that wants to run scripts
+/// (`command_file`) is refused unless the user consents
+/// (`--allow-commands`), by every command alike; scripts are found in the
+/// first scene's folder.
+pub fn load_film(scenes: &[PathBuf], allow_commands: bool, opts: Options) -> Result<Film> {
+    let mut film = Film::load(scenes, opts)?;
+    if let Some(what) = film.wants_commands() {
+        if !allow_commands {
+            return Err(Error::input(format!(
+                "{what}: this scene wants to run scripts on this machine; a scene never runs anything by default. If you trust it, run again with --allow-commands"
+            )));
+        }
+        // A bare file name's folder is the current one.
+        let dir = scenes
+            .first()
+            .and_then(|p| p.parent())
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        film.allow_commands(dir);
+    }
+    Ok(film)
+}
+
+/// A film with what its records name it by.
+pub struct Loaded {
+    pub film: Film,
+    /// The scene texts, as the records name them.
+    pub texts: Vec<SceneText>,
+    /// The film's name: its `rs_file_path_name`, else the first scene's
+    /// file name (`lmfilm` for the built-in film).
+    pub name: String,
+}
+
+/// The scenes given, or the built-in film when there are none.
+pub fn load(scenes: &[PathBuf], allow_commands: bool, limits: Limits) -> Result<Loaded> {
+    let opts = Options {
+        limits,
+        ..Options::default()
+    };
+    let (film, texts, name) = if scenes.is_empty() {
+        let sources: Vec<Source> = BUILT_IN
+            .iter()
+            .map(|(n, t)| Source::new(format!("built-in:{n}"), *t))
+            .collect();
+        let film = Film::from_sources(&sources, None, opts)?;
+        let texts = BUILT_IN
+            .iter()
+            .map(|(n, t)| SceneText {
+                name: format!("built-in:{n}"),
+                bytes: t.as_bytes().to_vec(),
+            })
+            .collect();
+        (film, texts, "lmfilm".to_string())
+    } else {
+        let film = load_film(scenes, allow_commands, opts)?;
+        let mut texts = Vec::new();
+        for p in scenes {
+            let bytes =
+                std::fs::read(p).map_err(|e| Error::input(format!("{}: {e}", p.display())))?;
+            texts.push(SceneText {
+                name: p.display().to_string(),
+                bytes,
+            });
+        }
+        let name = scenes[0]
+            .file_stem()
+            .map_or("film".into(), |s| s.to_string_lossy().into_owned());
+        if let Err(why) = crate::lsys::options::plain_name(&name) {
+            return Err(Error::input(format!(
+                "{}: the film's name `{name}` (the scene's file name) {why}; name it with rs_file_path_name",
+                scenes[0].display()
+            )));
+        }
+        (film, texts, name)
+    };
+    // `rs_file_path_name PATH NAME` names the frames.
+    let name = film.rs_file().map_or(name, |(_, n)| n);
+    Ok(Loaded { film, texts, name })
+}
+
+/// The output folder: `-o`, else the scene's `rs_file_path_name` folder,
+/// else `renders/<name>/`.
+pub fn output_dir(out: Option<&Path>, film: &Film, name: &str) -> PathBuf {
+    out.map(Path::to_path_buf)
+        .or_else(|| film.rs_file().map(|(p, _)| p))
+        .unwrap_or_else(|| Path::new("renders").join(name))
+}

@@ -1,0 +1,217 @@
+//! The one window through which the lower layers see the film's world
+//! (DESIGN §2): the L-system's [`Sensors`] and the turtle's
+//! [`TurtleWorld`], made for each use from split borrows of the film's
+//! parts — the particles, the sound event handler, the scripts.
+//!
+//! Sensor functions read what the sense step recorded (the particle
+//! table and the on-going sounds as the frame's interpretation left
+//! them, [`Physics::touch`] and [`Air::heard`]); the turtle's requests
+//! act on the live world. An expression therefore never sees the world
+//! change while a frame is being interpreted or derived.
+
+use std::path::PathBuf;
+
+use glam::DVec3;
+
+use crate::error::Error;
+use crate::lsys::{Sensors, Who};
+use crate::physics::{Mode, Particle, Physics};
+use crate::sound::air::{self, Air, AMBIENT_SOURCE};
+use crate::source::FileRef;
+use crate::turtle::{ParticleMapping, SoundRequest, TurtleWorld};
+
+/// A `command_file` declaration: number, script, two text arguments.
+pub(super) type Script = (i64, FileRef, String, String);
+
+/// The scripts a scene may run (only with the user's consent) and the
+/// folder they live in.
+pub(super) type Scripts = (Vec<Script>, PathBuf);
+
+/// The world as one frame's interpretation or derivation sees it.
+pub(super) struct Window<'a> {
+    pub air: &'a mut Air,
+    pub physics: &'a mut Physics,
+    /// The particle of the last `C` interpreted: the "current particle"
+    /// of `?20`, `?34`, `$` par2 = 4 and `l` par3 = 4, 5.
+    pub current: Option<Who>,
+    pub scripts: Option<&'a Scripts>,
+    pub frame: u64,
+    /// The first failure of a turtle request; it stops the frame.
+    pub error: Option<Error>,
+}
+
+/// The particle of symbol `who` in `get`'s table, or else `current`'s
+/// when it belongs to the same L-system.
+fn particle_of<'p>(
+    get: impl Fn(u64) -> Option<&'p Particle>,
+    current: Option<Who>,
+    who: Who,
+) -> Option<&'p Particle> {
+    get(who.symbol).or_else(|| get(current.filter(|c| c.lsys == who.lsys)?.symbol))
+}
+
+impl Window<'_> {
+    /// Swim phase (radians) of `who`'s particle, or the current one's, as
+    /// last sensed.
+    fn phase(&self, who: Who) -> f64 {
+        let touch = self.physics.touch();
+        particle_of(|id| touch.get(id), self.current, who).map_or(0.0, |p| p.phase)
+    }
+
+    /// The live particle of symbol `who`, or else the current one.
+    fn live(&self, who: Who) -> Option<&Particle> {
+        particle_of(|id| self.physics.get(id), self.current, who)
+    }
+
+    fn fail(&mut self, e: Error) {
+        self.error.get_or_insert(e);
+    }
+
+    /// Runs script `number` as the thesis did: the frame number, the two
+    /// declared arguments and the three values.
+    fn run_script(&mut self, number: i64, values: [i64; 3]) {
+        let Some((scripts, dir)) = self.scripts else {
+            return;
+        };
+        let Some((_, script, a1, a2)) = scripts.iter().find(|s| s.0 == number) else {
+            return self.fail(Error::input(format!(
+                "`E` runs script {number}, which no command_file declares"
+            )));
+        };
+        let path = dir.join(&script.name);
+        // A script that is not a file is reported where the scene names it.
+        if !path.is_file() {
+            let e = script.error(format!(
+                "script {} (command_file {number}) is not a file",
+                path.display()
+            ));
+            return self.fail(e.into());
+        }
+        let status = std::process::Command::new(&path)
+            .current_dir(dir)
+            .arg(self.frame.to_string())
+            .args([a1, a2])
+            .args(values.map(|v| v.to_string()))
+            .status();
+        match status {
+            Ok(s) if s.success() => {}
+            Ok(s) => self.fail(Error::other(format!(
+                "script {} (command_file {number}) failed: {s}",
+                script.name
+            ))),
+            Err(e) => self.fail(Error::other(
+                script
+                    .error(format!(
+                        "script {} (command_file {number}) cannot run: {e}",
+                        path.display()
+                    ))
+                    .to_string(),
+            )),
+        }
+    }
+}
+
+/// `v` as a sound or source number, when it is one exactly.
+fn whole(v: f64) -> Option<u32> {
+    let n = v as u32;
+    (f64::from(n) == v).then_some(n)
+}
+
+impl Sensors for Window<'_> {
+    /// `?20`: the swim motor, sin(phase)·5 (table B5); `?18` as default.
+    fn particle(&mut self, code: u8, who: Who) -> f64 {
+        match code {
+            20 => self.phase(who).sin() * 5.0,
+            18 => -9.81,
+            _ => 0.0,
+        }
+    }
+
+    /// `?34`: the swim phase in degrees.
+    fn phase_degrees(&mut self, who: Who) -> f64 {
+        self.phase(who).to_degrees()
+    }
+
+    /// `?40`: the magnitude of the field at `p`.
+    fn force(&mut self, p: [f64; 3]) -> f64 {
+        self.physics.touch().field_at(DVec3::from_array(p)).length()
+    }
+
+    fn sounds_playing(&mut self) -> f64 {
+        self.air.heard().len() as f64
+    }
+
+    fn sound_of_source(&mut self, source: f64) -> f64 {
+        let found = whole(source).and_then(|n| air::sound_of_source(self.air.heard(), n));
+        found.map_or(-1.0, f64::from)
+    }
+
+    fn source_of_sound(&mut self, sound: f64) -> f64 {
+        let found = whole(sound).and_then(|n| air::source_of_sound(self.air.heard(), n));
+        found.map_or(-1.0, f64::from)
+    }
+}
+
+/// Microphones and sound events go to the handler, `C` and tropism to
+/// the particles; the first error stops the frame.
+impl TurtleWorld for Window<'_> {
+    fn field(&mut self, p: DVec3) -> DVec3 {
+        self.physics.field_at(p)
+    }
+
+    fn map_particle(&mut self, who: Who, mapping: ParticleMapping) -> Option<DVec3> {
+        let id = who.symbol;
+        let to = match mapping {
+            ParticleMapping::Start { at, mass, velocity } => {
+                self.physics.start(id, at, mass, velocity);
+                None
+            }
+            ParticleMapping::Follow => self.physics.get(id).map(|p| p.pos),
+            ParticleMapping::Place { at } => {
+                self.physics.place(id, at, Mode::Placed);
+                Some(at)
+            }
+            ParticleMapping::Turtle { at } => {
+                self.physics.place(id, at, Mode::Turtle);
+                None
+            }
+        };
+        if self.physics.get(id).is_some() {
+            self.current = Some(who);
+        }
+        to
+    }
+
+    fn particle_velocity(&mut self, who: Who) -> Option<DVec3> {
+        self.live(who).map(|p| p.vel)
+    }
+
+    fn particle_position(&mut self, who: Who) -> Option<DVec3> {
+        self.live(who).map(|p| p.pos)
+    }
+
+    fn microphone(&mut self, mic: i64, p: DVec3) {
+        match u32::try_from(mic) {
+            Ok(m) => self.air.microphone(m, p),
+            Err(_) => self.fail(Error::input(format!("microphone number {mic} must be ≥ 0"))),
+        }
+    }
+
+    fn sound(&mut self, request: SoundRequest) {
+        let r = match request {
+            SoundRequest::Play { sound } => {
+                let c = self.air.centre();
+                self.air.play(sound, AMBIENT_SOURCE, c)
+            }
+            SoundRequest::Emit { sound, source, at } => self.air.play(sound, source, at),
+            SoundRequest::Move { source, at } => self.air.move_source(source, at),
+        };
+        if let Err(e) = r {
+            self.fail(Error::input(e));
+        }
+    }
+
+    fn command(&mut self, number: i64, values: [i64; 3]) {
+        self.run_script(number, values);
+    }
+}
