@@ -68,7 +68,7 @@ enum Command {
         #[command(flatten)]
         at: FrameArgs,
         /// The image to write: .png or .exr.
-        #[arg(short, long, value_name = "OUT.png|OUT.exr")]
+        #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = commands::frame::image_path)]
         output: PathBuf,
         /// Width in pixels (default: the scene's window).
         #[arg(long, value_parser = commands::args::side)]

@@ -110,27 +110,27 @@ pub struct StillArgs {
     pub segment_width: f64,
 }
 
-/// Whether `output` names an EXR image (else a PNG); any other extension
-/// is a usage error.
-pub fn image_kind(output: &Path) -> Result<bool> {
-    let ext = output
+/// Whether `output` names an EXR image (else a PNG).
+fn is_exr(output: &Path) -> bool {
+    output
         .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("png") => Ok(false),
-        Some("exr") => Ok(true),
-        _ => Err(Error::input(format!(
-            "{}: the output must end in .png or .exr",
-            output.display()
-        ))),
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+}
+
+/// `still -o`: an image path ending in .png or .exr.
+pub fn image_path(text: &str) -> std::result::Result<std::path::PathBuf, String> {
+    let path = std::path::PathBuf::from(text);
+    let ext = path.extension().and_then(|e| e.to_str());
+    match ext.map(str::to_ascii_lowercase).as_deref() {
+        Some("png" | "exr") => Ok(path),
+        _ => Err(format!("{text}: the output must end in .png or .exr")),
     }
 }
 
 /// `lmfilm still`: ray-traces the frame into OUT.png or OUT.exr with the
 /// BVH the frame owns.
 pub fn still(at: &FrameArgs, output: &Path, args: &StillArgs) -> Result<()> {
-    let exr = image_kind(output)?;
+    let exr = is_exr(output);
     let limits = at.limits.limits();
     // Given sizes are checked before the derivation, the camera's after.
     if let (Some(w), Some(h)) = args.size {

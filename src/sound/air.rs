@@ -249,21 +249,6 @@ impl Air {
         &self.heard
     }
 
-    /// `?60`: the number of on-going sound events.
-    pub fn playing(&self) -> usize {
-        self.ongoing.len()
-    }
-
-    /// `?61`: the sound the source emits (the latest started).
-    pub fn sound_of_source(&self, source: u32) -> Option<u32> {
-        sound_of_source(&self.ongoing, source)
-    }
-
-    /// `?62`: the source emitting the sound (the latest started).
-    pub fn source_of_sound(&self, sound: u32) -> Option<u32> {
-        source_of_sound(&self.ongoing, sound)
-    }
-
     /// The on-going events, at their positions as of the last
     /// [`Air::end_frame`].
     pub fn ongoing(&self) -> &[Ongoing] {
