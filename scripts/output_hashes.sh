@@ -29,8 +29,9 @@ record() {
     rm -rf "$WORK/out" && mkdir -p "$WORK/out"
     "$LMFILM" "$@" >"$WORK/stdout" 2>"$WORK/stderr"
     code=$?
-    # Paths of the temporary folder differ from run to run.
-    sed "s|$WORK|WORK|g" "$WORK/stdout" "$WORK/stderr" >"$WORK/text"
+    # Paths of the temporary folder differ from run to run, and progress
+    # lines (shown once a stage runs for 2 s) carry timings.
+    sed "s|$WORK|WORK|g; /frames\/s · .* s left$/d" "$WORK/stdout" "$WORK/stderr" >"$WORK/text"
     files=$(cd "$WORK/out" && find . -type f | LC_ALL=C sort)
     sum=$( (cat "$WORK/text"; for f in $files; do echo "$f"; cat "$WORK/out/$f"; done) |
         sha256sum | cut -d' ' -f1)
