@@ -242,6 +242,7 @@ pub struct Film {
     /// The sound files found on disk for the scene's sound numbers, as
     /// the log's `PLAY` lines name them (see [`Film::sound_files`]).
     sound_files: Vec<(String, PathBuf)>,
+    actors: crate::actors::Table,
 }
 
 /// The `Sound_event_file` initialisations of the first L-system that
@@ -329,6 +330,7 @@ impl Film {
                 None => msg,
             });
         }
+        let actors = crate::actors::Table::from_animation(&anim).map_err(|e| e.to_string())?;
         let surfaces = Surfaces::load(&anim)?;
         let search = library::search_path(dir, None);
         let lib = scene_library(&anim, &search)?;
@@ -346,7 +348,13 @@ impl Film {
             opts,
             scripts: None,
             sound_files,
+            actors,
         })
+    }
+
+    /// The scene's actors (`NBR_actors`, `iVisionWinSize`, `actorNbr_automata`).
+    pub fn actors(&self) -> &crate::actors::Table {
+        &self.actors
     }
 
     /// Every file outside the scene texts that the derivation reads, as
