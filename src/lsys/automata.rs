@@ -432,57 +432,67 @@ pub fn parse_actor_automata(s: &mut Scanner, at: usize) -> Result<ActorAutomata,
     };
     let src = s.src;
     let span = |offset| Span::new(src, offset);
-    let automata =
-        match by_name {
-            Some(a) if !ids.is_empty() => {
-                s.word("the automata name")?;
-                Located {
-                    value: a,
-                    span: span(next_at),
-                }
+    let automata = match by_name {
+        Some(a) if !ids.is_empty() => {
+            s.word("the automata name")?;
+            Located {
+                value: a,
+                span: span(next_at),
             }
-            _ if ids.len() >= 2 => {
-                let (n, offset) = ids[ids.len() - 1];
-                let Some(a) = Automata::from_number(n) else {
-                    return Err(s.error(
-                        offset,
-                        format!(
-                            "unknown automata number {n}; the automata are {}",
-                            Automata::list()
-                        ),
-                    ));
-                };
-                // Two numbers and then a misspelt name: say so rather than
-                // "unknown option".
-                if ids.len() == 2 && !AutomataCommand::is_keyword(next) {
-                    if let Some(k) = near_miss(next, &names) {
-                        return Err(s.error(
-                            next_at,
-                            format!("unknown automata `{next}`; did you mean `{k}`?"),
-                        ));
-                    }
-                }
-                Located {
-                    value: a,
-                    span: span(offset),
-                }
-            }
-            _ if ids.len() == 1 && !next.is_empty() && !AutomataCommand::is_keyword(next) => {
-                let hint = near_miss(next, &names)
-                    .map_or_else(String::new, |k| format!(" (did you mean `{k}`?)"));
+        }
+        _ if ids.len() >= 2 => {
+            let (n, offset) = ids[ids.len() - 1];
+            let Some(a) = Automata::from_number(n) else {
                 return Err(s.error(
-                    next_at,
+                    offset,
                     format!(
-                        "unknown automata `{next}`{hint}; give its number or name: {}",
+                        "unknown automata number {n}; the automata are {}",
                         Automata::list()
                     ),
                 ));
+            };
+            // Two numbers and then a misspelt name: say so rather than
+            // "unknown option".
+            if ids.len() == 2 && !AutomataCommand::is_keyword(next) {
+                if let Some(k) = near_miss(next, &names) {
+                    return Err(s.error(
+                        next_at,
+                        format!("unknown automata `{next}`; did you mean `{k}`?"),
+                    ));
+                }
             }
-            _ => return Err(s.error(
+            Located {
+                value: a,
+                span: span(offset),
+            }
+        }
+        _ if ids.len() == 1 && !next.is_empty() && !AutomataCommand::is_keyword(next) => {
+            let hint = near_miss(next, &names)
+                .map_or_else(String::new, |k| format!(" (did you mean `{k}`?)"));
+            return Err(s.error(
+                next_at,
+                format!(
+                    "unknown automata `{next}`{hint}; give its number or name: {}",
+                    Automata::list()
+                ),
+            ));
+        }
+        _ => {
+            let found = if next.is_empty() {
+                "the end of the file".to_string()
+            } else {
+                format!("`{next}`")
+            };
+            let at = if next.is_empty() { at } else { next_at };
+            return Err(s.error(
                 at,
-                "`actorNbr_automata` needs the actor and automata numbers (or the automata name)",
-            )),
-        };
+                format!(
+                    "`actorNbr_automata` needs the actor and automata numbers \
+                     (or the automata name), found {found}"
+                ),
+            ));
+        }
+    };
     let (actor, actor_at) = ids[0];
     Ok(ActorAutomata {
         actor: Located {
@@ -636,4 +646,94 @@ fn typed(
         },
         _ => unreachable!("every command of COMMANDS has an arm"),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Parses `actorNbr_automata REST` (the keyword at byte 0).
+    fn parse(rest: &str) -> Result<ActorAutomata, Diagnostic> {
+        let src = Source::new("t.lm", format!("actorNbr_automata {rest}\n"));
+        let mut s = Scanner::new(&src);
+        s.word("the keyword")?;
+        let a = parse_actor_automata(&mut s, 0)?;
+        assert!(s.at_end()?, "left over after {rest}");
+        Ok(a)
+    }
+
+    /// The error of `rest`, checked to point at the first `word` with a caret.
+    fn refused(rest: &str, word: &str) -> Diagnostic {
+        let d = parse(rest).expect_err(rest);
+        let column = "actorNbr_automata ".len() + rest.find(word).unwrap() + 1;
+        let shown = d.to_string();
+        assert!(shown.starts_with(&format!("t.lm:1:{column}: ")), "{shown}");
+        assert!(
+            shown.ends_with(&format!("\n  {}^", " ".repeat(column - 1))),
+            "{shown}"
+        );
+        d
+    }
+
+    #[test]
+    fn the_thesis_line() {
+        let a = parse("0 0 9 init 10 -20 300 2.0 obs 0 0 50 lat 0 0 0").unwrap();
+        assert_eq!(a.actor.value, 0);
+        assert_eq!(a.automata.value, Automata::Watch);
+        assert_eq!(a.automata.span.column(), 23);
+        let c: Vec<_> = a.commands.iter().map(|c| &c.command).collect();
+        assert_eq!(
+            c,
+            [
+                &AutomataCommand::Init {
+                    display_every: 10,
+                    min: -20.0,
+                    max: 300.0,
+                    voxel_edge: 2.0
+                },
+                &AutomataCommand::Obs([0.0, 0.0, 50.0]),
+                &AutomataCommand::Lat([0.0; 3]),
+            ]
+        );
+        assert_eq!(a.commands[0].span.to_string(), "t.lm:1:25");
+        assert_eq!(a.commands[0].args.len(), 4);
+        assert_eq!(a.commands[0].args[3].column(), 41);
+    }
+
+    #[test]
+    fn by_number_or_by_name() {
+        for (rest, actor, automata) in [
+            ("2 19", 2, Automata::AutoAlign),
+            ("2 auto_align", 2, Automata::AutoAlign),
+            ("3 3 watch", 3, Automata::Watch),
+            ("1 L-system", 1, Automata::LSystem),
+            ("1 1 12", 1, Automata::TennisErrorDetection),
+            (
+                "0 tennis_error_detection",
+                0,
+                Automata::TennisErrorDetection,
+            ),
+        ] {
+            let a = parse(rest).unwrap();
+            assert_eq!(
+                (a.actor.value, a.automata.value),
+                (actor, automata),
+                "{rest}"
+            );
+        }
+    }
+
+    #[test]
+    fn refusals_point_at_the_word() {
+        refused("0 0 13", "13");
+        let d = refused("0 wach", "wach");
+        assert!(d.message.contains("`watch`"), "{d}");
+        refused("0 0 wach", "wach");
+        refused("0 init 1 2 3 4", "init");
+        refused("watch", "watch");
+        refused("0 9 fov 45.5", "45.5");
+        refused("0 9 init 1.5 -20 300 2", "1.5");
+        refused("0 9 lat 1 2", "lat");
+        refused("0 9 KEYFRAMEdef walk.track", "KEYFRAMEdef");
+    }
 }
