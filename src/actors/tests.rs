@@ -202,3 +202,16 @@ fn both_arities_where_bnf_and_table_b6_disagree() {
         ]
     );
 }
+
+#[test]
+fn the_refusal_shown_in_docs_actors_md() {
+    let d = scene("NBR_actors 1\nactorNbr_automata 0 9 obs 0 0 50 fov 0").unwrap_err();
+    assert_eq!(
+        d.to_string(),
+        format!(
+            "a.lm:5:38: `fov`: the view angle (tenths of a degree) must be 1..=1799, found 0\n  \
+             actorNbr_automata 0 9 obs 0 0 50 fov 0\n  {}^",
+            " ".repeat(37)
+        )
+    );
+}
