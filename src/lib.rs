@@ -16,6 +16,8 @@ pub mod film;
 pub mod lsys;
 pub mod physics;
 pub mod render;
+
+pub mod actors;
 pub mod scene;
 pub mod sound;
 pub mod turtle;

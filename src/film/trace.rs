@@ -26,10 +26,13 @@ pub struct ParticleRecord {
     pub mass: f64,
 }
 
-/// An actor of the frame's actor table.
+/// An actor of the film's actor table: its number and the automata it
+/// runs (the first of its stack; none when its stack is empty). Its
+/// position, gaze, state, goal and memory join with the actor issues.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ActorRecord {
-    pub id: u64,
+    pub id: usize,
+    pub automata: Option<&'static str>,
 }
 
 /// A sound event the frame started.
@@ -59,7 +62,15 @@ impl Record {
                     mass: p.mass,
                 })
                 .collect(),
-            actors: Vec::new(),
+            actors: film
+                .actors()
+                .actors()
+                .iter()
+                .map(|a| ActorRecord {
+                    id: a.id(),
+                    automata: a.automata().first().map(|e| e.automata.name()),
+                })
+                .collect(),
             sound_events: film
                 .ongoing()
                 .iter()

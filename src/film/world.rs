@@ -43,6 +43,7 @@ pub struct Film {
     /// The sound files found on disk for the scene's sound numbers, as
     /// the log's `PLAY` lines name them (see [`Film::sound_files`]).
     sound_files: Vec<(String, PathBuf)>,
+    actors: crate::actors::Table,
 }
 
 /// The `Sound_event_file` initialisations of the first L-system that
@@ -126,6 +127,7 @@ impl Film {
                 None => msg,
             }));
         }
+        let actors = crate::actors::Table::from_animation(&anim)?;
         let surfaces = Surfaces::load(&anim).map_err(Error::input)?;
         let search = library::search_path(dir, None);
         let lib = scene_library(&anim, &search)?;
@@ -144,7 +146,13 @@ impl Film {
             current: None,
             frame: None,
             sound_files,
+            actors,
         })
+    }
+
+    /// The scene's actors (`NBR_actors`, `iVisionWinSize`, `actorNbr_automata`).
+    pub fn actors(&self) -> &crate::actors::Table {
+        &self.actors
     }
 
     /// Every file outside the scene texts that the derivation reads, as

@@ -4,6 +4,7 @@
 //! them comes through [`Sensors`].
 
 pub mod animation;
+pub mod automata;
 pub mod context;
 pub mod definition;
 pub mod eval;

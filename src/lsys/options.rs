@@ -1,11 +1,13 @@
 //! The `Options` section (table B1): every keyword is parsed and kept, even
 //! where the feature it declares belongs to a later layer.
 
+use super::automata::{parse_actor_automata, ActorAutomata, Located, Span};
 use super::parse::SECTIONS;
 use super::scan::{suggestion, Scanner};
 use crate::source::{Diagnostic, FileRef};
 
-/// A keyword with its arguments, as in automata and sound protocol lists.
+/// A keyword with its arguments, as in the sound protocol list (automata
+/// commands are typed: [`super::automata::AutomataCommand`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Command {
     pub name: String,
@@ -35,17 +37,13 @@ pub enum OptionItem {
         port: i64,
         host: String,
     },
-    NbrActors(i64),
+    NbrActors(Located<i64>),
     VisionWinSize {
-        actor: i64,
-        edge: i64,
-        max_colors: i64,
+        actor: Located<i64>,
+        edge: Located<i64>,
+        max_colors: Located<i64>,
     },
-    ActorAutomata {
-        actor: i64,
-        automata: i64,
-        commands: Vec<Command>,
-    },
+    ActorAutomata(ActorAutomata),
     SoundEventFile {
         file: String,
         items: Vec<Command>,
@@ -82,45 +80,6 @@ const MAX_LIST: i64 = 100_000;
 
 /// (name, fewest numbers, most numbers, takes a word after the numbers).
 type Spec = (&'static str, usize, usize, bool);
-
-/// Automata commands of the BNF and table B6 (where they disagree on the
-/// argument count, both counts are accepted).
-const AUTOMATA: &[Spec] = &[
-    ("KEYFRAMEdef", 1, 1, true),
-    ("coll_test_func", 1, 1, false),
-    ("heuristic", 1, 1, false),
-    ("rel_search_level", 0, 1, false),
-    ("goal", 3, 3, false),
-    ("local_goal", 3, 4, false),
-    ("rgb_interest", 4, 4, false),
-    ("eps_arrived", 1, 2, false),
-    ("eps_look_at_goal", 1, 2, false),
-    ("eps_look_at", 1, 2, false),
-    ("reset_goal", 0, 0, false),
-    ("turtle", 1, 1, false),
-    ("mem_displ_cubes", 0, 0, false),
-    ("mem_no_displ", 0, 0, false),
-    ("mem_displ_points", 0, 0, false),
-    ("vis_mem_on", 0, 0, false),
-    ("vis_mem_off", 0, 0, false),
-    ("obs", 3, 3, false),
-    ("lat", 3, 3, false),
-    ("align", 3, 3, false),
-    ("init", 4, 4, false),
-    ("fov", 1, 1, false),
-    ("interest", 2, 2, false),
-    ("size_actor", 1, 1, false),
-    ("dist_coll", 1, 1, false),
-    ("tennis_state", 1, 1, false),
-    ("state", 1, 1, false),
-    ("optim_rate", 1, 1, false),
-    ("speed", 1, 1, false),
-    ("inertia", 1, 1, false),
-    ("ahead", 1, 1, false),
-    ("optim_ahead", 1, 1, false),
-    ("vision_range", 3, 3, false),
-    ("motor_init", 3, 3, false),
-];
 
 /// The sound protocol of table B7 (`PLAY n file` takes a word).
 const SOUND: &[Spec] = &[
@@ -198,6 +157,15 @@ fn file_ref(s: &mut Scanner, what: &str) -> Result<FileRef, Diagnostic> {
     Ok(FileRef::new(s.src, at, w))
 }
 
+/// An integer with the location of its word.
+fn located_int(s: &mut Scanner, what: &str) -> Result<Located<i64>, Diagnostic> {
+    let at = s.peek_word()?.0;
+    Ok(Located {
+        value: s.int(what)?,
+        span: Span::new(s.src, at),
+    })
+}
+
 /// Parses one option; `None` when the next word is not an option keyword.
 pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
     let (at, kw) = s.peek_word()?;
@@ -266,31 +234,13 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             port: s.int("the port number")?,
             host: text(s, "the host name")?,
         },
-        "NBR_actors" => OptionItem::NbrActors(s.int("the number of actors")?),
+        "NBR_actors" => OptionItem::NbrActors(located_int(s, "the number of actors")?),
         "iVisionWinSize" => OptionItem::VisionWinSize {
-            actor: s.int("the actor number")?,
-            edge: s.int("the window edge length")?,
-            max_colors: s.int("the maximal number of colours")?,
+            actor: located_int(s, "the actor number")?,
+            edge: located_int(s, "the window edge length")?,
+            max_colors: located_int(s, "the maximal number of colours")?,
         },
-        "actorNbr_automata" => {
-            // The BNF repeats the actor number (`int Automata`, Automata =
-            // `int int …`); both the two- and three-number forms are read.
-            let mut ids = Vec::new();
-            while ids.len() < 3 && s.at_number()? {
-                ids.push(s.int("an actor or automata number")?);
-            }
-            if ids.len() < 2 {
-                return Err(s.error(
-                    at,
-                    "`actorNbr_automata` needs the actor and automata numbers",
-                ));
-            }
-            OptionItem::ActorAutomata {
-                actor: ids[0],
-                automata: ids[ids.len() - 1],
-                commands: commands(s, AUTOMATA)?,
-            }
-        }
+        "actorNbr_automata" => OptionItem::ActorAutomata(parse_actor_automata(s, at)?),
         "Sound_event_file" => OptionItem::SoundEventFile {
             file: text(s, "the sound event file name")?,
             items: commands(s, SOUND)?,
@@ -362,6 +312,7 @@ pub fn unknown_option(s: &Scanner, at: usize, w: &str) -> Diagnostic {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lsys::automata::{Automata, AutomataCommand};
     use crate::source::Source;
 
     #[test]
@@ -395,17 +346,33 @@ mod tests {
                 values: [1., 2., 3., 4., 5., 6., 7., 8.]
             }
         );
-        let OptionItem::ActorAutomata {
+        let OptionItem::ActorAutomata(ActorAutomata {
             actor,
             automata,
             commands,
-        } = &items[7]
+        }) = &items[7]
         else {
             panic!()
         };
-        assert_eq!((*actor, *automata, commands.len()), (0, 3, 5));
-        assert_eq!(commands[1].numbers, [1., 4., 5., 6.]);
-        assert_eq!(commands[4].word.as_deref(), Some("walk.track"));
+        assert_eq!(
+            (actor.value, automata.value, commands.len()),
+            (0, Automata::WalkLocal, 5)
+        );
+        assert_eq!(
+            commands[1].command,
+            AutomataCommand::LocalGoal {
+                index: Some(1),
+                at: [4., 5., 6.]
+            }
+        );
+        assert_eq!(
+            (commands[1].span.line(), commands[1].span.column()),
+            (8, 34)
+        );
+        let AutomataCommand::KeyframeDef { n: 2, file } = &commands[4].command else {
+            panic!("{:?}", commands[4])
+        };
+        assert_eq!(file.name, "walk.track");
         let OptionItem::SoundEventFile { items: sound, .. } = &items[8] else {
             panic!()
         };

@@ -1,0 +1,359 @@
+//! Actors (thesis 3.1, 5.1): the actor table built from the Options
+//! section's `NBR_actors`, `iVisionWinSize` and `actorNbr_automata`.
+//!
+//! Today the table holds what the scene declares — each actor's vision
+//! window and its automata stack with their typed commands — and refuses,
+//! with a located error, what no actor could run. Vision, memory and the
+//! behaviours come later (docs/actors.md).
+
+use crate::lsys::automata::{ActorAutomata, Automata, AutomataCommand, CommandAt, Located, Span};
+use crate::lsys::options::OptionItem;
+use crate::lsys::Animation;
+use crate::source::Diagnostic;
+
+/// Most actors a scene may declare.
+pub const MAX_ACTORS: i64 = 100_000;
+
+/// Edge lengths a vision window may have, in pixels.
+pub const WINDOW_EDGES: std::ops::RangeInclusive<i64> = 1..=1024;
+
+/// Most colours a window may tell apart (24-bit colours).
+pub const MAX_COLORS: i64 = 1 << 24;
+
+/// Most voxels along an edge of the `init` world cube (an octree of
+/// depth 20 at most).
+pub const MAX_VOXELS_PER_EDGE: f64 = (1u64 << 20) as f64;
+
+/// An actor's vision window (`iVisionWinSize`): edge × edge pixels and
+/// the number of flat colours it recognises.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VisionWindow {
+    pub edge: u32,
+    pub max_colors: u32,
+    /// Where it was declared.
+    pub span: Span,
+}
+
+/// One automata on an actor's stack, with the commands that configure
+/// it, in the order the file gives them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StackEntry {
+    pub automata: Automata,
+    /// The automata's number or name in the file.
+    pub span: Span,
+    pub commands: Vec<CommandAt>,
+}
+
+/// An actor as the scene declares it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Actor {
+    id: usize,
+    vision: Option<VisionWindow>,
+    stack: Vec<StackEntry>,
+}
+
+impl Actor {
+    /// Its number, 0..NBR_actors.
+    pub fn id(&self) -> usize {
+        self.id
+    }
+
+    /// Its vision window, if `iVisionWinSize` declares one.
+    pub fn vision(&self) -> Option<&VisionWindow> {
+        self.vision.as_ref()
+    }
+
+    /// Its automata in declaration order: the first runs first (the
+    /// user's sequence is pushed on the actor's behaviour stack, 5.1).
+    pub fn automata(&self) -> &[StackEntry] {
+        &self.stack
+    }
+}
+
+/// The actors of a scene, indexed by number.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Table {
+    actors: Vec<Actor>,
+}
+
+impl Table {
+    /// The table the Options sections of every L-system of `anim`
+    /// declare; empty when none declares actors.
+    pub fn from_animation(anim: &Animation) -> Result<Table, Diagnostic> {
+        Table::from_options(anim.systems.iter().flat_map(|s| &s.def.options))
+    }
+
+    /// The table of these options (of one or several files, in order).
+    pub fn from_options<'a>(
+        options: impl IntoIterator<Item = &'a OptionItem>,
+    ) -> Result<Table, Diagnostic> {
+        let options: Vec<&OptionItem> = options.into_iter().collect();
+        // NBR_actors first: it may come after the actors' options.
+        let mut count: Option<&Located<i64>> = None;
+        for o in &options {
+            if let OptionItem::NbrActors(n) = o {
+                if !(0..=MAX_ACTORS).contains(&n.value) {
+                    return Err(n.error(format!(
+                        "the number of actors must be 0..={MAX_ACTORS}, found {}",
+                        n.value
+                    )));
+                }
+                match count {
+                    Some(first) if first.value != n.value => {
+                        return Err(n.error(format!(
+                            "`NBR_actors {}` disagrees with `NBR_actors {}` at {}",
+                            n.value, first.value, first.span
+                        )))
+                    }
+                    Some(_) => {}
+                    None => count = Some(n),
+                }
+            }
+        }
+        let n = count.map_or(0, |c| c.value);
+        let mut actors: Vec<Actor> = (0..n as usize)
+            .map(|id| Actor {
+                id,
+                vision: None,
+                stack: Vec::new(),
+            })
+            .collect();
+        let actor_index = |a: &Located<i64>, what: &str| -> Result<usize, Diagnostic> {
+            match count {
+                None => Err(a.error(format!(
+                    "`{what}` names actor {}, but no `NBR_actors` declares the actors; add `NBR_actors N` to the Options section",
+                    a.value
+                ))),
+                Some(_) if !(0..n).contains(&a.value) => Err(a.error(format!(
+                    "actor {} does not exist: `NBR_actors {n}` declares actors 0..={}",
+                    a.value,
+                    n - 1
+                ))),
+                Some(_) => Ok(a.value as usize),
+            }
+        };
+        for o in &options {
+            match o {
+                OptionItem::VisionWinSize {
+                    actor,
+                    edge,
+                    max_colors,
+                } => {
+                    let i = actor_index(actor, "iVisionWinSize")?;
+                    if !WINDOW_EDGES.contains(&edge.value) {
+                        return Err(edge.error(format!(
+                            "the vision window edge must be {}..={} pixels, found {}",
+                            WINDOW_EDGES.start(),
+                            WINDOW_EDGES.end(),
+                            edge.value
+                        )));
+                    }
+                    if !(0..=MAX_COLORS).contains(&max_colors.value) {
+                        return Err(max_colors.error(format!(
+                            "the maximal number of colours must be 0..={MAX_COLORS}, found {}",
+                            max_colors.value
+                        )));
+                    }
+                    if let Some(first) = &actors[i].vision {
+                        return Err(actor.error(format!(
+                            "actor {i} already has a vision window, declared at {}",
+                            first.span
+                        )));
+                    }
+                    actors[i].vision = Some(VisionWindow {
+                        edge: edge.value as u32,
+                        max_colors: max_colors.value as u32,
+                        span: actor.span.clone(),
+                    });
+                }
+                OptionItem::ActorAutomata(ActorAutomata {
+                    actor,
+                    automata,
+                    commands,
+                }) => {
+                    let i = actor_index(actor, "actorNbr_automata")?;
+                    for c in commands {
+                        check(c)?;
+                    }
+                    actors[i].stack.push(StackEntry {
+                        automata: automata.value,
+                        span: automata.span.clone(),
+                        commands: commands.clone(),
+                    });
+                }
+                _ => {}
+            }
+        }
+        Ok(Table { actors })
+    }
+
+    /// The actors, by number.
+    pub fn actors(&self) -> &[Actor] {
+        &self.actors
+    }
+
+    pub fn get(&self, id: usize) -> Option<&Actor> {
+        self.actors.get(id)
+    }
+
+    pub fn len(&self) -> usize {
+        self.actors.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.actors.is_empty()
+    }
+}
+
+/// Refuses a command whose arguments no actor could use; the error
+/// points at the offending argument.
+fn check(c: &CommandAt) -> Result<(), Diagnostic> {
+    use AutomataCommand as C;
+    let name = c.command.name();
+    // `k` counts arguments from the last one backwards (0 = last).
+    let refuse = |k: usize, what: String| Err(c.arg_error_from_end(k, format!("`{name}`: {what}")));
+    let int_in = |k: usize, v: i64, lo: i64, hi: i64, what: &str| -> Result<(), Diagnostic> {
+        if (lo..=hi).contains(&v) {
+            Ok(())
+        } else {
+            refuse(k, format!("{what} must be {lo}..={hi}, found {v}"))
+        }
+    };
+    let at_least = |k: usize, v: f64, lo: f64, what: &str| -> Result<(), Diagnostic> {
+        if v >= lo {
+            Ok(())
+        } else {
+            refuse(k, format!("{what} must be at least {lo}, found {v}"))
+        }
+    };
+    let positive = |k: usize, v: f64, what: &str| -> Result<(), Diagnostic> {
+        if v > 0.0 {
+            Ok(())
+        } else {
+            refuse(k, format!("{what} must be greater than 0, found {v}"))
+        }
+    };
+    let index = |k: usize, i: Option<i64>| match i {
+        Some(i) => int_in(k, i, 0, i64::MAX, "the local goal number"),
+        None => Ok(()),
+    };
+    const BIG: i64 = i64::MAX;
+    match &c.command {
+        C::KeyframeDef { n, .. } => int_in(1, *n, 0, BIG, "the track number"),
+        C::CollTestFunc(n) => int_in(0, *n, 0, BIG, "the heuristic number"),
+        C::Heuristic(n) => int_in(0, *n, 0, BIG, "the heuristic number"),
+        C::RelSearchLevel(Some(x)) => positive(0, *x, "the relative voxel size"),
+        C::RelSearchLevel(None) => Ok(()),
+        C::LocalGoal { index: i, .. } => index(3, *i),
+        C::RgbInterest { rgb, active } => {
+            for (k, v) in rgb.iter().enumerate() {
+                int_in(3 - k, *v, 0, 255, "a colour component")?;
+            }
+            int_in(0, *active, 0, 1, "the switch (1 on, 0 off)")
+        }
+        C::EpsArrived { index: i, distance } => {
+            index(1, *i)?;
+            at_least(0, *distance, 0.0, "the distance")
+        }
+        C::EpsLookAtGoal {
+            index: i,
+            threshold,
+        }
+        | C::EpsLookAt {
+            index: i,
+            threshold,
+        } => {
+            index(1, *i)?;
+            if (-1.0..=1.0).contains(threshold) {
+                Ok(())
+            } else {
+                refuse(
+                    0,
+                    format!("the threshold is a scalar product of unit vectors, -1..=1, found {threshold}"),
+                )
+            }
+        }
+        C::Turtle(n) => int_in(0, *n, 0, 4, "the turtle mapping"),
+        C::Init {
+            display_every,
+            min,
+            max,
+            voxel_edge,
+        } => {
+            int_in(3, *display_every, 0, BIG, "the memory display modulo")?;
+            if min >= max {
+                return refuse(
+                    1,
+                    format!("the world cube's maximum must be greater than its minimum {min}, found {max}"),
+                );
+            }
+            positive(0, *voxel_edge, "the voxel edge")?;
+            if (max - min) / voxel_edge > MAX_VOXELS_PER_EDGE {
+                return refuse(
+                    0,
+                    format!(
+                        "a voxel edge of {voxel_edge} cuts the world cube's edge {} into more than {MAX_VOXELS_PER_EDGE} voxels",
+                        max - min
+                    ),
+                );
+            }
+            Ok(())
+        }
+        C::Fov(n) => int_in(0, *n, 1, 1799, "the view angle (tenths of a degree)"),
+        C::Interest { active, thing } => {
+            int_in(1, *active, 0, 1, "the switch (1 on, 0 off)")?;
+            int_in(
+                0,
+                *thing,
+                0,
+                2,
+                "the thing of interest (0 ball, 1 player 0, 2 player 1)",
+            )
+        }
+        C::SizeActor(x) => at_least(0, *x, 0.0, "the actor size"),
+        C::DistColl(x) => at_least(0, *x, 0.0, "the collision distance"),
+        C::TennisState(n) => int_in(0, *n, 0, 13, "the tennis state"),
+        C::State(n) => int_in(0, *n, 0, 26, "the vision state"),
+        C::OptimRate(n) => int_in(0, *n, 1, BIG, "the optimisation modulo"),
+        C::Speed(x) => at_least(0, *x, 0.0, "the speed"),
+        C::Inertia(x) => at_least(0, *x, 0.0, "the inertia"),
+        C::Ahead(n) => int_in(0, *n, 0, BIG, "the number of key points"),
+        C::OptimAhead(n) => int_in(0, *n, 0, BIG, "the number of key points"),
+        C::VisionRange {
+            near,
+            far,
+            memory_range,
+        } => {
+            at_least(2, *near, 0.0, "the near distance")?;
+            if far <= near {
+                return refuse(
+                    1,
+                    format!("the far distance must be greater than the near distance {near}, found {far}"),
+                );
+            }
+            at_least(0, *memory_range, 0.0, "the memory update range")
+        }
+        C::MotorInit {
+            max_speed,
+            scale,
+            ray_trace,
+        } => {
+            at_least(2, *max_speed, 0.0, "the maximal speed")?;
+            positive(1, *scale, "the scale factor")?;
+            int_in(0, *ray_trace, 0, 1, "the ray tracer switch (1 on, 0 off)")
+        }
+        C::Goal(_)
+        | C::ResetGoal
+        | C::MemDisplCubes
+        | C::MemNoDispl
+        | C::MemDisplPoints
+        | C::VisMemOn
+        | C::VisMemOff
+        | C::Obs(_)
+        | C::Lat(_)
+        | C::Align(_) => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests;
