@@ -1,4 +1,5 @@
-//! Integration tests of the film driver and the command line: run, records, support modules, determinism and limits.
+//! Integration tests of the film driver and the command line: run, records,
+//! support modules, determinism and limits.
 //!
 //! One test binary per layer (issue 12 §6): each former test file is a
 //! module here, so the layer links once.

@@ -1,6 +1,5 @@
 //! Classic L-systems of seeds/002 and seeds/003 with their known strings.
 
-use crate::common;
 use crate::common::*;
 use lmfilm::lsys::{Animation, NoSensors, Sensors, Source, Who};
 

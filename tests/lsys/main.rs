@@ -1,4 +1,5 @@
-//! Integration tests of the L-system layer: grammars, the thesis' examples, the force functions, and hostile input (every reader).
+//! Integration tests of the L-system layer: grammars, the thesis' examples,
+//! the force functions, and hostile input (every reader).
 //!
 //! One test binary per layer (issue 12 §6): each former test file is a
 //! module here, so the layer links once.

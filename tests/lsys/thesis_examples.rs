@@ -1,6 +1,5 @@
 //! The thesis's own worked examples (sections 2.1.2, 2.1.4, code 6.2.1).
 
-use crate::common;
 use crate::common::*;
 use lmfilm::lsys::NoSensors;
 

@@ -6,7 +6,6 @@
 //! re-bless:  `LMFILM_BLESS=1 cargo test --test render golden::`
 //! which rewrites tests/golden/render.txt; commit it with the change.
 
-use crate::common;
 use crate::common::*;
 use lmfilm::lsys::NoSensors;
 use lmfilm::render::{render, Image, Settings};

@@ -1,6 +1,5 @@
 //! The ray tracer on real scenes (issue 4).
 
-use crate::common;
 use crate::common::*;
 use glam::{Vec3, Vec3A};
 use lmfilm::lsys::NoSensors;

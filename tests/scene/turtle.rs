@@ -1,6 +1,5 @@
 //! The turtle's interpretation of words into scenes (issue 3).
 
-use crate::common;
 use crate::common::*;
 use glam::{Vec3, Vec3A};
 use lmfilm::lsys::NoSensors;

@@ -5,8 +5,6 @@
 //! `--no-normalize`, fades, silence, determinism, bad targets, and the
 //! built-in sound library used from anywhere.
 
-use crate::common;
-
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::Command;
