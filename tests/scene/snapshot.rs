@@ -1,11 +1,11 @@
 //! Scene snapshots (DESIGN §1, §5): bit-exact round trips, deterministic
 //! bytes, atomic files, and a clear error, never a panic, on bad bytes.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 
-use common::Rng;
+use crate::common::Rng;
 
 use glam::{Affine3A, Quat, Vec3};
 use lmfilm::scene::material::Texture;

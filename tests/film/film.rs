@@ -1,7 +1,7 @@
 //! The film driver end to end (issue 6): run, derive, render shards,
 //! sound, verify, resume after a kill, thread-count independence.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -4,13 +4,13 @@
 //! quickly. Each command runs under a time guard, so a hang fails the
 //! test instead of hanging the suite.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{fresh_dir, from_text, scene};
+use crate::common::{fresh_dir, from_text, scene};
 use glam::{Vec3, Vec3A};
 use lmfilm::lsys::NoSensors;
 use lmfilm::render::{self, Accel, Settings};

@@ -3,11 +3,10 @@
 //!
 //! After an intended change of the renderer's output, look at the new
 //! images (`lmfilm still scenes/examples/gallery.lm -o gallery.png`), then
-//! re-bless:  `LMFILM_BLESS=1 cargo test --test render_golden`
+//! re-bless:  `LMFILM_BLESS=1 cargo test --test render golden::`
 //! which rewrites tests/golden/render.txt; commit it with the change.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lmfilm::lsys::NoSensors;
 use lmfilm::render::{render, Image, Settings};
 

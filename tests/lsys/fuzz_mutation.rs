@@ -8,7 +8,7 @@
 //! truncations, duplicated and deleted lines) with a fixed seed. Each
 //! reader must return Ok or Err without panicking.
 
-mod common;
+use crate::common;
 
 use std::panic::{self, AssertUnwindSafe};
 use std::sync::{Arc, Mutex};
@@ -19,7 +19,7 @@ use lmfilm::render::Settings;
 use lmfilm::scene::{mtl, obj, snapshot, Scene};
 use lmfilm::sound::{events::EventsFile, wav};
 
-use common::Rng;
+use crate::common::Rng;
 
 /// Mutated inputs per reader: a few seconds for all readers in the test
 /// profile on one core. `LMFILM_MUTATION_CASES` and `LMFILM_MUTATION_SEED`
@@ -184,6 +184,10 @@ fn mutate_snapshot(input: &[u8], rng: &mut Rng) -> Vec<u8> {
 
 type ReadFn = dyn Fn(&[u8]) -> bool;
 
+/// The name of the threads that run the readers: only their panics are
+/// recorded.
+const FUZZ_THREAD: &str = "lmfilm-mutation";
+
 /// A reader under test: its name, what it does with one input (true
 /// when it accepted it, so the report shows how deep cases go), the
 /// inputs to mutate and how.
@@ -290,10 +294,10 @@ fn derive_json() -> Vec<u8> {
     .into_bytes()
 }
 
-#[test]
-fn every_reader_survives_mutated_inputs() {
+/// Every reader with its corpus.
+fn readers() -> Vec<Target> {
     let mtl_bytes = repo("scenes/meshes/leaf.mtl");
-    let readers = [
+    vec![
         target("scene", read_scene, scenes(), mutate),
         target("derive", derive_scene, scenes(), mutate),
         target(
@@ -347,44 +351,64 @@ fn every_reader_survives_mutated_inputs() {
             vec![derive_json()],
             mutate,
         ),
-    ];
+    ]
+}
 
+#[test]
+fn every_reader_survives_mutated_inputs() {
     // Panics are recorded, not printed: the report lists them with inputs.
+    // The panic hook is global and other tests of this binary run at the
+    // same time, so the readers run in a pool of their own, whose threads
+    // alone are recorded; every other panic goes to the previous hook.
     let seen: Arc<Mutex<Vec<String>>> = Arc::default();
     let hook_seen = Arc::clone(&seen);
-    let previous = panic::take_hook();
+    let previous = Arc::new(panic::take_hook());
+    let others = Arc::clone(&previous);
     panic::set_hook(Box::new(move |info| {
-        hook_seen.lock().unwrap().push(info.to_string());
+        if std::thread::current().name() == Some(FUZZ_THREAD) {
+            hook_seen.lock().unwrap().push(info.to_string());
+        } else {
+            (*others)(info);
+        }
     }));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .thread_name(|_| FUZZ_THREAD.to_string())
+        .build()
+        .unwrap();
     let start = Instant::now();
-    let mut cases = 0;
-    let mut found = Vec::new();
-    let cases_per_reader = setting("LMFILM_MUTATION_CASES", CASES as u64) as usize;
-    let seed = setting("LMFILM_MUTATION_SEED", 0x9e37_79b9_7f4a_7c15);
-    for (k, t) in readers.iter().enumerate() {
-        let (name, read) = (t.name, &t.read);
-        let mut rng = Rng(seed
-            .wrapping_add(k as u64 + 1)
-            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
-            | 1);
-        let mut accepted = 0;
-        for case in 0..cases_per_reader {
-            let input = (t.mutate)(&t.corpus[case % t.corpus.len()], &mut rng);
-            cases += 1;
-            match panic::catch_unwind(AssertUnwindSafe(|| read(&input))) {
-                Ok(ok) => accepted += usize::from(ok),
-                Err(_) => {
-                    let message = seen.lock().unwrap().pop().unwrap_or_default();
-                    found.push(format!(
-                        "{name} case {case}: {message}\n  input: {:?}",
-                        String::from_utf8_lossy(&input[..input.len().min(2000)])
-                    ));
+    let (cases, found) = pool.install(|| {
+        let mut cases = 0;
+        let mut found = Vec::new();
+        let readers = readers();
+        let cases_per_reader = setting("LMFILM_MUTATION_CASES", CASES as u64) as usize;
+        let seed = setting("LMFILM_MUTATION_SEED", 0x9e37_79b9_7f4a_7c15);
+        for (k, t) in readers.iter().enumerate() {
+            let (name, read) = (t.name, &t.read);
+            let mut rng = Rng(seed
+                .wrapping_add(k as u64 + 1)
+                .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+                | 1);
+            let mut accepted = 0;
+            for case in 0..cases_per_reader {
+                let input = (t.mutate)(&t.corpus[case % t.corpus.len()], &mut rng);
+                cases += 1;
+                match panic::catch_unwind(AssertUnwindSafe(|| read(&input))) {
+                    Ok(ok) => accepted += usize::from(ok),
+                    Err(_) => {
+                        let message = seen.lock().unwrap().pop().unwrap_or_default();
+                        found.push(format!(
+                            "{name} case {case}: {message}\n  input: {:?}",
+                            String::from_utf8_lossy(&input[..input.len().min(2000)])
+                        ));
+                    }
                 }
             }
+            println!("mutation: {name}: {cases_per_reader} cases, {accepted} accepted");
         }
-        println!("mutation: {name}: {cases_per_reader} cases, {accepted} accepted");
-    }
-    panic::set_hook(previous);
+        (cases, found)
+    });
+    let _ = panic::take_hook();
+    panic::set_hook(Box::new(move |info| (*previous)(info)));
     println!(
         "mutation: {cases} cases, {} panics, {:.1} s",
         found.len(),

@@ -1,7 +1,6 @@
 //! The turtle's interpretation of words into scenes (issue 3).
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{Vec3, Vec3A};
 use lmfilm::lsys::NoSensors;
 use lmfilm::scene::{mesh, snapshot, Scene, ShapeKind};

@@ -1,7 +1,6 @@
 //! The ray tracer on real scenes (issue 4).
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{Vec3, Vec3A};
 use lmfilm::lsys::NoSensors;
 use lmfilm::render::{render, Accel, Filter, Settings};

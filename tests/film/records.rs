@@ -4,7 +4,7 @@
 //! hosts write their own records, and nothing is written outside the
 //! output folder.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

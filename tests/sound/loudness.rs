@@ -5,13 +5,11 @@
 //! `--no-normalize`, fades, silence, determinism, bad targets, and the
 //! built-in sound library used from anywhere.
 
-mod common;
-
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::fresh_dir;
+use crate::common::fresh_dir;
 use lmfilm::sound::{self, EventsFile, Settings, Sounds};
 
 fn repo(path: &str) -> PathBuf {

@@ -2,7 +2,7 @@
 //! handler's table of on-going events behind `?60`–`?62`, the event log
 //! of a scene, and its soundtrack through the command line.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -1,7 +1,7 @@
 //! The film driver's support modules: frame ranges, shards, file names,
 //! the manifest with `verify`, and the ffmpeg mux.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::{Path, PathBuf};

@@ -1,7 +1,6 @@
 //! The thesis's own worked examples (sections 2.1.2, 2.1.4, code 6.2.1).
 
-mod common;
-use common::*;
+use crate::common::*;
 use lmfilm::lsys::NoSensors;
 
 #[test]

@@ -1,7 +1,6 @@
 //! Classic L-systems of seeds/002 and seeds/003 with their known strings.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lmfilm::lsys::{Animation, NoSensors, Sensors, Source, Who};
 
 /// A naive parallel rewriter: the reference for context-free grammars.

@@ -1,0 +1,15 @@
+//! Integration tests of the film driver and the command line: run, records,
+//! support modules, determinism and limits.
+//!
+//! One test binary per layer (issue 12 §6): each former test file is a
+//! module here, so the layer links once.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod cli;
+mod determinism;
+mod film;
+mod limits;
+mod records;
+mod support;

@@ -1,0 +1,13 @@
+//! Integration tests of the scene layer: the turtle, meshes, OBJ output and
+//! snapshots.
+//!
+//! One test binary per layer (issue 12 §6): each former test file is a
+//! module here, so the layer links once.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod mesh;
+mod obj;
+mod snapshot;
+mod turtle;
