@@ -71,6 +71,12 @@ impl Sensors for Ears {
         self.touch.as_ref().map_or(0.0, |t| t.field_at(at).length())
     }
 
+    /// `?15`, `?19`, `?26`, `?27`: the tennis fields of the physics layer
+    /// (no peak detector listens during derivation).
+    fn tennis(&mut self, q: &crate::lsys::FieldQuery) -> crate::lsys::FieldValue {
+        crate::physics::tennis::field(q).field
+    }
+
     fn sounds_playing(&mut self) -> f64 {
         self.ongoing.len() as f64
     }
