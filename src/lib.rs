@@ -6,6 +6,7 @@
 //! (located source text and its diagnostics, counter-based random
 //! numbers, atomic writes, boxes, the error type) serve them all.
 
+pub mod aabb;
 pub mod atomic;
 pub mod error;
 pub mod random;

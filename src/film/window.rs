@@ -137,6 +137,12 @@ impl Sensors for Window<'_> {
         self.physics.touch().field_at(DVec3::from_array(p)).length()
     }
 
+    /// `?15`, `?19`, `?26`, `?27`: the tennis fields of the physics layer
+    /// (no peak detector listens during derivation).
+    fn tennis(&mut self, q: &crate::lsys::FieldQuery) -> crate::lsys::FieldValue {
+        crate::physics::tennis::field(q).field
+    }
+
     fn sounds_playing(&mut self) -> f64 {
         self.air.heard().len() as f64
     }

@@ -4,7 +4,7 @@
 use super::definition::Definition;
 use super::expr::{Expr, Op, Param, MAX_DEPTH};
 use super::functions::hermite;
-use super::sensors::{Sensors, Who};
+use super::sensors::{FieldQuery, FieldValue, Sensors, Who};
 use crate::random::{self, Stream};
 
 /// Slots of the symbol memory read by `>`/`?44` and written by `<`.
@@ -232,10 +232,22 @@ impl<'a> Machine<'a> {
         }
     }
 
+    /// Asks the world for tennis force field `code` at the symbol.
+    fn tennis(&mut self, code: u8, f: &Frame) -> FieldValue {
+        let row = FieldQuery::row_of(code);
+        let q = FieldQuery {
+            code,
+            at: f.par,
+            field: f.field,
+            row: self.state.fconst.get(row).copied().unwrap_or([0.0; 8]),
+        };
+        self.sensors.tennis(&q)
+    }
+
     /// Nullary special functions (table B5).
     fn special(&mut self, n: u8, f: &Frame) -> f64 {
         let [x, y, z] = f.par;
-        let [ox, oy, oz, u, _v, _w, r] = f.field;
+        let [ox, .., r] = f.field;
         let s = &mut *self.state;
         match n {
             0..=2 => self.def.spline(n as u32).map_or(0.0, |sp| sp.eval(f.age)),
@@ -258,33 +270,14 @@ impl<'a> Machine<'a> {
                 }
             }
             15 => {
-                // Racket field; eq. 7.1.5 is lost in the scan, see
-                // docs/language.md for the reconstruction.
-                let nrm = [s.c(0, 0), s.c(0, 1), s.c(0, 2)];
-                let d = [x - ox, y - oy, z - oz];
-                let h = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2];
-                let lat2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - h * h).max(0.0);
-                let radius = s.c(0, 3);
-                let level = if lat2 <= radius * radius {
-                    3f64.powf(-s.c(0, 5) * h.abs().powf(s.c(0, 6)))
-                } else {
-                    0.0
-                };
-                let force = s.c(0, 4) * level * h.signum();
-                s.set_c(0, 7, force);
-                self.sensors.contact(15, level);
-                force * nrm[0]
+                // Racket field (physics::tennis); ?16, ?17 read its force.
+                let v = self.tennis(15, f);
+                self.state.set_c(0, 7, v.force);
+                v.value
             }
             16 | 17 => s.c(0, 7) * s.c(0, (n - 15) as usize),
             18 | 20 | 25 => self.sensors.particle(n, f.who),
-            19 => {
-                let (a, b, c, d, e) = (s.c(1, 0), s.c(1, 1), s.c(1, 2), s.c(1, 3), s.c(1, 4));
-                let shape = ((x - a) / b).powf(c) + d;
-                // Closeness to the net: d / shape is 1 in the net's plane.
-                let level = if d > 0.0 { d / shape } else { 0.0 };
-                self.sensors.contact(19, level);
-                ((x - a) - u * e) / shape
-            }
+            19 | 26 | 27 => self.tennis(n, f).value,
             21 => {
                 let key = random::key(
                     self.seed,
@@ -308,18 +301,6 @@ impl<'a> Machine<'a> {
                 v
             }
             24 => s.c(4, 7),
-            26 => {
-                let arg = s.c(5, 0) + s.c(5, 3) - y;
-                let v = hermite(arg, s.c(5, 0), s.c(5, 1), s.c(5, 2));
-                self.sensors.contact(26, hermite(arg, s.c(5, 0), 0.0, 1.0));
-                v
-            }
-            27 => {
-                let arg = s.c(6, 3) - y;
-                let v = hermite(arg, s.c(6, 0), s.c(6, 1), s.c(6, 2));
-                self.sensors.contact(27, hermite(arg, s.c(6, 0), 0.0, 1.0));
-                v
-            }
             28 => hermite(f.age + s.c(5, 3), s.c(5, 0), s.c(5, 1), s.c(5, 2)),
             34 => self.sensors.phase_degrees(f.who),
             30..=39 => self.sensors.actor(n, f.who),

@@ -24,6 +24,6 @@ pub use animation::{Animation, LoadError};
 pub use definition::Definition;
 pub use limits::{LimitError, Limits};
 pub use parse::parse;
-pub use sensors::{NoSensors, Sensors, Who};
+pub use sensors::{FieldQuery, FieldValue, NoSensors, Sensors, Who};
 pub use step::{Ephemeral, LSystem};
 pub use word::Symbol;

@@ -15,6 +15,44 @@ pub struct Who {
     pub symbol: u64,
 }
 
+/// What the L-system knows when it asks for a tennis force field
+/// (`?15`, `?19`, `?26`, `?27`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FieldQuery {
+    /// The special function: 15, 19, 26 or 27.
+    pub code: u8,
+    /// `x y z` of the query symbol.
+    pub at: [f64; 3],
+    /// `X Y Z u v w r` of the force-field semantics (zero otherwise).
+    pub field: [f64; 7],
+    /// The `fConst` row the function reads ([`FieldQuery::row_of`]),
+    /// zeros where the file declares none.
+    pub row: [f64; 8],
+}
+
+impl FieldQuery {
+    /// The `fConst` row read by special function `code`: 0 (racket),
+    /// 1 (net), 5 (ground), 6 (wall).
+    pub fn row_of(code: u8) -> usize {
+        match code {
+            15 => 0,
+            19 => 1,
+            26 => 5,
+            _ => 6,
+        }
+    }
+}
+
+/// The answer to a [`FieldQuery`].
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+pub struct FieldValue {
+    /// The value of the special function.
+    pub value: f64,
+    /// `?15`: the racket force F, which the L-system stores in
+    /// `Const[0][7]` for `?16`, `?17`; 0 for the others.
+    pub force: f64,
+}
+
 pub trait Sensors {
     /// `?40`: magnitude of the force felt at `p` (the query symbol's x, y, z).
     fn force(&mut self, _p: [f64; 3]) -> f64 {
@@ -41,11 +79,15 @@ pub trait Sensors {
         }
     }
 
-    /// `?15`, `?19`, `?26`, `?27` report how deep a particle is in a
-    /// repelling field (`level`, 1 at full contact, 0 outside), so the
-    /// integrator's peak detectors (thesis 7.4) can hear collisions.
-    /// Default: nobody listens.
-    fn contact(&mut self, _code: u8, _level: f64) {}
+    /// `?15`, `?19`, `?26`, `?27`: the tennis force fields (racket, net,
+    /// ground, wall; thesis 7.1), computed by the physics layer
+    /// (`physics::tennis`). An implementation that feels them also hears
+    /// how deep the query is in the repelling field, for the integrator's
+    /// peak detectors (thesis 7.4). Default: a world without physics has
+    /// no field (value and force 0).
+    fn tennis(&mut self, _q: &FieldQuery) -> FieldValue {
+        FieldValue::default()
+    }
 
     /// `?34`: swim phase of the current particle in degrees. Default 0.
     fn phase_degrees(&mut self, _who: Who) -> f64 {

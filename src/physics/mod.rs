@@ -10,6 +10,7 @@ mod grid;
 pub mod particles;
 pub mod peaks;
 pub mod rk4;
+pub mod tennis;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -19,7 +20,7 @@ use rayon::prelude::*;
 
 use crate::lsys::eval::{Frame, Machine, State};
 use crate::lsys::options::OptionItem;
-use crate::lsys::{Animation, Definition, Sensors, Who};
+use crate::lsys::{Animation, Definition, FieldQuery, FieldValue, Sensors, Who};
 use crate::random::{self, Stream};
 use grid::Grid;
 pub use particles::{Law, Mode, Particle};
@@ -77,8 +78,12 @@ impl Sensors for Body {
         }
     }
 
-    fn contact(&mut self, code: u8, level: f64) {
-        peaks::record(&mut self.levels, code, level);
+    /// `?15`, `?19`, `?26`, `?27`, whose contact levels the peak
+    /// detectors hear.
+    fn tennis(&mut self, q: &FieldQuery) -> FieldValue {
+        let felt = tennis::field(q);
+        peaks::record(&mut self.levels, q.code, felt.level);
+        felt.field
     }
 }
 

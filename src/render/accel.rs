@@ -4,8 +4,8 @@
 
 use std::sync::Arc;
 
+use crate::aabb;
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
-use obvhs::aabb::Aabb;
 
 use super::bvh4::{Bvh4, Ray};
 use super::intersect;
@@ -97,29 +97,6 @@ pub struct Accel {
     blas: Vec<Option<Blas>>,
 }
 
-fn aabb(b: (Vec3A, Vec3A)) -> Aabb {
-    Aabb::new(b.0, b.1)
-}
-
-/// The box around `a` transformed by `m`; None when not finite or beyond
-/// ±[`crate::scene::MAX_COORDINATE`].
-pub(super) fn transformed(a: &Aabb, m: &Affine3A) -> Option<Aabb> {
-    // `extend` may drop a NaN corner: the transform is checked itself.
-    if !m.is_finite() {
-        return None;
-    }
-    let mut out = Aabb::empty();
-    for i in 0..8 {
-        let c = Vec3A::new(
-            if i & 1 == 0 { a.min.x } else { a.max.x },
-            if i & 2 == 0 { a.min.y } else { a.max.y },
-            if i & 4 == 0 { a.min.z } else { a.max.z },
-        );
-        out.extend(m.transform_point3a(c));
-    }
-    intersect::within(out.min, out.max).then_some(out)
-}
-
 /// The bottom level of one geometry; primitives with bounds that are not
 /// finite or beyond ±[`crate::scene::MAX_COORDINATE`] never reach the
 /// builder (its surface areas would overflow).
@@ -129,13 +106,13 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
     for (i, s) in g.shapes.iter().enumerate() {
         if let Some(b) = intersect::bounds(s) {
             prims.push(Prim::Shape(i as u32));
-            boxes.push(aabb(b));
+            boxes.push(b);
         }
     }
     for (i, t) in g.triangles.iter().enumerate() {
         if let Some(b) = intersect::triangle_bounds(&t.v) {
             prims.push(Prim::Triangle(i as u32));
-            boxes.push(aabb(b));
+            boxes.push(b);
         }
     }
     let tree = Bvh4::build(&boxes, BLAS_LEAF)?;
@@ -190,7 +167,7 @@ impl Accel {
             let Some(Some(b)) = blas.get(i.geometry as usize) else {
                 continue;
             };
-            if let Some(wb) = transformed(&b.tree.bounds(), &i.transform) {
+            if let Some(wb) = aabb::transformed(&b.tree.bounds(), &i.transform) {
                 inst.push(k as u32);
                 boxes.push(wb);
             }

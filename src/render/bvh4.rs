@@ -10,8 +10,8 @@
 //! single pass. The traversal stack is sized from the tree's measured
 //! depth, so no tree is too deep for it.
 
+use crate::aabb::Aabb;
 use glam::{Vec3A, Vec4};
-use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::bvh2::{Bvh2, Bvh2Node};
 use obvhs::ploc::build_ploc_from_leafs;

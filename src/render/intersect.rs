@@ -10,7 +10,7 @@
 
 use glam::Vec3A;
 
-pub use crate::scene::shape::{bounds, local_bounds, triangle_bounds, within};
+pub use crate::scene::shape::{bounds, local_bounds, triangle_bounds};
 use crate::scene::shape::{valid_capsule, valid_trunk};
 use crate::scene::ShapeKind;
 

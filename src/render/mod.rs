@@ -17,7 +17,8 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::scene::{Scene, MAX_COORDINATE};
+use crate::aabb::{self, Aabb, MAX_COORDINATE};
+use crate::scene::Scene;
 pub use accel::{Accel, Hit};
 pub use output::Image;
 pub use sample::{Filter, Settings};
@@ -30,26 +31,26 @@ pub fn check(scene: &Scene) -> Result<(), String> {
     let beyond = format!("is not finite or reaches beyond ±{MAX_COORDINATE:e}");
     let mut boxes = Vec::with_capacity(scene.geometries.len());
     for (k, g) in scene.geometries.iter().enumerate() {
-        let mut b = obvhs::aabb::Aabb::empty();
+        let mut b = Aabb::empty();
         for (i, s) in g.shapes.iter().enumerate() {
-            let (lo, hi) = intersect::bounds(s).ok_or_else(|| {
+            let sb = intersect::bounds(s).ok_or_else(|| {
                 format!(
                     "geometry {k} ({}): shape {i} (symbol {}) {beyond}",
                     g.name, s.symbol
                 )
             })?;
-            b.extend(lo);
-            b.extend(hi);
+            b.extend(sb.min);
+            b.extend(sb.max);
         }
         for (i, t) in g.triangles.iter().enumerate() {
-            let (lo, hi) = intersect::triangle_bounds(&t.v).ok_or_else(|| {
+            let sb = intersect::triangle_bounds(&t.v).ok_or_else(|| {
                 format!(
                     "geometry {k} ({}): triangle {i} (symbol {}) {beyond}",
                     g.name, t.symbol
                 )
             })?;
-            b.extend(lo);
-            b.extend(hi);
+            b.extend(sb.min);
+            b.extend(sb.max);
         }
         boxes.push((!g.is_empty()).then_some(b));
     }
@@ -60,7 +61,7 @@ pub fn check(scene: &Scene) -> Result<(), String> {
                 i.geometry
             ));
         };
-        if b.is_some_and(|b| accel::transformed(&b, &i.transform).is_none()) {
+        if b.is_some_and(|b| aabb::transformed(&b, &i.transform).is_none()) {
             return Err(format!(
                 "instance {k} (of geometry {}) {beyond}",
                 i.geometry

@@ -20,14 +20,8 @@ pub use camera::{Camera, Light, LightKind};
 pub use material::Material;
 pub use shape::{Shape, ShapeKind, Triangle};
 
-/// Largest |coordinate| a primitive's bounds may reach; farther ones are
-/// refused by the turtle, the OBJ reader and the renderer. The renderer's
-/// boxes are f32 and its BVH builder (PLOC) sums surface areas and maps
-/// centres to Morton codes over the scene's extent: past about 1e19 the
-/// areas overflow f32 to infinity and the build fails. At 1e15 an area
-/// stays below 1e32 (f32 reaches 3e38), and 1e15 m is still 6,700 times
-/// the Earth–Sun distance.
-pub const MAX_COORDINATE: f32 = 1e15;
+/// See [`crate::aabb::MAX_COORDINATE`].
+pub use crate::aabb::MAX_COORDINATE;
 
 /// Largest magnitude of any number in a scene or snapshot (coordinates
 /// of placed primitives are held to [`MAX_COORDINATE`] besides): the

@@ -6,7 +6,7 @@
 use glam::{Affine3A, Vec3, Vec3A};
 use serde::{Deserialize, Serialize};
 
-use super::MAX_COORDINATE;
+use crate::aabb::{self, Aabb};
 
 /// A unit shape in local coordinates.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -53,11 +53,11 @@ impl Triangle {
     }
 }
 
-/// Local-space AABB (min, max) of a unit shape; NaN for parameters that
-/// describe no solid (negative, NaN or infinite sizes), so that [`bounds`]
-/// rejects them.
-pub fn local_bounds(kind: ShapeKind) -> (Vec3A, Vec3A) {
-    match kind {
+/// Local-space AABB of a unit shape; NaN for parameters that describe no
+/// solid (negative, NaN or infinite sizes), so that [`bounds`] rejects
+/// them.
+pub fn local_bounds(kind: ShapeKind) -> Aabb {
+    let (min, max) = match kind {
         ShapeKind::Box => (Vec3A::new(0.0, -0.5, -0.5), Vec3A::new(1.0, 0.5, 0.5)),
         ShapeKind::Sphere => (Vec3A::splat(-1.0), Vec3A::ONE),
         ShapeKind::Cylinder => (Vec3A::new(0.0, -1.0, -1.0), Vec3A::ONE),
@@ -72,46 +72,22 @@ pub fn local_bounds(kind: ShapeKind) -> (Vec3A, Vec3A) {
             )
         }
         _ => (Vec3A::NAN, Vec3A::NAN),
-    }
+    };
+    Aabb::new(min, max)
 }
 
 /// Conservative AABB of a shape in its geometry's coordinates: the box
 /// around the 8 transformed corners of [`local_bounds`], padded by a few
 /// ulps against rounding. None for non-finite transforms or shapes, and
-/// for bounds beyond ±[`MAX_COORDINATE`].
-pub fn bounds(shape: &Shape) -> Option<(Vec3A, Vec3A)> {
-    let (lo, hi) = local_bounds(shape.kind);
-    transformed_box(&shape.transform, lo, hi)
+/// for bounds beyond ±[`crate::aabb::MAX_COORDINATE`].
+pub fn bounds(shape: &Shape) -> Option<Aabb> {
+    aabb::transformed_padded(&local_bounds(shape.kind), &shape.transform)
 }
 
 /// AABB of a triangle; None when a coordinate is not finite or beyond
-/// ±[`MAX_COORDINATE`].
-pub fn triangle_bounds(v: &[Vec3; 3]) -> Option<(Vec3A, Vec3A)> {
-    let (a, b, c) = (Vec3A::from(v[0]), Vec3A::from(v[1]), Vec3A::from(v[2]));
-    let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
-    // min and max may drop a NaN: the corners are checked themselves.
-    let finite = a.is_finite() && b.is_finite() && c.is_finite();
-    (finite && within(lo, hi)).then_some((lo, hi))
-}
-
-/// Whether a box is finite and within ±[`MAX_COORDINATE`] (NaN is not).
-pub fn within(min: Vec3A, max: Vec3A) -> bool {
-    let m = Vec3A::splat(MAX_COORDINATE);
-    min.cmpge(-m).all() && max.cmple(m).all()
-}
-
-fn transformed_box(m: &Affine3A, lo: Vec3A, hi: Vec3A) -> Option<(Vec3A, Vec3A)> {
-    if !(m.is_finite() && lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let c = (lo + hi) * 0.5;
-    let e = (hi - lo) * 0.5;
-    let m3 = &m.matrix3;
-    let wc = m.transform_point3a(c);
-    let we = m3.x_axis.abs() * e.x + m3.y_axis.abs() * e.y + m3.z_axis.abs() * e.z;
-    let pad = (wc.abs() + we) * (4.0 * f32::EPSILON);
-    let (min, max) = (wc - we - pad, wc + we + pad);
-    within(min, max).then_some((min, max))
+/// ±[`crate::aabb::MAX_COORDINATE`].
+pub fn triangle_bounds(v: &[Vec3; 3]) -> Option<Aabb> {
+    aabb::around(&v.map(Vec3A::from))
 }
 
 pub(crate) fn valid_capsule(length: f32) -> bool {

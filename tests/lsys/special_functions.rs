@@ -4,7 +4,8 @@
 
 use lmfilm::lsys::eval::{Frame, Machine, State};
 use lmfilm::lsys::functions::hermite;
-use lmfilm::lsys::{Animation, NoSensors, Sensors, Source, Who};
+use lmfilm::lsys::{Animation, FieldQuery, FieldValue, NoSensors, Sensors, Source, Who};
+use lmfilm::physics::tennis;
 
 /// Options of every test: the coefficient arrays the functions read.
 const OPTIONS: &str = "fConst 0 0 1 0 2 5 0.5 2\n\
@@ -13,13 +14,16 @@ const OPTIONS: &str = "fConst 0 0 1 0 2 5 0.5 2\n\
     fConst 5 0.4 10 110 0.1\n\
     fConst 6 0.2 1 5 0.5\n";
 
-/// Records the `contact` reports.
+/// Feels the tennis fields of the physics layer and records the contact
+/// levels they report.
 #[derive(Default)]
 struct Ear(Vec<(u8, f64)>);
 
 impl Sensors for Ear {
-    fn contact(&mut self, code: u8, level: f64) {
-        self.0.push((code, level));
+    fn tennis(&mut self, q: &FieldQuery) -> FieldValue {
+        let felt = tennis::field(q);
+        self.0.push((q.code, felt.level));
+        felt.field
     }
 }
 
@@ -169,4 +173,34 @@ fn q28_and_q29_are_hermite_of_the_age_and_of_the_stack() {
         eval("0.05 ?29", [0.0; 3], NONE, 0.0).0,
         hermite(0.15, 0.4, 10.0, 110.0),
     );
+}
+
+#[test]
+fn tennis_fields_are_zero_without_physics() {
+    // NoSensors: a world without physics has no field, and ?15 stores
+    // a zero force for ?16, ?17.
+    let text = format!(
+        "Camera_AnimationParameters\nt_final_interval 1 0.04\n\nOptions\n{OPTIONS}\n\
+         Axiom\nA () () () () (?15 ?16 + ?19 + ?26 + ?27 + 1 +)\n"
+    );
+    let anim = Animation::from_sources(&[Source::new("f.lm", text)], &mut NoSensors).unwrap();
+    let ls = &anim.systems[0];
+    let s = &ls.word()[0];
+    let f = ls.def.growth[s.growth as usize].f[0].expect("an expression");
+    let mut state = State::new(&ls.def);
+    let mut none = NoSensors;
+    let mut m = Machine::new(&ls.def, &mut state, &mut none, 1);
+    let frame = Frame {
+        time: 0.0,
+        age: 0.0,
+        par: [1.0, 0.45, 0.0],
+        field: [0.0, 1.0, 0.0, 4.0, 0.0, 0.0, 0.0],
+        key: 0,
+        who: Who {
+            lsys: 0,
+            symbol: s.id,
+        },
+        growth: s.growth,
+    };
+    assert_eq!(m.eval(f, &frame), 1.0);
 }

@@ -4,6 +4,7 @@
 //! the function's finite-difference gradient there.
 
 use glam::{Affine3A, DVec3, Mat3, Vec3, Vec3A};
+use lmfilm::aabb::Aabb;
 use lmfilm::render::intersect::*;
 use lmfilm::render::tri4::triangle;
 use lmfilm::scene::*;
@@ -174,7 +175,7 @@ fn ref_normal(kind: ShapeKind, p: DVec3) -> Option<DVec3> {
 /// distance bound (at least `FLOOR` long), then bisects the sign change.
 fn reference(kind: ShapeKind, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<f64> {
     const FLOOR: f64 = 4e-4;
-    let (lo, hi) = local_bounds(kind);
+    let Aabb { min: lo, max: hi } = local_bounds(kind);
     let (lo, hi) = (d3(lo) - 0.01, d3(hi) + 0.01);
     let (mut t0, mut t1) = (tmin, tmax);
     for i in 0..3 {
@@ -284,7 +285,7 @@ fn check(kind: ShapeKind, tally: &Tally, failures: &[String], budget: f64) {
 fn shapes_match_brute_force_from_anywhere() {
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
     for kind in KINDS {
-        let (lo, hi) = local_bounds(kind);
+        let Aabb { min: lo, max: hi } = local_bounds(kind);
         let mut tally = Tally::default();
         let mut failures = Vec::new();
         for i in 0..4000 {
@@ -320,7 +321,7 @@ fn shapes_match_brute_force_from_anywhere() {
 fn rays_from_inside_find_the_exit() {
     let mut rng = Rng(0x2545_f491_4f6c_dd1d);
     for kind in KINDS {
-        let (lo, hi) = local_bounds(kind);
+        let Aabb { min: lo, max: hi } = local_bounds(kind);
         let mut tally = Tally::default();
         let mut failures = Vec::new();
         for _ in 0..2000 {
@@ -352,7 +353,7 @@ fn rays_from_inside_find_the_exit() {
 fn direction_length_does_not_matter() {
     let mut rng = Rng(7);
     for kind in KINDS {
-        let (lo, hi) = local_bounds(kind);
+        let Aabb { min: lo, max: hi } = local_bounds(kind);
         let mut hits = 0;
         for _ in 0..200 {
             let o = rng.vec(lo - 2.0, hi + 2.0);
@@ -447,7 +448,7 @@ fn degenerate_shapes_and_rays_never_hit() {
             let d = rng.unit();
             assert_eq!(shape(kind, o, d, 0.0, f32::INFINITY), None, "{kind:?}");
         }
-        let (lo, hi) = local_bounds(kind);
+        let Aabb { min: lo, max: hi } = local_bounds(kind);
         assert!(!(lo.is_finite() && hi.is_finite()), "{kind:?}");
     }
     let o = Vec3A::new(-3.0, 0.1, 0.05);
@@ -616,7 +617,7 @@ fn random_transform(rng: &mut Rng) -> Affine3A {
 fn bounds_contain_the_shape() {
     let mut rng = Rng(17);
     for kind in KINDS {
-        let (lo, hi) = local_bounds(kind);
+        let Aabb { min: lo, max: hi } = local_bounds(kind);
         for _ in 0..50 {
             let transform = random_transform(&mut rng);
             let s = Shape {
@@ -625,7 +626,7 @@ fn bounds_contain_the_shape() {
                 material: 0,
                 symbol: 0,
             };
-            let (min, max) = bounds(&s).expect("finite");
+            let Aabb { min, max } = bounds(&s).expect("finite");
             // Tight: the box around the 8 transformed corners.
             let corners = (0..8).map(|i| {
                 let f = Vec3A::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32);
@@ -707,7 +708,10 @@ fn non_finite_bounds_are_none() {
     ];
     assert_eq!(
         triangle_bounds(&v),
-        Some((Vec3A::new(-1.0, -2.0, 0.0), Vec3A::new(1.0, 3.0, 2.0)))
+        Some(Aabb::new(
+            Vec3A::new(-1.0, -2.0, 0.0),
+            Vec3A::new(1.0, 3.0, 2.0)
+        ))
     );
     for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
         let mut w = v;
@@ -742,7 +746,7 @@ fn trunk_seams_are_closed() {
         let ShapeKind::Trunk { length, r0, r1 } = kind else {
             continue;
         };
-        let (lo, hi) = local_bounds(kind);
+        let Aabb { min: lo, max: hi } = local_bounds(kind);
         let mut tally = Tally::default();
         let mut failures = Vec::new();
         for (x, r) in seams(length, r0, r1) {

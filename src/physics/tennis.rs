@@ -1,0 +1,94 @@
+//! The tennis force fields of thesis 7.1 that table B5 offers as special
+//! functions: the racket (`?15`), the net (`?19`), the ground (`?26`) and
+//! the ball–ground ramp (`?27`). Each is a plain function of what the
+//! L-system knows (the query symbol's x y z, the field values X Y Z u v w r
+//! and its `fConst` row) and also returns how deep the query is in the
+//! repelling field, for the peak detectors (thesis 7.4, [`super::peaks`]).
+
+use crate::lsys::functions::hermite;
+use crate::lsys::{FieldQuery, FieldValue};
+
+/// A field's value and the contact level it reports (1 at full contact,
+/// 0 outside).
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+pub struct Felt {
+    pub field: FieldValue,
+    pub level: f64,
+}
+
+/// Answers `?15`, `?19`, `?26` or `?27` (any other code is the wall,
+/// `?27`, as [`FieldQuery::row_of`] reads).
+pub fn field(q: &FieldQuery) -> Felt {
+    match q.code {
+        15 => racket(q.at, q.field, &q.row),
+        19 => net(q.at, q.field, &q.row),
+        26 => ground(q.at, &q.row),
+        _ => wall(q.at, &q.row),
+    }
+}
+
+/// `?15`: the racket, a disc of normal n = c0..c2 and radius c3 centred on
+/// the carrier X Y Z; within the disc's cylinder the force along n is
+/// F = c4·3^(−c5·|h|^c6)·sign(h), h the height above the disc. Eq. 7.1.5
+/// is lost in the scan: docs/language.md has the reconstruction. The value
+/// is F·n_x; `force` is F, which `?16`, `?17` scale by n_y, n_z.
+pub fn racket(at: [f64; 3], field: [f64; 7], c: &[f64; 8]) -> Felt {
+    let [x, y, z] = at;
+    let [ox, oy, oz, ..] = field;
+    let nrm = [c[0], c[1], c[2]];
+    let d = [x - ox, y - oy, z - oz];
+    let h = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2];
+    let lat2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - h * h).max(0.0);
+    let radius = c[3];
+    let level = if lat2 <= radius * radius {
+        3f64.powf(-c[5] * h.abs().powf(c[6]))
+    } else {
+        0.0
+    };
+    let force = c[4] * level * h.signum();
+    Felt {
+        field: FieldValue {
+            value: force * nrm[0],
+            force,
+        },
+        level,
+    }
+}
+
+/// `?19`: the net of eq. 7.1.3 with f = 1, ((x−a) − u·e) / (((x−a)/b)^c + d)
+/// with a…e = c0..c4; its level is d over the shape, 1 in the net's plane.
+pub fn net(at: [f64; 3], field: [f64; 7], c: &[f64; 8]) -> Felt {
+    let x = at[0];
+    let u = field[3];
+    let (a, b, cc, d, e) = (c[0], c[1], c[2], c[3], c[4]);
+    let shape = ((x - a) / b).powf(cc) + d;
+    let level = if d > 0.0 { d / shape } else { 0.0 };
+    Felt {
+        field: FieldValue {
+            value: ((x - a) - u * e) / shape,
+            force: 0.0,
+        },
+        level,
+    }
+}
+
+/// `?26`: the ground's repulsion, Hermite(c0 + c3 − y; c0, c1, c2).
+pub fn ground(at: [f64; 3], c: &[f64; 8]) -> Felt {
+    ramp(c[0] + c[3] - at[1], c)
+}
+
+/// `?27`: the ball–ground ramp, Hermite(c3 − y; c0, c1, c2).
+pub fn wall(at: [f64; 3], c: &[f64; 8]) -> Felt {
+    ramp(c[3] - at[1], c)
+}
+
+/// Hermite(arg; c0, c1, c2), and its level Hermite(arg; c0, 0, 1).
+fn ramp(arg: f64, c: &[f64; 8]) -> Felt {
+    Felt {
+        field: FieldValue {
+            value: hermite(arg, c[0], c[1], c[2]),
+            force: 0.0,
+        },
+        level: hermite(arg, c[0], 0.0, 1.0),
+    }
+}
