@@ -95,6 +95,15 @@ impl Record {
     }
 }
 
+/// `, ` before every item but the first.
+fn comma<W: ?Sized + io::Write>(w: &mut W, first: bool) -> io::Result<()> {
+    if first {
+        Ok(())
+    } else {
+        w.write_all(b", ")
+    }
+}
+
 /// JSON with a space after each `,` and `:`, as the trace has always
 /// been written (so a reader diffing two traces sees the same bytes).
 struct Spaced;
@@ -105,11 +114,7 @@ impl serde_json::ser::Formatter for Spaced {
         w: &mut W,
         first: bool,
     ) -> io::Result<()> {
-        if first {
-            Ok(())
-        } else {
-            w.write_all(b", ")
-        }
+        comma(w, first)
     }
 
     fn begin_object_key<W: ?Sized + io::Write>(
@@ -117,11 +122,7 @@ impl serde_json::ser::Formatter for Spaced {
         w: &mut W,
         first: bool,
     ) -> io::Result<()> {
-        if first {
-            Ok(())
-        } else {
-            w.write_all(b", ")
-        }
+        comma(w, first)
     }
 
     fn begin_object_value<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {

@@ -50,7 +50,25 @@ fn particle_of<'p>(
     get(who.symbol).or_else(|| get(current.filter(|c| c.lsys == who.lsys)?.symbol))
 }
 
-impl Window<'_> {
+impl<'a> Window<'a> {
+    /// The window on `air` and `physics` at frame `frame`, with the
+    /// current particle `current`; it runs no script.
+    pub fn new(
+        air: &'a mut Air,
+        physics: &'a mut Physics,
+        current: Option<Who>,
+        frame: u64,
+    ) -> Self {
+        Window {
+            air,
+            physics,
+            current,
+            scripts: None,
+            frame,
+            error: None,
+        }
+    }
+
     /// Swim phase (radians) of `who`'s particle, or the current one's, as
     /// last sensed.
     fn phase(&self, who: Who) -> f64 {

@@ -325,14 +325,8 @@ impl Film {
         let time = self.anim.time();
         self.air.begin_frame(time).map_err(Error::input)?;
         self.sound_collisions()?;
-        let mut window = Window {
-            air: &mut self.air,
-            physics: &mut self.physics,
-            current: None,
-            scripts: self.scripts.as_ref(),
-            frame: number,
-            error: None,
-        };
+        let mut window = Window::new(&mut self.air, &mut self.physics, None, number);
+        window.scripts = self.scripts.as_ref();
         let built = build_scene(
             &mut self.anim,
             &self.surfaces,
@@ -381,14 +375,12 @@ impl Film {
     /// function S, then the particles — those the step declared join the
     /// table, and the table evolves over Δt.
     fn step(&mut self) -> Result<()> {
-        let mut window = Window {
-            air: &mut self.air,
-            physics: &mut self.physics,
-            current: self.current,
-            scripts: None,
-            frame: self.anim.frame,
-            error: None,
-        };
+        let mut window = Window::new(
+            &mut self.air,
+            &mut self.physics,
+            self.current,
+            self.anim.frame,
+        );
         self.anim
             .step(&mut window)
             .map_err(|e| Error::input(e.to_string()))?;
@@ -405,14 +397,12 @@ impl Film {
     /// growth functions as the frame's expressions see the world.
     pub fn words(&mut self, format: Format) -> Vec<String> {
         let (time, seed) = (self.anim.time(), self.anim.camera.seed);
-        let mut window = Window {
-            air: &mut self.air,
-            physics: &mut self.physics,
-            current: self.current,
-            scripts: None,
-            frame: self.anim.frame,
-            error: None,
-        };
+        let mut window = Window::new(
+            &mut self.air,
+            &mut self.physics,
+            self.current,
+            self.anim.frame,
+        );
         self.anim
             .systems
             .iter_mut()
