@@ -10,6 +10,7 @@ mod common;
 mod cli;
 mod determinism;
 mod film;
+mod frame_loop;
 mod limits;
 mod records;
 mod support;
