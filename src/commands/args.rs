@@ -39,6 +39,7 @@ pub fn side(text: &str) -> Result<u32, String> {
     within(text, "a side in pixels", 1, 32768)
 }
 
+/// `--spp`: samples per pixel.
 pub fn spp(text: &str) -> Result<u32, String> {
     within(text, "--spp", 1, 65536)
 }
@@ -48,7 +49,7 @@ fn threads(text: &str) -> Result<usize, String> {
 }
 
 fn rate(text: &str) -> Result<u32, String> {
-    within(text, "--rate", 1, 768_000).map(|r| r as u32)
+    within(text, "--rate", 1u32, 768_000)
 }
 
 fn speed_of_sound(text: &str) -> Result<f64, String> {
