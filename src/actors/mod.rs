@@ -6,6 +6,9 @@
 //! with a located error, what no actor could run. Vision, memory and the
 //! behaviours come later (docs/actors.md).
 
+pub mod memory;
+pub mod octree;
+
 use crate::lsys::automata::{ActorAutomata, Automata, AutomataCommand, CommandAt, Located, Span};
 use crate::lsys::options::OptionItem;
 use crate::lsys::Animation;
