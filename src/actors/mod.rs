@@ -360,3 +360,6 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod memory_tests;
