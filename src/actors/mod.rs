@@ -3,8 +3,9 @@
 //!
 //! Today the table holds what the scene declares — each actor's vision
 //! window and its automata stack with their typed commands — and refuses,
-//! with a located error, what no actor could run. Vision, memory and the
-//! behaviours come later (docs/actors.md).
+//! with a located error, what no actor could run. The visual memory
+//! ([`memory`], [`octree`]) exists but is not yet fed by a vision window;
+//! vision and the behaviours come later (docs/actors.md).
 
 pub mod memory;
 pub mod octree;
