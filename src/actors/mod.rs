@@ -6,6 +6,8 @@
 //! with a located error, what no actor could run. Vision, memory and the
 //! behaviours come later (docs/actors.md).
 
+pub mod vision;
+
 use crate::lsys::automata::{ActorAutomata, Automata, AutomataCommand, CommandAt, Located, Span};
 use crate::lsys::options::OptionItem;
 use crate::lsys::Animation;
