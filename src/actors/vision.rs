@@ -111,6 +111,10 @@ pub struct Window {
     pub view: View,
     pub edge: u32,
     pub pixels: Vec<Pixel>,
+    /// Distance seen along the view axis itself (the window's centre;
+    /// with an even edge it is a corner of the four centre pixels), as
+    /// [`Pixel::distance`].
+    pub centre: f32,
 }
 
 /// The unnormalised direction through pixel position (px, py) of an
@@ -170,10 +174,15 @@ pub fn see(accel: &Accel, view: &View, edge: u32) -> Window {
                 .collect()
         })
         .collect();
+    let forward = Vec3A::from(basis.2);
+    let centre = accel
+        .cast(eye, forward, view.near.max(0.0), view.far)
+        .map_or(f32::INFINITY, |h| h.t);
     Window {
         view: *view,
         edge,
         pixels: rows.into_iter().flatten().collect(),
+        centre,
     }
 }
 
@@ -297,23 +306,15 @@ impl Window {
         })
     }
 
-    /// `?30`: the distance at the centre pixel ([`NOTHING`] when it sees
-    /// nothing). An even edge has four centre pixels: the ray through the
-    /// window's centre is the one of pixel (edge/2, edge/2)'s top-left
-    /// corner, so the nearest of the four is taken.
+    /// `?30`: the distance at the centre pixel, [`NOTHING`] when it sees
+    /// nothing: the distance along the view axis (one more ray, so that
+    /// an even edge, which has four centre pixels, reads it exactly too).
     pub fn centre_distance(&self) -> f64 {
-        let c = self.edge / 2;
-        let centre: &[(u32, u32)] = if self.edge % 2 == 1 {
-            &[(c, c)]
+        if self.centre.is_finite() {
+            f64::from(self.centre)
         } else {
-            &[(c - 1, c - 1), (c, c - 1), (c - 1, c), (c, c)]
-        };
-        centre
-            .iter()
-            .map(|&(x, y)| self.pixel(x, y).distance)
-            .filter(|d| d.is_finite())
-            .fold(None, |m: Option<f32>, d| Some(m.map_or(d, |m| m.min(d))))
-            .map_or(NOTHING, f64::from)
+            NOTHING
+        }
     }
 
     /// `?31`: −1 when the closest obstacle in front of the actor is left of
