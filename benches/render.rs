@@ -2,14 +2,21 @@
 //! same camera rays as `embree_rays.py` (640×480, one per pixel centre)
 //! plus one shadow ray per hit toward the light, on one thread. Prints
 //! Mrays/s in the anchor's format; `make bench-render` runs both.
+//!
+//! Then two criterion cases (issue 13): `vision/10_actors_64x64`, ten
+//! actors' 64×64 vision windows into the forest's BVH, and
+//! `vision/frame_640x480_16spp`, one final-quality frame render of the
+//! same BVH. `cargo bench --bench render -- vision` runs only those.
 
 use std::path::Path;
 use std::time::Instant;
 
-use glam::Vec3A;
+use criterion::Criterion;
+use glam::{Vec3, Vec3A};
+use lmfilm::actors::vision::{self, View};
 use lmfilm::lsys::{Animation, NoSensors};
 use lmfilm::render::sample::CameraRays;
-use lmfilm::render::Accel;
+use lmfilm::render::{render_with, Accel, Settings};
 use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
 
 fn main() {
@@ -22,6 +29,9 @@ fn main() {
         eprintln!("target/forest.obj is missing: run `python3 ../shared/anchors/make_forest_obj.py 16 11 target/forest.obj` (make bench-render does)");
         return;
     }
+    // Positional arguments are criterion filters: with one, only the
+    // criterion cases run.
+    let filtered = std::env::args().skip(1).any(|a| !a.starts_with('-'));
     let (w, h) = (640u32, 480u32);
     let t0 = Instant::now();
     let mut anim =
@@ -39,6 +49,50 @@ fn main() {
     let accel = Accel::new(scene.clone());
     let build = t1.elapsed().as_secs_f64();
     let load = (t1 - t0).as_secs_f64();
+    if !filtered {
+        rays_per_second(&scene, &accel, load, build, w, h);
+    }
+    let mut c = Criterion::default().sample_size(10).configure_from_args();
+    let mut g = c.benchmark_group("vision");
+    // Ten actors around the forest at eye height, looking at its middle.
+    let views: Vec<View> = (0..10)
+        .map(|k| {
+            let a = k as f32 * std::f32::consts::TAU / 10.0;
+            View::new(
+                Vec3::new(30.0 * a.sin(), 2.0 + k as f32, 30.0 * a.cos()),
+                Vec3::new(0.0, 6.0, 0.0),
+                450,
+                0.1,
+                1000.0,
+            )
+        })
+        .collect();
+    g.bench_function("10_actors_64x64", |b| {
+        b.iter(|| {
+            views
+                .iter()
+                .map(|v| vision::see(&accel, v, 64))
+                .collect::<Vec<_>>()
+        })
+    });
+    let settings = Settings::final_quality(w, h);
+    g.bench_function("frame_640x480_16spp", |b| {
+        b.iter(|| render_with(&accel, &settings, &|_, _| {}))
+    });
+    g.finish();
+    c.final_summary();
+}
+
+/// Camera rays through each pixel centre plus a shadow ray per hit, on
+/// one thread, best of 7 (the anchors' measure).
+fn rays_per_second(
+    scene: &lmfilm::scene::Scene,
+    accel: &Accel,
+    load: f64,
+    build: f64,
+    w: u32,
+    h: u32,
+) {
     let cam = CameraRays::new(&scene.camera, w, h);
     let light = Vec3A::from(scene.lights[0].position);
     let mut best = f64::MAX;

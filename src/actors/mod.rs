@@ -10,6 +10,8 @@
 pub mod memory;
 pub mod octree;
 
+pub mod vision;
+
 use crate::lsys::automata::{ActorAutomata, Automata, AutomataCommand, CommandAt, Located, Span};
 use crate::lsys::options::OptionItem;
 use crate::lsys::Animation;

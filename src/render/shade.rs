@@ -4,7 +4,7 @@
 
 use glam::{Vec3, Vec3A};
 
-use super::accel::Accel;
+use super::accel::{Accel, Hit};
 use super::sample::Settings;
 use super::texture;
 use crate::random;
@@ -24,7 +24,7 @@ fn horizon(zenith: Vec3) -> Vec3 {
 }
 
 /// What a ray sees where it hits nothing: black, or the sky of `D` 15.
-fn background(accel: &Accel, dir: Vec3A) -> Vec3 {
+pub fn background(accel: &Accel, dir: Vec3A) -> Vec3 {
     let bg = accel.scene.background;
     if bg == Vec3::ZERO {
         Vec3::ZERO
@@ -58,9 +58,24 @@ pub fn trace(
     let Some(hit) = accel.cast(o, d, if depth == 0 { 0.0 } else { EPS }, f32::INFINITY) else {
         return (background(accel, d), false);
     };
+    (shade_hit(accel, &hit, o, d, st, depth, key), true)
+}
+
+/// Colour of `hit`, the nearest surface the unit ray `o + t·d` meets (as
+/// [`trace`] shades it after its cast). Synthetic vision casts its own rays
+/// with its clipping range and shades their hits with this.
+pub fn shade_hit(
+    accel: &Accel,
+    hit: &Hit,
+    o: Vec3A,
+    d: Vec3A,
+    st: &Settings,
+    depth: u32,
+    key: u64,
+) -> Vec3 {
     let scene = &*accel.scene;
     let Some(m) = scene.materials.get(hit.material as usize) else {
-        return (Vec3::ZERO, true);
+        return Vec3::ZERO;
     };
     let p = o + hit.t * d;
     let outside = hit.normal.dot(d) < 0.0;
@@ -93,12 +108,9 @@ pub fn trace(
 
         // Clouds scatter light every way: their own colour, unshaded (a
         // lit surface would be dark on the far side of the layer).
-        return (behind.lerp(diffuse, density), true);
+        return behind.lerp(diffuse, density);
     }
-    (
-        shade_surface(accel, m, p, n, d, diffuse, outside, st, depth, key),
-        true,
-    )
+    shade_surface(accel, m, p, n, d, diffuse, outside, st, depth, key)
 }
 
 /// Lights, shadows, reflection and refraction at surface point `p` with

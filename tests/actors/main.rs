@@ -1,0 +1,6 @@
+//! Integration tests of the actors: synthetic vision (issue 13).
+//!
+//! One test binary per layer (issue 12 §6): each test file is a module
+//! here, so the layer links once.
+
+mod vision;
