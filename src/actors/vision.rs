@@ -12,6 +12,7 @@
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
+use super::memory::DepthView;
 use crate::render::sample::Settings;
 use crate::render::{shade, Accel};
 use crate::scene::material::chromatic_distance;
@@ -244,6 +245,21 @@ pub struct Found {
 }
 
 impl Window {
+    /// The window as the visual memory reads it: the same camera (no
+    /// twist) and each pixel's distance.
+    pub fn depth_view(&self) -> DepthView {
+        DepthView {
+            eye: self.view.eye,
+            look_at: self.view.look_at,
+            twist: 0.0,
+            fov_y: self.view.fov,
+            near: self.view.near,
+            far: self.view.far,
+            edge: self.edge,
+            distances: self.pixels.iter().map(|p| p.distance).collect(),
+        }
+    }
+
     pub fn pixel(&self, x: u32, y: u32) -> &Pixel {
         &self.pixels[(y * self.edge + x) as usize]
     }

@@ -3,4 +3,5 @@
 //! One test binary per layer (issue 12 §6): each test file is a module
 //! here, so the layer links once.
 
+mod memory_room;
 mod vision;

@@ -11,7 +11,7 @@ use lmfilm::scene::{Camera, Geometry, Instance, Light, Scene, Shape, ShapeKind};
 
 /// A scene of these shapes (each its own object), under a white point
 /// light at `light`, with the material table plus `extra` materials.
-fn scene(shapes: &[(ShapeKind, Affine3A, u32)], extra: &[Material], light: Vec3) -> Scene {
+pub fn scene(shapes: &[(ShapeKind, Affine3A, u32)], extra: &[Material], light: Vec3) -> Scene {
     let mut materials = material::table();
     materials.extend_from_slice(extra);
     let geometries: Vec<Geometry> = shapes
@@ -59,7 +59,7 @@ fn scene(shapes: &[(ShapeKind, Affine3A, u32)], extra: &[Material], light: Vec3)
 }
 
 /// The unit box [0,1]×[−½,½]² made the axis-aligned box min..max.
-fn cuboid(min: Vec3, max: Vec3) -> Affine3A {
+pub fn cuboid(min: Vec3, max: Vec3) -> Affine3A {
     let size = max - min;
     Affine3A::from_translation(Vec3::new(
         min.x,
