@@ -26,13 +26,17 @@ pub struct ParticleRecord {
     pub mass: f64,
 }
 
-/// An actor of the film's actor table: its number and the automata it
-/// runs (the first of its stack; none when its stack is empty). Its
-/// position, gaze, state, goal and memory join with the actor issues.
+/// An actor of the film's actor table: its number, the automata it runs
+/// (the first of its stack; none when its stack is empty), where its eye
+/// is and looks, and how many voxels its visual memory holds. Its state,
+/// goal and thing of interest join with the behaviours.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ActorRecord {
     pub id: usize,
     pub automata: Option<&'static str>,
+    pub pos: [f32; 3],
+    pub look_at: [f32; 3],
+    pub memory_voxels: u64,
 }
 
 /// A sound event the frame started.
@@ -66,9 +70,13 @@ impl Record {
                 .actors()
                 .actors()
                 .iter()
-                .map(|a| ActorRecord {
+                .zip(film.living())
+                .map(|(a, l)| ActorRecord {
                     id: a.id(),
                     automata: a.automata().first().map(|e| e.automata.name()),
+                    pos: l.eye.to_array(),
+                    look_at: l.look_at.to_array(),
+                    memory_voxels: l.memory.as_ref().map_or(0, |m| m.voxels()),
                 })
                 .collect(),
             sound_events: film
@@ -131,6 +139,10 @@ impl serde_json::ser::Formatter for Spaced {
 
     /// Shortest round-trip digits without a forced `.0` (`0`, `1.5`).
     fn write_f64<W: ?Sized + io::Write>(&mut self, w: &mut W, value: f64) -> io::Result<()> {
+        write!(w, "{value}")
+    }
+
+    fn write_f32<W: ?Sized + io::Write>(&mut self, w: &mut W, value: f32) -> io::Result<()> {
         write!(w, "{value}")
     }
 }

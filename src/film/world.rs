@@ -18,6 +18,8 @@ use crate::sound::EventLog;
 use crate::turtle::interpret::Tables;
 use crate::turtle::{build_scene, Options, Surfaces};
 
+use crate::actors::live::{self, Living};
+
 use super::frame::Frame;
 use super::frames::rs_switch;
 use super::window::{Scripts, Window};
@@ -44,6 +46,8 @@ pub struct Film {
     /// the log's `PLAY` lines name them (see [`Film::sound_files`]).
     sound_files: Vec<(String, PathBuf)>,
     actors: crate::actors::Table,
+    /// The actors as they live through the film (eyes, windows, memory).
+    living: Vec<Living>,
 }
 
 /// The `Sound_event_file` initialisations of the first L-system that
@@ -146,6 +150,7 @@ impl Film {
             current: None,
             frame: None,
             sound_files,
+            living: live::living(&actors),
             actors,
         })
     }
@@ -153,6 +158,11 @@ impl Film {
     /// The scene's actors (`NBR_actors`, `iVisionWinSize`, `actorNbr_automata`).
     pub fn actors(&self) -> &crate::actors::Table {
         &self.actors
+    }
+
+    /// The actors as the last sense step left them, in actor order.
+    pub fn living(&self) -> &[Living] {
+        &self.living
     }
 
     /// Every file outside the scene texts that the derivation reads, as
@@ -348,7 +358,12 @@ impl Film {
             .end_frame(scene.camera.eye.as_dvec3())
             .map_err(Error::input)?;
         warnings.extend(self.air.take_warnings());
-        Ok(Frame::new(number, time, scene, warnings))
+        let frame = Frame::new(number, time, scene, warnings);
+        // Step 3, vision: the actors see into the frame's BVH.
+        if self.living.iter().any(|a| a.edge.is_some()) {
+            live::sense(&mut self.living, frame.accel(), number);
+        }
+        Ok(frame)
     }
 
     /// The collisions the peak detectors found while the particles

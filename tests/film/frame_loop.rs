@@ -184,3 +184,33 @@ fn exit_codes_say_whose_fault_it_is() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The sense step: an actor with a vision window sees into the frame's
+/// BVH and its visual memory fills; with `vis_mem_off` it remembers
+/// nothing; an actor without a window sees nothing.
+#[test]
+fn watching_actors_remember_what_they_see() {
+    let scene = |extra: &str| {
+        format!(
+            "Camera_AnimationParameters\nt_final_interval 0.04 0.04\n\
+             Options\nNBR_actors 2\niVisionWinSize 0 32 8\n\
+             actorNbr_automata 0 watch init 10 -20 300 2.0 obs 0 0 -10 lat 0 0 0 {extra}\n\
+             actorNbr_automata 1 watch init 10 -20 300 2.0 obs 0 0 -10 lat 0 0 0\n\
+             Axiom\na () () () () (4)\nProductions\nEndProductions\n"
+        )
+    };
+    let voxels = |text: &str| {
+        let mut f = film(text);
+        f.next_frame().unwrap();
+        let r = Record::of(&f).unwrap();
+        (r.actors[0].memory_voxels, r.actors[1].memory_voxels)
+    };
+    let (seen, blind) = voxels(&scene(""));
+    assert!(seen >= 4, "the sphere's visible side: {seen} voxels");
+    assert_eq!(blind, 0, "actor 1 has no vision window");
+    assert_eq!(voxels(&scene("vis_mem_off")).0, 0);
+    let mut f = film(&scene(""));
+    f.next_frame().unwrap();
+    let window = f.living()[0].window.as_ref().unwrap();
+    assert!((window.centre - 8.0).abs() < 1e-4, "?30: {}", window.centre);
+}
