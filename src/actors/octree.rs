@@ -430,52 +430,24 @@ impl Octree {
         mut f: impl FnMut(Voxel, u32),
         mut enter: impl FnMut(Voxel, u32) -> bool,
     ) {
-        self.voxels_node(ROOT, [0; 3], &mut f, &mut enter);
-    }
-
-    fn voxels_node(
-        &self,
-        n: u32,
-        base: Voxel,
-        f: &mut impl FnMut(Voxel, u32),
-        enter: &mut impl FnMut(Voxel, u32) -> bool,
-    ) {
-        let node = &self.nodes[n as usize];
-        let e = 1u32 << (self.levels - u32::from(node.depth) - 1);
-        for s in 0..8u32 {
-            let p = node.son[s as usize];
-            if p == FREE {
-                continue;
-            }
-            let v = [
-                base[0] + ((s >> 2) & 1) * e,
-                base[1] + ((s >> 1) & 1) * e,
-                base[2] + (s & 1) * e,
-            ];
-            if !enter(v, e) {
-                continue;
-            }
-            if p != FULL {
-                self.voxels_node(p, v, f, enter);
-            } else if e == 1 {
-                f(v, node.label[s as usize]);
-            } else {
-                expand(v, e, node.label[s as usize], f, enter);
-            }
-        }
+        self.walk_node(ROOT, [0; 3], true, &mut |v, _, l| f(v, l), &mut enter);
     }
 
     /// Depth-first walk of the occupied pointers in son order: `f(min
     /// corner, depth, label)`; `enter(min corner, edge)` prunes subtrees
     /// and voxels.
     fn walk(&self, mut f: impl FnMut(Voxel, u32, u32), mut enter: impl FnMut(Voxel, u32) -> bool) {
-        self.walk_node(ROOT, [0; 3], &mut f, &mut enter);
+        self.walk_node(ROOT, [0; 3], false, &mut f, &mut enter);
     }
 
+    /// The walk below node `n` (min corner `base`); with `expand`, an
+    /// occupied voxel above the finest level is reported as its finest
+    /// voxels.
     fn walk_node(
         &self,
         n: u32,
         base: Voxel,
+        expand: bool,
         f: &mut impl FnMut(Voxel, u32, u32),
         enter: &mut impl FnMut(Voxel, u32) -> bool,
     ) {
@@ -487,46 +459,52 @@ impl Octree {
             if p == FREE {
                 continue;
             }
-            let v = [
-                base[0] + ((s >> 2) & 1) * e,
-                base[1] + ((s >> 1) & 1) * e,
-                base[2] + (s & 1) * e,
-            ];
+            let v = son_corner(base, s, e);
             if !enter(v, e) {
                 continue;
             }
-            if p == FULL {
-                f(v, d + 1, node.label[s as usize]);
+            let label = node.label[s as usize];
+            if p != FULL {
+                self.walk_node(p, v, expand, f, enter);
+            } else if expand && e > 1 {
+                expand_cube(v, e, self.levels, label, f, enter);
             } else {
-                self.walk_node(p, v, f, enter);
+                f(v, d + 1, label);
             }
         }
     }
 }
 
-/// Calls f for each finest voxel of the occupied cube (v, edge e),
-/// pruning with `enter`.
-fn expand(
+/// The min corner of son `s` of the cube at `base` whose sons have edge
+/// `e` (son = 4·x_bit + 2·y_bit + z_bit).
+fn son_corner(base: Voxel, s: u32, e: u32) -> Voxel {
+    [
+        base[0] + ((s >> 2) & 1) * e,
+        base[1] + ((s >> 1) & 1) * e,
+        base[2] + (s & 1) * e,
+    ]
+}
+
+/// Calls `f(voxel, depth, l)` for each finest voxel (depth `levels`) of
+/// the occupied cube (v, edge e), pruning with `enter`.
+fn expand_cube(
     v: Voxel,
     e: u32,
+    levels: u32,
     l: u32,
-    f: &mut impl FnMut(Voxel, u32),
+    f: &mut impl FnMut(Voxel, u32, u32),
     enter: &mut impl FnMut(Voxel, u32) -> bool,
 ) {
     let h = e / 2;
     for s in 0..8u32 {
-        let c = [
-            v[0] + ((s >> 2) & 1) * h,
-            v[1] + ((s >> 1) & 1) * h,
-            v[2] + (s & 1) * h,
-        ];
+        let c = son_corner(v, s, h);
         if !enter(c, h) {
             continue;
         }
         if h == 1 {
-            f(c, l);
+            f(c, levels, l);
         } else {
-            expand(c, h, l, f, enter);
+            expand_cube(c, h, levels, l, f, enter);
         }
     }
 }
