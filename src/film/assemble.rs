@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::frames::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
-use super::job::{io, key, open, EVENTS_FILE, SOUNDTRACK_FILE};
+use super::job::{key, open, EVENTS_FILE, SOUNDTRACK_FILE};
 use super::manifest::{sha256_bytes, sha256_file, Manifest};
 use super::record::{
     self, frame_record_path, mp4_paths, DeriveRecord, FrameRecord, MuxRecord, SoundRecord,
@@ -31,7 +31,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     let rec = open(dir)?;
     let name = rec.inputs.name.clone();
     let mut m = Manifest::new(&rec);
-    let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| io(dir, e))?;
+    let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| Error::io(dir, e))?;
     m.files.insert(DERIVE_RECORD.into(), derive_hash);
     m.files.insert(EVENTS_FILE.into(), rec.events.clone());
     m.files.extend(rec.sounds.clone());
@@ -42,7 +42,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     let mut settings: BTreeMap<&BTreeMap<String, String>, Vec<u64>> = BTreeMap::new();
     for (k, f) in &frames {
         let rel = frame_record_path(&name, *k);
-        let hash = sha256_file(&dir.join(&rel)).map_err(|e| io(&dir.join(&rel), e))?;
+        let hash = sha256_file(&dir.join(&rel)).map_err(|e| Error::io(&dir.join(&rel), e))?;
         m.files.insert(key(&rel), hash);
         for (file, h) in &f.outputs {
             m.files.insert(file.clone(), h.clone());
@@ -71,7 +71,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     }
     if let Ok(Some(s)) = record::read::<SoundRecord>(&dir.join(SOUND_RECORD)) {
         if s.events == rec.events {
-            let hash = sha256_file(&dir.join(SOUND_RECORD)).map_err(|e| io(dir, e))?;
+            let hash = sha256_file(&dir.join(SOUND_RECORD)).map_err(|e| Error::io(dir, e))?;
             m.files.insert(SOUND_RECORD.into(), hash);
             m.files.insert(SOUNDTRACK_FILE.into(), s.soundtrack.clone());
             for (k, v) in s.sound {
@@ -83,7 +83,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     if let Ok(Some(x)) = record::read::<MuxRecord>(&dir.join(&mp4_record)) {
         let track = m.files.get(SOUNDTRACK_FILE).cloned();
         if x.frames == digest(&name, &frames) && x.soundtrack == track {
-            let hash = sha256_file(&dir.join(&mp4_record)).map_err(|e| io(dir, e))?;
+            let hash = sha256_file(&dir.join(&mp4_record)).map_err(|e| Error::io(dir, e))?;
             m.files.insert(key(&mp4_record), hash);
             m.files.insert(key(&mp4), x.mp4.clone());
         }

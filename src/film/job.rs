@@ -16,7 +16,6 @@
 //! it again. Every file is written atomically.
 
 use std::collections::BTreeMap;
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use super::frames::{
@@ -38,10 +37,6 @@ use crate::sound;
 /// The log and soundtrack names inside the folder.
 pub const EVENTS_FILE: &str = "soundtrack.events";
 pub const SOUNDTRACK_FILE: &str = "soundtrack.wav";
-
-pub(super) fn io(path: &Path, e: impl fmt::Display) -> Error {
-    Error::io(path, e)
-}
 
 /// Image formats a render writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -113,7 +108,7 @@ fn clear(dir: &Path) -> Result<(), Error> {
     for sub in [SCENE_DIR, FRAMES_DIR, SOUNDS_DIR] {
         let path = dir.join(sub);
         if path.exists() {
-            std::fs::remove_dir_all(&path).map_err(|e| io(&path, e))?;
+            std::fs::remove_dir_all(&path).map_err(|e| Error::io(&path, e))?;
         }
     }
     let Ok(entries) = std::fs::read_dir(dir) else {
@@ -132,7 +127,7 @@ fn clear(dir: &Path) -> Result<(), Error> {
             || name.ends_with(".mp4")
             || name.ends_with(".mp4.json");
         if ours && e.path().is_file() {
-            std::fs::remove_file(e.path()).map_err(|err| io(&e.path(), err))?;
+            std::fs::remove_file(e.path()).map_err(|err| Error::io(&e.path(), err))?;
         }
     }
     Ok(())
@@ -181,14 +176,14 @@ pub fn derive(
     clean: bool,
     progress: Progress,
 ) -> Result<(DeriveRecord, bool), Error> {
-    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     if clean {
         clear(dir)?;
     } else {
         check_same_film(dir, &inputs)?;
     }
     let scene_dir = dir.join(SCENE_DIR);
-    std::fs::create_dir_all(&scene_dir).map_err(|e| io(&scene_dir, e))?;
+    std::fs::create_dir_all(&scene_dir).map_err(|e| Error::io(&scene_dir, e))?;
     remove_stale_temps(&scene_dir);
     remove_stale_temps(dir);
     let key = inputs.key();
@@ -203,7 +198,7 @@ pub fn derive(
     }
     // The old record no longer says what the folder holds.
     if record_path.exists() {
-        std::fs::remove_file(&record_path).map_err(|e| io(&record_path, e))?;
+        std::fs::remove_file(&record_path).map_err(|e| Error::io(&record_path, e))?;
     }
     let frames = film.frame_count();
     let mut snapshots = Vec::new();
@@ -213,7 +208,7 @@ pub fn derive(
         let hash = sha256_bytes(&bytes);
         // Derivation is deterministic: an identical snapshot stays.
         if !sha256_file(&path).is_ok_and(|h| h == hash) {
-            write_atomic(&path, &bytes).map_err(|e| io(&path, e))?;
+            write_atomic(&path, &bytes).map_err(|e| Error::io(&path, e))?;
         }
         snapshots.push(hash);
         Ok(())
@@ -232,7 +227,7 @@ pub fn derive(
         snapshots,
         sounds,
     };
-    record::write(&record_path, &rec).map_err(|e| io(&record_path, e))?;
+    record::write(&record_path, &rec).map_err(|e| Error::io(&record_path, e))?;
     prune_frames(dir, &rec)?;
     Ok((rec, true))
 }
@@ -256,9 +251,9 @@ fn copy_sounds(film: &Film, dir: &Path) -> Result<BTreeMap<String, String>, Erro
         let hash = sha256_bytes(&bytes);
         if !sha256_file(&to).is_ok_and(|h| h == hash) {
             if let Some(parent) = to.parent() {
-                std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
+                std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
             }
-            write_atomic(&to, &bytes).map_err(|e| io(&to, e))?;
+            write_atomic(&to, &bytes).map_err(|e| Error::io(&to, e))?;
         }
         copied.insert(key(&Path::new(SOUNDS_DIR).join(rel)), hash);
     }
@@ -290,7 +285,7 @@ fn prune_snapshots(scene_dir: &Path, frames: u64) -> Result<(), Error> {
             .and_then(|n| n.parse::<u64>().ok())
             .is_some_and(|k| k >= frames);
         if past_end {
-            std::fs::remove_file(e.path()).map_err(|err| io(&e.path(), err))?;
+            std::fs::remove_file(e.path()).map_err(|err| Error::io(&e.path(), err))?;
         }
     }
     Ok(())
@@ -320,10 +315,10 @@ pub fn every_frame(
 /// returns the log's text.
 pub fn write_events(film: &Film, path: &Path) -> Result<String, Error> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
     let text = sound::events::write(film.events());
-    write_atomic(path, text.as_bytes()).map_err(|e| io(path, e))?;
+    write_atomic(path, text.as_bytes()).map_err(|e| Error::io(path, e))?;
     Ok(text)
 }
 
@@ -418,7 +413,7 @@ pub fn render_frames(
     let rec = open(dir)?;
     let name = rec.inputs.name.clone();
     let frames_dir = dir.join(FRAMES_DIR);
-    std::fs::create_dir_all(&frames_dir).map_err(|e| io(&frames_dir, e))?;
+    std::fs::create_dir_all(&frames_dir).map_err(|e| Error::io(&frames_dir, e))?;
     remove_stale_temps(&frames_dir);
     let mut rendered = 0;
     for (i, &k) in frames.iter().enumerate() {
@@ -453,16 +448,16 @@ pub fn render_frames(
             for ext in ["exr", "png"] {
                 let p = dir.join(frame_path(&name, k, ext));
                 if exts.contains(&ext) {
-                    output::write(&img, &p).map_err(|e| io(&p, e))?;
-                    let hash = sha256_file(&p).map_err(|e| io(&p, e))?;
+                    output::write(&img, &p).map_err(|e| Error::io(&p, e))?;
+                    let hash = sha256_file(&p).map_err(|e| Error::io(&p, e))?;
                     want.outputs.insert(key(&frame_path(&name, k, ext)), hash);
                 } else if p.exists() {
                     // Another format's image of an earlier render.
-                    std::fs::remove_file(&p).map_err(|e| io(&p, e))?;
+                    std::fs::remove_file(&p).map_err(|e| Error::io(&p, e))?;
                 }
             }
             let rp = dir.join(frame_record_path(&name, k));
-            record::write(&rp, &want).map_err(|e| io(&rp, e))?;
+            record::write(&rp, &want).map_err(|e| Error::io(&rp, e))?;
             rendered += 1;
         }
         progress(i as u64 + 1, frames.len() as u64);
@@ -529,8 +524,8 @@ pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<Option<sound
     let sounds = dir.join(SOUNDS_DIR);
     let library = sounds.is_dir().then_some(sounds.as_path());
     let report = sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, library, &|_, _| {})?;
-    want.soundtrack = sha256_file(&wav).map_err(|e| io(&wav, e))?;
-    record::write(&record_path, &want).map_err(|e| io(&record_path, e))?;
+    want.soundtrack = sha256_file(&wav).map_err(|e| Error::io(&wav, e))?;
+    record::write(&record_path, &want).map_err(|e| Error::io(&record_path, e))?;
     Ok(Some(report))
 }
 
@@ -570,9 +565,9 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
         .then_some(Path::new(SOUNDTRACK_FILE));
     let out = ffmpeg::mux(dir, name, rate, &frame_pattern(name, "png"), track)
         .map_err(|e| Error::other(e.to_string()))?;
-    want.mp4 = sha256_file(&out).map_err(|e| io(&out, e))?;
+    want.mp4 = sha256_file(&out).map_err(|e| Error::io(&out, e))?;
     let rp = dir.join(&record_path);
-    record::write(&rp, &want).map_err(|e| io(&rp, e))?;
+    record::write(&rp, &want).map_err(|e| Error::io(&rp, e))?;
     Ok((out, true))
 }
 
@@ -589,7 +584,7 @@ pub fn prune_frames(dir: &Path, rec: &DeriveRecord) -> Result<(), Error> {
             ["png", "exr", "json"].contains(&ext) && (n != rec.inputs.name || k >= rec.frame_count)
         });
         if stale {
-            std::fs::remove_file(e.path()).map_err(|err| io(&e.path(), err))?;
+            std::fs::remove_file(e.path()).map_err(|err| Error::io(&e.path(), err))?;
         }
     }
     Ok(())
