@@ -26,6 +26,6 @@ fuzz_target!(|data: &[u8]| {
          1 B ({expr}) EndProb\nEnd\nEndProductions\n"
     );
     if let Ok(mut anim) = Animation::from_sources(&[Source::new("e.lm", text)], &mut NoSensors) {
-        anim.advance_to(2, &mut NoSensors);
+        let _ = anim.advance_to(2, &mut NoSensors);
     }
 });

@@ -26,6 +26,6 @@ fuzz_target!(|data: &[u8]| {
             max_depth: 1,
             ..Settings::preview(8, 6)
         };
-        render(&scene, &settings);
+        render(scene, &settings);
     }
 });
