@@ -1,24 +1,57 @@
-//! Actors as they live through a film: where each one's eye is and looks,
-//! its last vision window and its visual memory. The frame loop's sense
-//! step (DESIGN §1 step 3) makes every actor with a vision window see
-//! into the frame's BVH, in parallel, and remember what it saw.
+//! Actors as they live through a film: their state variables (table B6),
+//! where each one's eye is and looks, its last vision window and what it
+//! made of it, and its visual memory. The frame loop's sense step (DESIGN
+//! §1 step 3) makes every actor with a vision window see into the frame's
+//! BVH, in parallel, and remember what it saw.
+
+use std::collections::BTreeMap;
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::memory::{Forgetting, VisualMemory};
 use super::octree::Cube;
-use super::vision::{self, View, Window};
+use super::vision::{self, Body, Interest, Percepts, View, Window, THESIS_THRESHOLD};
 use super::{Actor, Table};
-use crate::lsys::automata::AutomataCommand;
+use crate::lsys::automata::{Automata, AutomataCommand};
 use crate::render::Accel;
 
 /// The view angle before any `fov` command: 60°, in tenths of a degree.
 const DEFAULT_FOV: i64 = 600;
 
-/// One actor's body, eye and memory.
+/// How the memory's occupied voxels are drawn (`mem_displ_cubes`,
+/// `mem_displ_points`, `mem_no_displ`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DisplayMode {
+    #[default]
+    None,
+    Cubes,
+    Points,
+}
+
+/// The memory display of an actor (thesis 3.1.5): how, how often, and
+/// from where (`M` par1 = 14, 15; by default from the actor's eye).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MemoryDisplay {
+    pub mode: DisplayMode,
+    /// Every `every` frames (`init`'s display modulo; 0 or 1: each frame).
+    pub every: u64,
+    pub eye: Option<Vec3>,
+    pub look_at: Option<Vec3>,
+}
+
+impl MemoryDisplay {
+    /// Whether the display is drawn at `frame`.
+    pub fn at(&self, frame: u64) -> bool {
+        self.mode != DisplayMode::None && frame % self.every.max(1) == 0
+    }
+}
+
+/// One actor's state variables, eye, window and memory.
 pub struct Living {
     pub id: usize,
+    /// The automata that runs (the top of the behaviour stack).
+    pub automata: Option<Automata>,
     pub eye: Vec3,
     pub look_at: Vec3,
     /// View angle in tenths of a degree (`fov`).
@@ -28,64 +61,205 @@ pub struct Living {
     pub far: f32,
     /// Edge of the vision window, when the actor has one.
     pub edge: Option<u32>,
-    /// The visual memory, when `init` declared its cube and it is on.
+    /// Flat colours the window tells apart (`iVisionWinSize`).
+    pub max_colors: u32,
+    /// `size_actor` and `dist_coll` (`?31`).
+    pub size_actor: f32,
+    pub dist_coll: f32,
+    /// `interest 1 thing`: 0 ball, 1 player 0, 2 player 1.
+    pub interest: Option<i64>,
+    /// `rgb_interest r g b 1`.
+    pub rgb_interest: Option<[i64; 3]>,
+    /// The goal stack (`goal`, `reset_goal`); the last is the top.
+    pub goals: Vec<Vec3>,
+    /// Local goal vectors by number (`local_goal`, `g` par1 = 1, `?38`).
+    pub local_goals: BTreeMap<i64, Vec3>,
+    /// Thresholds by local goal number (`eps_arrived`, `eps_look_at`).
+    pub eps_arrived: BTreeMap<i64, f64>,
+    pub eps_look_at: BTreeMap<i64, f64>,
+    /// `align`: the point `auto_align` turns to.
+    pub align: Option<Vec3>,
+    /// `state` (vision system, 0..26) and `tennis_state` (0..13).
+    pub state: i64,
+    pub tennis_state: i64,
+    /// `turtle`: the actor–turtle mapping (6.3.4).
+    pub turtle: i64,
+    /// Whether what it sees goes into its memory (`vis_mem_on`/`off`).
+    pub memory_on: bool,
+    /// The visual memory, once `init` declared its cube.
     pub memory: Option<VisualMemory>,
-    /// What the actor saw at the last sense step.
+    /// Range of the memory's update (`vision_range`'s third number).
+    memory_range: f32,
+    pub display: MemoryDisplay,
+    /// What the actor saw at the last sense step, and made of it.
     pub window: Option<Window>,
+    pub percepts: Option<Percepts>,
 }
+
+/// Default threshold of `?33`, `?39` (world units) and `?32` (cosine).
+const EPS_ARRIVED: f64 = 0.1;
+const EPS_LOOK_AT: f64 = 0.99;
 
 impl Living {
     /// The actor as the commands of its first automata set it up.
     pub fn new(actor: &Actor) -> Living {
         let mut me = Living {
             id: actor.id(),
+            automata: actor.automata().first().map(|e| e.automata),
             eye: Vec3::ZERO,
             look_at: Vec3::Z,
             fov: DEFAULT_FOV,
             near: 0.01,
             far: 1e6,
             edge: actor.vision().map(|v| v.edge),
+            max_colors: actor.vision().map_or(0, |v| v.max_colors),
+            size_actor: 0.0,
+            dist_coll: 1.0,
+            interest: None,
+            rgb_interest: None,
+            goals: Vec::new(),
+            local_goals: BTreeMap::new(),
+            eps_arrived: BTreeMap::new(),
+            eps_look_at: BTreeMap::new(),
+            align: None,
+            state: 0,
+            tennis_state: 0,
+            turtle: 0,
+            memory_on: true,
             memory: None,
+            memory_range: f32::INFINITY,
+            display: MemoryDisplay::default(),
             window: None,
+            percepts: None,
         };
-        let commands = actor.automata().first().map(|e| e.commands.as_slice());
-        let mut memory_on = true;
-        let mut range = f32::INFINITY;
-        let mut cube = None;
-        for c in commands.unwrap_or_default() {
-            match c.command {
-                AutomataCommand::Obs(p) => me.eye = DVec3::from_array(p).as_vec3(),
-                AutomataCommand::Lat(p) => me.look_at = DVec3::from_array(p).as_vec3(),
-                AutomataCommand::Fov(f) => me.fov = f,
-                AutomataCommand::VisionRange {
-                    near,
-                    far,
-                    memory_range,
-                } => {
-                    (me.near, me.far) = (near as f32, far as f32);
-                    if memory_range > 0.0 {
-                        range = memory_range as f32;
-                    }
-                }
-                AutomataCommand::Init {
-                    min,
-                    max,
-                    voxel_edge,
-                    ..
-                } => cube = Some(Cube::new(min, max, voxel_edge)),
-                AutomataCommand::VisMemOn => memory_on = true,
-                AutomataCommand::VisMemOff => memory_on = false,
-                _ => {}
+        if let Some(first) = actor.automata().first() {
+            for c in &first.commands {
+                me.apply(&c.command);
             }
         }
-        if let (Some(cube), true) = (cube, memory_on && me.edge.is_some()) {
-            let rule = Forgetting {
-                range,
-                ..Forgetting::thesis(cube.voxel_edge)
-            };
-            me.memory = Some(VisualMemory::new(cube, rule));
-        }
         me
+    }
+
+    /// Sets the state variables one automata command names (table B6);
+    /// the others keep their values (6.3.4).
+    pub fn apply(&mut self, command: &AutomataCommand) {
+        use AutomataCommand as C;
+        let v = |p: [f64; 3]| DVec3::from_array(p).as_vec3();
+        match *command {
+            C::Obs(p) => self.eye = v(p),
+            C::Lat(p) => self.look_at = v(p),
+            C::Align(p) => self.align = Some(v(p)),
+            C::Fov(f) => self.fov = f,
+            C::VisionRange {
+                near,
+                far,
+                memory_range,
+            } => {
+                (self.near, self.far) = (near as f32, far as f32);
+                self.memory_range = if memory_range > 0.0 {
+                    memory_range as f32
+                } else {
+                    f32::INFINITY
+                };
+                let range = self.memory_range;
+                if let Some(m) = &mut self.memory {
+                    m.set_rule(Forgetting { range, ..m.rule() });
+                }
+            }
+            C::Init {
+                display_every,
+                min,
+                max,
+                voxel_edge,
+            } => {
+                self.display.every = display_every.max(0) as u64;
+                let cube = Cube::new(min, max, voxel_edge);
+                let rule = Forgetting {
+                    range: self.memory_range,
+                    ..Forgetting::thesis(cube.voxel_edge)
+                };
+                self.memory = Some(VisualMemory::new(cube, rule));
+            }
+            C::SizeActor(d) => self.size_actor = d as f32,
+            C::DistColl(d) => self.dist_coll = d as f32,
+            C::Interest { active, thing } => self.interest = (active == 1).then_some(thing),
+            C::RgbInterest { rgb, active } => self.rgb_interest = (active == 1).then_some(rgb),
+            C::Goal(p) => self.goals.push(v(p)),
+            C::ResetGoal => self.goals.clear(),
+            C::LocalGoal { index, at } => {
+                self.local_goals.insert(index.unwrap_or(0), v(at));
+            }
+            C::EpsArrived { index, distance } => {
+                self.eps_arrived.insert(index.unwrap_or(0), distance);
+            }
+            C::EpsLookAt { index, threshold } | C::EpsLookAtGoal { index, threshold } => {
+                self.eps_look_at.insert(index.unwrap_or(0), threshold);
+            }
+            C::State(s) => self.state = s,
+            C::TennisState(s) => self.tennis_state = s,
+            C::Turtle(t) => self.turtle = t,
+            C::VisMemOn => self.memory_on = true,
+            C::VisMemOff => self.memory_on = false,
+            C::MemDisplCubes => self.display.mode = DisplayMode::Cubes,
+            C::MemDisplPoints => self.display.mode = DisplayMode::Points,
+            C::MemNoDispl => self.display.mode = DisplayMode::None,
+            // Navigation, tennis and humanoid commands belong to the
+            // automata that use them (later issues).
+            _ => {}
+        }
+    }
+
+    /// The goal the actor heads for now: local goal 0 when set, else the
+    /// top of its goal stack (docs/actors.md, "Sensor functions").
+    pub fn actual_goal(&self) -> Option<Vec3> {
+        self.local_goals
+            .get(&0)
+            .copied()
+            .or_else(|| self.goals.last().copied())
+    }
+
+    /// Its destination: the top of the goal stack, else local goal 0.
+    pub fn destination(&self) -> Option<Vec3> {
+        self.goals
+            .last()
+            .copied()
+            .or_else(|| self.local_goals.get(&0).copied())
+    }
+
+    fn eps_arrived(&self) -> f64 {
+        self.eps_arrived.get(&0).copied().unwrap_or(EPS_ARRIVED)
+    }
+
+    /// `?30`–`?39` as this actor's last sense step and state give them
+    /// (table B5); `?38` sets local goal 1 to the thing it found.
+    pub fn sensor(&mut self, code: u8) -> f64 {
+        let p = self.percepts.as_ref();
+        let truth = |b: bool| if b { 1.0 } else { -1.0 };
+        match code {
+            30 => p.map_or(vision::NOTHING, |p| p.centre_distance),
+            31 => p.map_or(0.0, |p| p.obstacle),
+            32 => self.actual_goal().map_or(-1.0, |g| {
+                let eps = self.eps_look_at.get(&0).copied().unwrap_or(EPS_LOOK_AT);
+                vision::looks_at_goal(self.eye, self.look_at, g, eps)
+            }),
+            33 => self.actual_goal().map_or(-1.0, |g| {
+                vision::arrived_at_goal(self.eye, g, self.eps_arrived())
+            }),
+            39 => self.destination().map_or(-1.0, |g| {
+                vision::arrived_at_goal(self.eye, g, self.eps_arrived())
+            }),
+            35 => self.automata.map_or(-1.0, |a| a.number() as f64),
+            36 => p.map_or(-1.0, |p| p.interest_found),
+            37 => p.map_or(-1.0, |p| p.rgb_interest_found),
+            38 => match p.and_then(|p| p.rgb) {
+                Some(found) => {
+                    self.local_goals.insert(1, found.position);
+                    1.0
+                }
+                None => truth(false),
+            },
+            _ => 0.0,
+        }
     }
 
     /// Sees into `accel` and remembers what it saw, at `frame`.
@@ -93,10 +267,19 @@ impl Living {
         let Some(edge) = self.edge else { return };
         let view = View::new(self.eye, self.look_at, self.fov, self.near, self.far);
         let window = vision::see(accel, &view, edge);
-        if let Some(memory) = &mut self.memory {
+        if let (Some(memory), true) = (&mut self.memory, self.memory_on) {
             let stamp = u32::try_from(frame).unwrap_or(u32::MAX);
             memory.integrate(&window.depth_view(), stamp);
         }
+        let body = Body {
+            size_actor: self.size_actor,
+            dist_coll: self.dist_coll,
+            interest: self.interest.and_then(|t| Interest::thing(accel, t)),
+            rgb_interest: self
+                .rgb_interest
+                .map(|c| Interest::rgb(c, THESIS_THRESHOLD)),
+        };
+        self.percepts = Some(window.percepts(&body));
         self.window = Some(window);
     }
 }
@@ -107,7 +290,8 @@ pub fn living(table: &Table) -> Vec<Living> {
 }
 
 /// The sense step: every actor sees, in parallel; each writes only its
-/// own window and memory, so the result does not depend on threads.
+/// own window, percepts and memory, so the result does not depend on
+/// threads.
 pub fn sense(actors: &mut [Living], accel: &Accel, frame: u64) {
     actors.par_iter_mut().for_each(|a| a.sense(accel, frame));
 }
