@@ -6,6 +6,7 @@ use std::io;
 use serde::Serialize;
 
 use super::Film;
+use crate::actors::live::Living;
 
 /// One frame: its particles, its actors and the sound events it started.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -27,16 +28,44 @@ pub struct ParticleRecord {
 }
 
 /// An actor of the film's actor table: its number, the automata it runs
-/// (the first of its stack; none when its stack is empty), where its eye
-/// is and looks, and how many voxels its visual memory holds. Its state,
-/// goal and thing of interest join with the behaviours.
+/// (none when its stack is empty), its `state`, where its eye is and
+/// looks, the goal it heads for, how many voxels its visual memory holds,
+/// and its thing of interest (`interest`, else `rgb_interest`) as the
+/// last sense step found it: whether, on how many pixels, and where
+/// (eq. 3.1.9).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ActorRecord {
     pub id: usize,
     pub automata: Option<&'static str>,
+    pub state: i64,
     pub pos: [f32; 3],
     pub look_at: [f32; 3],
+    pub goal: Option<[f32; 3]>,
     pub memory_voxels: u64,
+    pub found: bool,
+    pub pixels: u32,
+    pub position: Option<[f32; 3]>,
+}
+
+impl ActorRecord {
+    fn of(l: &Living) -> ActorRecord {
+        let thing =
+            l.percepts
+                .as_ref()
+                .and_then(|p| if l.interest.is_some() { p.thing } else { p.rgb });
+        ActorRecord {
+            id: l.id,
+            automata: l.automata.map(|a| a.name()),
+            state: l.state,
+            pos: l.eye.to_array(),
+            look_at: l.look_at.to_array(),
+            goal: l.actual_goal().map(|g| g.to_array()),
+            memory_voxels: l.memory.as_ref().map_or(0, |m| m.voxels()),
+            found: thing.is_some(),
+            pixels: thing.map_or(0, |t| t.pixels),
+            position: thing.map(|t| t.position.to_array()),
+        }
+    }
 }
 
 /// A sound event the frame started.
@@ -66,19 +95,7 @@ impl Record {
                     mass: p.mass,
                 })
                 .collect(),
-            actors: film
-                .actors()
-                .actors()
-                .iter()
-                .zip(film.living())
-                .map(|(a, l)| ActorRecord {
-                    id: a.id(),
-                    automata: a.automata().first().map(|e| e.automata.name()),
-                    pos: l.eye.to_array(),
-                    look_at: l.look_at.to_array(),
-                    memory_voxels: l.memory.as_ref().map_or(0, |m| m.voxels()),
-                })
-                .collect(),
+            actors: film.living().iter().map(ActorRecord::of).collect(),
             sound_events: film
                 .ongoing()
                 .iter()

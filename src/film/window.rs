@@ -13,12 +13,13 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 
+use crate::actors::live::Living;
 use crate::error::Error;
 use crate::lsys::{Sensors, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::sound::air::{self, Air, AMBIENT_SOURCE};
 use crate::source::FileRef;
-use crate::turtle::{ParticleMapping, SoundRequest, TurtleWorld};
+use crate::turtle::{ActorMapping, ParticleMapping, SoundRequest, TurtleWorld};
 
 /// A `command_file` declaration: number, script, two text arguments.
 pub(super) type Script = (i64, FileRef, String, String);
@@ -35,6 +36,11 @@ pub(super) struct Window<'a> {
     /// of `?20`, `?34`, `$` par2 = 4 and `l` par3 = 4, 5.
     pub current: Option<Who>,
     pub scripts: Option<&'a Scripts>,
+    /// The actors, as the last sense step left them, and the one the last
+    /// `M` par1 = 7 interpreted made current: the actor of the sensor
+    /// functions of symbols outside any `M` branch.
+    pub living: &'a mut [Living],
+    pub actor: Option<u32>,
     pub frame: u64,
     /// The first failure of a turtle request; it stops the frame.
     pub error: Option<Error>,
@@ -64,9 +70,17 @@ impl<'a> Window<'a> {
             physics,
             current,
             scripts: None,
+            living: &mut [],
+            actor: None,
             frame,
             error: None,
         }
+    }
+
+    /// The actor `actor` names, or else the current actor, or else actor 0.
+    fn actor_of(&mut self, actor: Option<u32>) -> Option<&mut Living> {
+        let id = actor.or(self.actor).unwrap_or(0);
+        self.living.get_mut(id as usize)
     }
 
     /// Swim phase (radians) of `who`'s particle, or the current one's, as
@@ -136,6 +150,14 @@ fn whole(v: f64) -> Option<u32> {
 }
 
 impl Sensors for Window<'_> {
+    /// `?30`–`?39`: the percepts and state of the symbol's actor.
+    fn actor(&mut self, code: u8, who: Who) -> f64 {
+        match self.actor_of(who.actor) {
+            Some(a) => a.sensor(code),
+            None => crate::lsys::NoSensors.actor(code, who),
+        }
+    }
+
     /// `?20`: the swim motor, sin(phase)·5 (table B5); `?18` as default.
     fn particle(&mut self, code: u8, who: Who) -> f64 {
         match code {
@@ -212,6 +234,30 @@ impl TurtleWorld for Window<'_> {
 
     fn particle_position(&mut self, who: Who) -> Option<DVec3> {
         self.live(who).map(|p| p.pos)
+    }
+
+    fn actor_count(&self) -> usize {
+        self.living.len()
+    }
+
+    fn map_actor(&mut self, actor: Option<u32>, mapping: ActorMapping) -> Option<(DVec3, DVec3)> {
+        let a = self.actor_of(actor)?;
+        let id = a.id as u32;
+        let v = DVec3::as_vec3;
+        match mapping {
+            ActorMapping::ToTurtle => {
+                let to = (a.eye.as_dvec3(), a.look_at.as_dvec3());
+                self.actor = Some(id);
+                return Some(to);
+            }
+            ActorMapping::Place { eye, look_at } => (a.eye, a.look_at) = (v(&eye), v(&look_at)),
+            ActorMapping::LocalGoal { at } => {
+                a.local_goals.insert(0, v(&at));
+            }
+            ActorMapping::DisplayEye { at } => a.display.eye = Some(v(&at)),
+            ActorMapping::DisplayLookAt { at } => a.display.look_at = Some(v(&at)),
+        }
+        None
     }
 
     fn microphone(&mut self, mic: i64, p: DVec3) {

@@ -40,6 +40,8 @@ pub struct Film {
     /// The particle of the last `C` the turtle interpreted: the current
     /// particle of the expressions derived after it.
     current: Option<Who>,
+    /// The actor the last `M` par1 = 7 interpreted made current.
+    actor: Option<u32>,
     /// The frame handed out last, whose steps 6–7 are still to run.
     frame: Option<Frame>,
     /// The sound files found on disk for the scene's sound numbers, as
@@ -148,6 +150,7 @@ impl Film {
             opts,
             scripts: None,
             current: None,
+            actor: None,
             frame: None,
             sound_files,
             living: live::living(&actors),
@@ -337,6 +340,8 @@ impl Film {
         self.sound_collisions()?;
         let mut window = Window::new(&mut self.air, &mut self.physics, None, number);
         window.scripts = self.scripts.as_ref();
+        window.living = &mut self.living;
+        window.actor = self.actor;
         let built = build_scene(
             &mut self.anim,
             &self.surfaces,
@@ -344,12 +349,13 @@ impl Film {
             &mut window,
             self.opts,
         );
-        let (error, current) = (window.error, window.current);
+        let (error, current, actor) = (window.error, window.current, window.actor);
         let (scene, mut warnings) = built.map_err(Error::input)?;
         if let Some(e) = error {
             return Err(at(e));
         }
         self.current = current;
+        self.actor = actor;
         // Step 3: the sensors read the world as the frame left it.
         self.physics.sense();
         self.air.sense();
@@ -396,6 +402,8 @@ impl Film {
             self.current,
             self.anim.frame,
         );
+        window.living = &mut self.living;
+        window.actor = self.actor;
         self.anim
             .step(&mut window)
             .map_err(|e| Error::input(e.to_string()))?;
@@ -418,6 +426,8 @@ impl Film {
             self.current,
             self.anim.frame,
         );
+        window.living = &mut self.living;
+        window.actor = self.actor;
         self.anim
             .systems
             .iter_mut()

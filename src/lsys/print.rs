@@ -1,7 +1,7 @@
 //! The thesis's PRINT option: a word as text.
 
 use super::sensors::Sensors;
-use super::step::LSystem;
+use super::step::{ActorScope, LSystem};
 
 /// How a word is printed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -40,11 +40,12 @@ pub fn word(
         Format::Full => {
             let symbols = ls.word().to_vec();
             let mut out = String::with_capacity(symbols.len() * 24);
+            let mut scope = ActorScope::default();
             for (k, s) in symbols.iter().enumerate() {
                 if k > 0 {
                     out.push(' ');
                 }
-                let g = ls.growth(s, time, seed, sensors);
+                let g = ls.growth(s, time, scope.visit(s), seed, sensors);
                 let v = [s.age(ls.dt), s.par[0], s.par[1], s.par[2], g[0], g[1], g[2]];
                 out.push(s.ch as char);
                 out.push('(');

@@ -13,6 +13,9 @@ pub struct Who {
     pub lsys: usize,
     /// Unique identifier of the symbol.
     pub symbol: u64,
+    /// The current actor of the symbol's branch: the last `M` par1 = 7
+    /// before it in the branch or the branches enclosing it (C.5).
+    pub actor: Option<u32>,
 }
 
 /// What the L-system knows when it asks for a tennis force field

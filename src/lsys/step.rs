@@ -46,6 +46,38 @@ struct Mark {
     events: usize,
 }
 
+/// The current actor along a word read left to right (C.5): an `M`
+/// par1 = 7 makes actor par3 current for the symbols after it in its
+/// branch and the branches it opens; closing the branch restores the one
+/// before.
+#[derive(Debug, Default)]
+pub struct ActorScope {
+    saved: Vec<Option<u32>>,
+    current: Option<u32>,
+}
+
+impl ActorScope {
+    /// The current actor of `s`, the next symbol of the word.
+    pub fn visit(&mut self, s: &Symbol) -> Option<u32> {
+        let [kind, _, actor] = s.par;
+        if s.is_push() {
+            self.saved.push(self.current);
+        } else if s.is_pop() {
+            self.leave();
+        } else if s.ch == b'M' && kind == 7.0 && (0.0..=f64::from(u32::MAX)).contains(&actor) {
+            self.current = Some(actor as u32);
+        }
+        self.current
+    }
+
+    /// Leaves the innermost open branch (a cut removed its end).
+    pub fn leave(&mut self) {
+        if let Some(a) = self.saved.pop() {
+            self.current = a;
+        }
+    }
+}
+
 /// Keys of the axiom's random parameter expressions (no replaced symbol).
 const AXIOM_KEY: u64 = u64::MAX - 1024;
 
@@ -119,6 +151,7 @@ impl LSystem {
             who: Who {
                 lsys: index,
                 symbol: AXIOM_KEY - index as u64,
+                actor: None,
             },
             growth: 0,
         };
@@ -146,22 +179,24 @@ impl LSystem {
         &self.events
     }
 
-    /// Growth function values of `s` at global time `time`.
+    /// Growth function values of `s` at global time `time`, with
+    /// `actor` the current actor of its branch.
     pub fn growth(
         &mut self,
         s: &Symbol,
         time: f64,
+        actor: Option<u32>,
         seed: u64,
         sensors: &mut dyn Sensors,
     ) -> [f64; 3] {
         if s.growth == 0 {
             return [0.0; 3];
         }
-        let frame = self.frame(s, time, 0);
+        let frame = self.frame(s, time, 0, actor);
         Machine::new(&self.def, &mut self.state, sensors, seed).growth(&frame)
     }
 
-    fn frame(&self, s: &Symbol, time: f64, key: u64) -> Frame {
+    fn frame(&self, s: &Symbol, time: f64, key: u64, actor: Option<u32>) -> Frame {
         Frame {
             time,
             age: s.age(self.dt),
@@ -171,6 +206,7 @@ impl LSystem {
             who: Who {
                 lsys: self.index,
                 symbol: s.id,
+                actor,
             },
             growth: s.growth,
         }
@@ -201,8 +237,10 @@ impl LSystem {
         let start_ids = *ids;
         let n = old.len();
         let mut i = 0;
+        let mut scope = ActorScope::default();
         while i < n {
             let s = old[i];
+            let actor = scope.visit(&s);
             if s.is_push() {
                 self.marks.push(Mark {
                     open: i,
@@ -215,10 +253,11 @@ impl LSystem {
             }
             let (lo, count) = self.by_char[s.ch as usize];
             if count > 0 {
-                if let Some(p) = self.applicable(&old, i, lo, count, time, step, seed, sensors) {
+                let at = (time, step, actor);
+                if let Some(p) = self.applicable(&old, i, lo, count, at, seed, sensors) {
                     let prod = &self.def.productions[p as usize];
                     let part = choose(prod, seed, s.id, p);
-                    let frame = self.frame(&s, time, 0);
+                    let frame = self.frame(&s, time, 0, actor);
                     let templates = &self.def.productions[p as usize].parts[part].symbols;
                     let mut m = Machine::new(&self.def, &mut self.state, sensors, seed);
                     let cut = self.scratch.fill(&mut m, templates, &frame);
@@ -226,6 +265,7 @@ impl LSystem {
                         None => i + 1,
                         Some(Cut::Branch) => match self.marks.pop() {
                             Some(m) => {
+                                scope.leave();
                                 self.rollback(m.out, m.ids, m.events);
                                 branch_end(&old, m.open + 1).map_or(n, |e| e + 1)
                             }
@@ -272,8 +312,7 @@ impl LSystem {
         i: usize,
         lo: u32,
         count: u32,
-        time: f64,
-        step: u64,
+        (time, step, actor): (f64, u64, Option<u32>),
         seed: u64,
         sensors: &mut dyn Sensors,
     ) -> Option<u32> {
@@ -281,7 +320,7 @@ impl LSystem {
         let next_age = s.birth + f64::from(s.ticks + 1) * self.dt;
         // Ages are compared with a tolerance far below Δt (DESIGN §3).
         let eps = self.dt * 1e-6;
-        let mut frame = self.frame(s, time, 0);
+        let mut frame = self.frame(s, time, 0, actor);
         let mut m = Machine::new(&self.def, &mut self.state, sensors, seed);
         for &p in &self.order[lo as usize..(lo + count) as usize] {
             let prod: &Production = &m.def.productions[p as usize];

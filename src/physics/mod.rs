@@ -505,6 +505,7 @@ impl<'a> Laws<'a> {
             who: Who {
                 lsys: p.lsys,
                 symbol: p.id,
+                actor: None,
             },
             growth: 0,
         };

@@ -8,7 +8,8 @@ use glam::{Affine3A, DVec3, Vec3};
 use super::polygon::{newell, triangulate, PolygonStack};
 use super::special;
 use super::state::{bend, Turtle};
-use super::{Builder, ParticleMapping, SoundRequest, TurtleWorld};
+use super::{ActorMapping, Builder, ParticleMapping, SoundRequest, TurtleWorld};
+use crate::lsys::step::ActorScope;
 use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Limits, Symbol, Who};
 use crate::scene::shape::{bounds, triangle_bounds};
@@ -79,6 +80,17 @@ struct Saved {
     segment: Option<u32>,
 }
 
+/// Whether every position of `m` is a number.
+fn mapping_is_finite(m: &ActorMapping) -> bool {
+    match *m {
+        ActorMapping::Place { eye, look_at } => eye.is_finite() && look_at.is_finite(),
+        ActorMapping::LocalGoal { at }
+        | ActorMapping::DisplayEye { at }
+        | ActorMapping::DisplayLookAt { at } => at.is_finite(),
+        ActorMapping::ToTurtle => true,
+    }
+}
+
 fn v3(d: DVec3) -> Vec3 {
     d.as_vec3()
 }
@@ -115,6 +127,10 @@ pub(super) struct Interpreter<'a> {
     named_frames: BTreeMap<i64, Affine3A>,
     /// [`Symbol::origin`] of the symbol being interpreted, for warnings.
     origin: u32,
+    /// The current actor along the word (`M` par1 = 7, C.5) and the
+    /// symbol being interpreted's.
+    scope: ActorScope,
+    actor: Option<u32>,
 }
 
 /// Interprets the word of `ls` at time `time`.
@@ -151,6 +167,8 @@ pub fn interpret(
         named_geometry: Geometry::default(),
         named_frames: BTreeMap::new(),
         origin: NO_ORIGIN,
+        scope: ActorScope::default(),
+        actor: None,
     };
     let n = it.ls.word().len();
     for i in 0..n {
@@ -177,13 +195,15 @@ impl Interpreter<'_> {
     }
 
     fn growth(&mut self, s: &Symbol) -> [f64; 3] {
-        self.ls.growth(s, self.time, self.seed, self.world)
+        self.ls
+            .growth(s, self.time, self.actor, self.seed, self.world)
     }
 
     fn who(&self, s: &Symbol) -> Who {
         Who {
             lsys: self.ls.index,
             symbol: s.id,
+            actor: self.actor,
         }
     }
 
@@ -308,6 +328,61 @@ impl Interpreter<'_> {
         }
     }
 
+    /// `M` (C.5): par1 = 7 puts the turtle at actor par3's eye, looking
+    /// where it looks; 14 and 15 place the camera and the look-at point
+    /// of its memory display at the turtle.
+    fn actor_to_turtle(&mut self, s: &Symbol) {
+        let [kind, _, actor] = s.par;
+        let mapping = match kind as i64 {
+            7 => ActorMapping::ToTurtle,
+            14 => ActorMapping::DisplayEye { at: self.t.pos },
+            15 => ActorMapping::DisplayLookAt { at: self.t.pos },
+            _ => return,
+        };
+        let count = self.world.actor_count();
+        if !(actor >= 0.0 && actor < count as f64 && actor.fract() == 0.0) {
+            return self.warn(&format!(
+                "`M` names actor {actor}, which the scene does not declare (NBR_actors {count}); skipped"
+            ));
+        }
+        if let Some((eye, look_at)) = self.world.map_actor(Some(actor as u32), mapping) {
+            self.t.pos = eye;
+            self.t.look_along(look_at - eye);
+        }
+    }
+
+    /// `g` (C.5): maps the turtle to the current actor — par1 = 0 its eye
+    /// at the turtle, looking along H; 1 its local goal at the turtle; 2
+    /// as 0 with the height par4, looking along H in the horizontal plane.
+    fn turtle_to_actor(&mut self, s: &Symbol) {
+        if self.world.actor_count() == 0 {
+            return self.warn("`g` maps the turtle to an actor, and the scene has none; skipped");
+        }
+        let (pos, h) = (self.t.pos, self.t.h);
+        let mapping = match s.par[0] as i64 {
+            0 => ActorMapping::Place {
+                eye: pos,
+                look_at: pos + h,
+            },
+            1 => ActorMapping::LocalGoal { at: pos },
+            2 => {
+                let eye = DVec3::new(pos.x, self.growth(s)[0], pos.z);
+                let flat = DVec3::new(h.x, 0.0, h.z).normalize_or_zero();
+                let dir = if flat == DVec3::ZERO { h } else { flat };
+                ActorMapping::Place {
+                    eye,
+                    look_at: eye + dir,
+                }
+            }
+            _ => return,
+        };
+        if mapping_is_finite(&mapping) {
+            self.world.map_actor(self.actor, mapping);
+        } else {
+            self.warn("`g` at a position that is not a number is skipped");
+        }
+    }
+
     fn forward(&mut self, d: f64) {
         if d.is_finite() {
             self.t.pos += d * self.t.h;
@@ -317,6 +392,7 @@ impl Interpreter<'_> {
     fn symbol(&mut self, i: usize, tables: &mut Tables) {
         let s = self.ls.word()[i];
         self.origin = s.origin;
+        self.actor = self.scope.visit(&s);
         let [x, y, z] = s.par;
         match s.ch {
             b'+' | b'-' | b'&' | b'^' | b'/' => {
@@ -431,6 +507,8 @@ impl Interpreter<'_> {
                 _ => {}
             },
             b'C' => self.particle(&s),
+            b'M' => self.actor_to_turtle(&s),
+            b'g' => self.turtle_to_actor(&s),
             b'l' => {
                 let g = DVec3::from_array(self.growth(&s));
                 self.b.camera_symbol(s.par, g, self.who(&s), self.world);

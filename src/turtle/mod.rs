@@ -48,6 +48,16 @@ pub trait TurtleWorld: Sensors {
     fn trace(&mut self, _n: i64) -> Option<(DVec3, DVec3)> {
         None
     }
+    /// How many actors the film has (`NBR_actors`).
+    fn actor_count(&self) -> usize {
+        0
+    }
+    /// An `M` or `g` symbol maps actor `actor` — or, for None, the
+    /// current actor — and the turtle (C.5); returns where the actor's
+    /// eye is and what it looks at, when the turtle goes there.
+    fn map_actor(&mut self, _actor: Option<u32>, _mapping: ActorMapping) -> Option<(DVec3, DVec3)> {
+        None
+    }
     /// Microphone `mic` placed at `p` (`l` par3 = 8, 10).
     fn microphone(&mut self, _mic: i64, _p: DVec3) {}
     /// A sound event of the `T` symbol, for the sound event handler.
@@ -73,6 +83,32 @@ pub enum ParticleMapping {
     Place { at: DVec3 },
     /// par1 = 6: the particle at the turtle.
     Turtle { at: DVec3 },
+}
+
+/// What an `M` or `g` symbol asks of an actor (C.5), in world
+/// coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ActorMapping {
+    /// `M` par1 = 7: the turtle goes to the actor's eye, looking where it
+    /// looks, and the actor becomes the current actor.
+    ToTurtle,
+    /// `g` par1 = 0, 2: the actor's eye at `eye`, looking at `look_at`.
+    Place {
+        eye: DVec3,
+        look_at: DVec3,
+    },
+    /// `g` par1 = 1: the actor's local goal at `at`.
+    LocalGoal {
+        at: DVec3,
+    },
+    /// `M` par1 = 14, 15: the camera, or the look-at point, of the
+    /// actor's memory display at `at`.
+    DisplayEye {
+        at: DVec3,
+    },
+    DisplayLookAt {
+        at: DVec3,
+    },
 }
 
 /// What a `T` symbol asks of the sound event handler (C.6), in world

@@ -114,6 +114,20 @@ impl Turtle {
         }
     }
 
+    /// H along `dir` with U as close to vertical as H allows, the way
+    /// an actor's eye stands (`M` par1 = 7); a vertical `dir` is aligned
+    /// by the smallest rotation instead.
+    pub fn look_along(&mut self, dir: DVec3) {
+        let h = dir.normalize_or_zero();
+        let l = DVec3::Y.cross(h);
+        if l.length_squared() < 1e-18 {
+            return self.align(dir);
+        }
+        self.h = h;
+        self.l = l.normalize();
+        self.u = self.h.cross(self.l);
+    }
+
     /// H aligned with `dir` by the smallest rotation (`$` par2 = 4).
     pub fn align(&mut self, dir: DVec3) {
         if dir.length_squared() < 1e-24 {
