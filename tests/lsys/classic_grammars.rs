@@ -270,7 +270,11 @@ fn sensors_answer_special_functions() {
     // Without sensors the defaults answer: no force, no sound.
     let mut a = from_text(text);
     assert_eq!(at_frame(&mut a, 1), "??S");
-    let who = Who { lsys: 0, symbol: 0 };
+    let who = Who {
+        lsys: 0,
+        symbol: 0,
+        actor: None,
+    };
     assert_eq!(lmfilm::lsys::NoSensors.actor(30, who), 1e30);
 }
 

@@ -50,6 +50,7 @@ fn eval(expr: &str, at: [f64; 3], field: [f64; 7], t: f64) -> (f64, Vec<(u8, f64
         who: Who {
             lsys: 0,
             symbol: s.id,
+            actor: None,
         },
         growth: s.growth,
     };
@@ -199,6 +200,7 @@ fn tennis_fields_are_zero_without_physics() {
         who: Who {
             lsys: 0,
             symbol: s.id,
+            actor: None,
         },
         growth: s.growth,
     };
