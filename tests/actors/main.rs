@@ -4,4 +4,5 @@
 //! here, so the layer links once.
 
 mod memory_room;
+mod symbols;
 mod vision;
