@@ -64,8 +64,12 @@ impl ActorScope {
             self.saved.push(self.current);
         } else if s.is_pop() {
             self.leave();
-        } else if s.ch == b'M' && kind == 7.0 && (0.0..=f64::from(u32::MAX)).contains(&actor) {
-            self.current = Some(actor as u32);
+        } else if s.ch == b'M' && kind == 7.0 {
+            // A number that names no actor (negative, fractional, NaN)
+            // leaves the current actor; the turtle warns of it.
+            if (0.0..=f64::from(u32::MAX)).contains(&actor) && actor.fract() == 0.0 {
+                self.current = Some(actor as u32);
+            }
         }
         self.current
     }
