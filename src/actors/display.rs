@@ -113,7 +113,11 @@ pub fn memory_scene(
                 ShapeKind::Box => Affine3A::from_scale_rotation_translation(
                     Vec3::splat(e as f32),
                     glam::Quat::IDENTITY,
-                    Vec3::new(min[0] as f32, (min[1] + e / 2.0) as f32, (min[2] + e / 2.0) as f32),
+                    Vec3::new(
+                        min[0] as f32,
+                        (min[1] + e / 2.0) as f32,
+                        (min[2] + e / 2.0) as f32,
+                    ),
                 ),
                 _ => {
                     let c = tree.centre(v);
@@ -208,8 +212,15 @@ mod tests {
         let mut m = VisualMemory::with_thesis_rule(Cube::new(-10.0, 10.0, 1.0));
         m.insert([0.5, 0.5, 0.5], 0);
         m.insert([3.5, 2.5, 0.5], 0);
-        let s = memory_scene(&m, DisplayMode::Cubes, Vec3::new(0.0, 0.0, -10.0), Vec3::ZERO, 45.0, 64)
-            .unwrap();
+        let s = memory_scene(
+            &m,
+            DisplayMode::Cubes,
+            Vec3::new(0.0, 0.0, -10.0),
+            Vec3::ZERO,
+            45.0,
+            64,
+        )
+        .unwrap();
         assert_eq!(s.geometries[0].shapes.len(), 2);
         assert!(render::check(&s).is_ok());
         let img = render::render(s, &Settings::preview(64, 64));

@@ -136,7 +136,9 @@ pub fn run(
         println!("actors: {actors}");
     }
     if let Some(a) = args.inset {
-        println!("the frames show actor {a}'s vision window in their top-left corner (--inset {a})");
+        println!(
+            "the frames show actor {a}'s vision window in their top-left corner (--inset {a})"
+        );
     }
     match mp4 {
         Some((path, made)) => println!("film: {} ({})", path.display(), now(made)),
@@ -176,7 +178,9 @@ pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>, max_pixels: u
         dir.join(FRAMES_DIR).display()
     );
     if let Some(a) = args.inset {
-        println!("the frames show actor {a}'s vision window in their top-left corner (--inset {a})");
+        println!(
+            "the frames show actor {a}'s vision window in their top-left corner (--inset {a})"
+        );
     }
     match shard {
         Some(s) => println!(
