@@ -17,9 +17,12 @@ use crate::lsys::Limits;
 use crate::sound;
 use crate::turtle::Options;
 
-/// The options that change a derivation, as its record keeps them.
+/// The options that change a derivation, as its record keeps them
+/// (`actor_images`: what the derivation writes of its actors, so a
+/// folder derived before they were written is derived again).
 fn derive_options(allow_commands: bool) -> BTreeMap<String, String> {
     BTreeMap::from([
+        ("actor_images".to_string(), "vision+memory png".to_string()),
         ("allow_commands".to_string(), allow_commands.to_string()),
         (
             "segment_width".to_string(),
