@@ -70,6 +70,13 @@ fn run(threads: &str, scene: &Path, dir: &Path, extra: &[&str]) -> String {
     ok(&lmfilm(threads, &args))
 }
 
+/// `lmfilm render DIR --preset preview --format png --inset 0`.
+fn render_inset(dir: &Path) -> String {
+    let d = dir.to_str().unwrap();
+    let args = ["render", d, "--preset", "preview", "--format", "png"];
+    ok(&lmfilm("2", &[&args[..], &["--inset", "0"]].concat()))
+}
+
 fn png(path: &Path) -> image::RgbImage {
     image::open(path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -164,19 +171,7 @@ fn inset_changes_the_top_left_corner_only() {
     );
     let frame = out.join("frames/watch.0001.png");
     let plain = png(&frame);
-    let said = ok(&lmfilm(
-        "2",
-        &[
-            "render",
-            out.to_str().unwrap(),
-            "--preset",
-            "preview",
-            "--format",
-            "png",
-            "--inset",
-            "0",
-        ],
-    ));
+    let said = render_inset(&out);
     // The inset is part of the frames' record: they are made again.
     assert!(said.contains("2 of 2 frames rendered now"), "{said}");
     let inset = png(&frame);
@@ -193,19 +188,7 @@ fn inset_changes_the_top_left_corner_only() {
     assert!(changed > 0);
     assert_eq!(inset.get_pixel(0, 0).0, [255, 255, 255]);
     // The same inset again: up to date.
-    let said = ok(&lmfilm(
-        "2",
-        &[
-            "render",
-            out.to_str().unwrap(),
-            "--preset",
-            "preview",
-            "--format",
-            "png",
-            "--inset",
-            "0",
-        ],
-    ));
+    let said = render_inset(&out);
     assert!(said.contains("0 of 2 frames rendered now"), "{said}");
     let _ = std::fs::remove_dir_all(&dir);
 }
