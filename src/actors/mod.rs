@@ -7,6 +7,7 @@
 //! ([`memory`], [`octree`]) exists but is not yet fed by a vision window;
 //! vision and the behaviours come later (docs/actors.md).
 
+pub mod display;
 pub mod live;
 pub mod memory;
 pub mod octree;

@@ -253,6 +253,10 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores); the images do not depend on it.
     #[arg(long, value_parser = threads)]
     pub threads: Option<usize>,
+    /// Put actor N's vision window (the derive folder's
+    /// actors/N/vision.NNNN.png) into the frames' top-left corner.
+    #[arg(long, value_name = "N")]
+    pub inset: Option<usize>,
 }
 
 impl RenderArgs {

@@ -8,6 +8,7 @@ use super::args::{RenderArgs, SoundArgs};
 use super::scenes::{self, Loaded};
 use super::Progress;
 use crate::error::{Error, Result};
+use crate::film::actor_images::ACTORS_DIR;
 use crate::film::frames::{FrameSelection, Shard, FRAMES_DIR};
 use crate::film::job::{self, EVENTS_FILE, SOUNDTRACK_FILE};
 use crate::film::record::DERIVE_RECORD;
@@ -16,9 +17,12 @@ use crate::lsys::Limits;
 use crate::sound;
 use crate::turtle::Options;
 
-/// The options that change a derivation, as its record keeps them.
+/// The options that change a derivation, as its record keeps them
+/// (`actor_images`: what the derivation writes of its actors, so a
+/// folder derived before they were written is derived again).
 fn derive_options(allow_commands: bool) -> BTreeMap<String, String> {
     BTreeMap::from([
+        ("actor_images".to_string(), "vision+memory png".to_string()),
         ("allow_commands".to_string(), allow_commands.to_string()),
         (
             "segment_width".to_string(),
@@ -55,11 +59,37 @@ fn render_into(dir: &Path, args: &RenderArgs, shard: Shard, max_pixels: u64) -> 
     };
     let frames = selection.frames(rec.frame_count, shard);
     let mut p = Progress::new("rendering frame");
-    let n = job::render_frames(dir, &frames, &settings, formats, max_pixels, &mut |k, n| {
-        p.tick(k, n)
-    })?;
+    let n = job::render_frames(
+        dir,
+        &frames,
+        &settings,
+        formats,
+        args.inset,
+        max_pixels,
+        &mut |k, n| p.tick(k, n),
+    )?;
     p.done();
     Ok((n, frames.len() as u64))
+}
+
+/// What the derivation wrote of its actors, for the summaries: `N
+/// vision and M memory images in DIR/actors/` (empty without any).
+fn actor_summary(dir: &Path) -> Result<String> {
+    let rec = job::open(dir)?;
+    let count = |what: &str| {
+        rec.actors
+            .keys()
+            .filter(|f| f.rsplit('/').next().is_some_and(|n| n.starts_with(what)))
+            .count()
+    };
+    let (vision, memory) = (count("vision."), count("memory."));
+    if vision + memory == 0 {
+        return Ok(String::new());
+    }
+    Ok(format!(
+        "{vision} vision and {memory} memory images in {} (N/vision.NNNN.png, N/memory.NNNN.png)",
+        dir.join(ACTORS_DIR).display()
+    ))
 }
 
 /// What `run` and `derive` start from.
@@ -104,6 +134,15 @@ pub fn run(
         now(sounded),
         dir.join(manifest::MANIFEST_FILE).display()
     );
+    let actors = actor_summary(&dir)?;
+    if !actors.is_empty() {
+        println!("actors: {actors}");
+    }
+    if let Some(a) = args.inset {
+        println!(
+            "the frames show actor {a}'s vision window in their top-left corner (--inset {a})"
+        );
+    }
     match mp4 {
         Some((path, made)) => println!("film: {} ({})", path.display(), now(made)),
         None => println!("ffmpeg is not installed: frames and soundtrack are in {}; `lmfilm mux {}` makes the MP4 once it is", dir.display(), dir.display()),
@@ -123,6 +162,10 @@ pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
         if derived { "derived" } else { "up to date" },
         manifest::MANIFEST_FILE
     );
+    let actors = actor_summary(out)?;
+    if !actors.is_empty() {
+        println!("actors: {actors}");
+    }
     Ok(())
 }
 
@@ -137,6 +180,11 @@ pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>, max_pixels: u
         dir.display(),
         dir.join(FRAMES_DIR).display()
     );
+    if let Some(a) = args.inset {
+        println!(
+            "the frames show actor {a}'s vision window in their top-left corner (--inset {a})"
+        );
+    }
     match shard {
         Some(s) => println!(
             "shard {s} done; once every shard is, finish the film with: lmfilm sound {}",

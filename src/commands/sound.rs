@@ -45,7 +45,7 @@ fn scene_events(
     };
     let mut film = scenes::load_film(&scenes, allow_commands, opts)?;
     let mut progress = Progress::new("deriving frame");
-    job::every_frame(&mut film, &mut |k, n| progress.tick(k, n), |_| Ok(()))?;
+    job::every_frame(&mut film, &mut |k, n| progress.tick(k, n), |_, _| Ok(()))?;
     progress.done();
     job::write_events(&film, &events)?;
     Ok((events, wav))

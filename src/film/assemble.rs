@@ -35,6 +35,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     m.files.insert(DERIVE_RECORD.into(), derive_hash);
     m.files.insert(EVENTS_FILE.into(), rec.events.clone());
     m.files.extend(rec.sounds.clone());
+    m.files.extend(rec.actors.clone());
     for (k, h) in rec.snapshots.iter().enumerate() {
         m.files.insert(key(&snapshot_path(k as u64)), h.clone());
     }
@@ -110,7 +111,7 @@ pub fn list(frames: &[u64]) -> String {
     parts.join(", ")
 }
 
-/// Files in `frames/` and `scene/` that no record accounts for, relative
+/// Files in `frames/`, `scene/`, `sounds/` and `actors/` that no record accounts for, relative
 /// to the folder: frames past the film's end or of another name, stray
 /// and temporary files.
 pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
@@ -127,6 +128,7 @@ pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
         names.sort();
         extra.extend(names);
     }
+    extra.extend(super::actor_images::extra_files(dir, &m.files));
     extra
 }
 
@@ -138,7 +140,12 @@ fn valid_frames(dir: &Path, rec: &DeriveRecord) -> Vec<(u64, FrameRecord)> {
         .filter_map(|(k, snap)| {
             let rp = dir.join(frame_record_path(&rec.inputs.name, k));
             let f = record::read::<FrameRecord>(&rp).ok()??;
-            (f.snapshot == *snap && f.frame == k).then_some((k, f))
+            // An inset must show the derivation's own actor image.
+            let inset_ok = f
+                .inset
+                .as_ref()
+                .map_or(true, |i| rec.actors.get(&i.file) == Some(&i.sha256));
+            (f.snapshot == *snap && f.frame == k && inset_ok).then_some((k, f))
         })
         .collect()
 }

@@ -18,6 +18,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use super::actor_images::{self, ACTORS_DIR};
 use super::frames::{
     frame_path, frame_pattern, snapshot_path, FrameSelection, FRAMES_DIR, SCENE_DIR,
 };
@@ -27,6 +28,7 @@ use super::record::{
     FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
 use super::{assemble, mux as ffmpeg, Film, Frame};
+use crate::actors::live::Living;
 use crate::atomic::{remove_stale_temps, write_atomic};
 use crate::error::Error;
 use crate::lsys::Limits;
@@ -105,7 +107,7 @@ pub fn inputs(
 
 /// The outputs of lmfilm in a folder: what `--clean` removes.
 fn clear(dir: &Path) -> Result<(), Error> {
-    for sub in [SCENE_DIR, FRAMES_DIR, SOUNDS_DIR] {
+    for sub in [SCENE_DIR, FRAMES_DIR, SOUNDS_DIR, ACTORS_DIR] {
         let path = dir.join(sub);
         if path.exists() {
             std::fs::remove_dir_all(&path).map_err(|e| Error::io(&path, e))?;
@@ -193,6 +195,7 @@ pub fn derive(
             let frames = old.frame_count;
             progress(frames, frames);
             prune_frames(dir, &old)?;
+            actor_images::prune(dir, &old.actors)?;
             return Ok((old, false));
         }
     }
@@ -202,7 +205,8 @@ pub fn derive(
     }
     let frames = film.frame_count();
     let mut snapshots = Vec::new();
-    every_frame(film, progress, |frame| {
+    let mut actors = BTreeMap::new();
+    every_frame(film, progress, |frame, living| {
         let path = dir.join(snapshot_path(frame.number()));
         let bytes = snapshot::encode(frame.scene());
         let hash = sha256_bytes(&bytes);
@@ -211,13 +215,15 @@ pub fn derive(
             write_atomic(&path, &bytes).map_err(|e| Error::io(&path, e))?;
         }
         snapshots.push(hash);
-        Ok(())
+        actor_images::write(dir, frame.number(), living, &mut actors)
     })?;
     let sounds = copy_sounds(film, dir)?;
     let events = write_events(film, &dir.join(EVENTS_FILE))?;
     prune_snapshots(&scene_dir, frames)?;
+    actor_images::prune(dir, &actors)?;
     let selection = FrameSelection::resolve(None, film.rs_switch()).to_text();
     let rec = DeriveRecord {
+        actors,
         dt: film.dt(),
         events: sha256_bytes(events.as_bytes()),
         frame_count: frames,
@@ -260,10 +266,11 @@ fn copy_sounds(film: &Film, dir: &Path) -> Result<BTreeMap<String, String>, Erro
     Ok(copied)
 }
 
-/// Whether every snapshot, the event log and the sound copies still hash
-/// to the record.
+/// Whether every snapshot, actor image, the event log and the sound
+/// copies still hash to the record.
 fn derived_intact(dir: &Path, rec: &DeriveRecord) -> bool {
     intact(dir, Path::new(EVENTS_FILE), &rec.events)
+        && rec.actors.iter().all(|(f, h)| intact(dir, Path::new(f), h))
         && rec.sounds.iter().all(|(f, h)| intact(dir, Path::new(f), h))
         && rec
             .snapshots
@@ -292,17 +299,19 @@ fn prune_snapshots(scene_dir: &Path, frames: u64) -> Result<(), Error> {
 }
 
 /// Derives every frame of the film through its frame loop, handing each
-/// frame to `each`; the turtle's warnings are shown once each at the end.
+/// frame to `each` with the actors as its sense step left them; the
+/// turtle's warnings are shown once each at the end.
 pub fn every_frame(
     film: &mut Film,
     progress: Progress,
-    mut each: impl FnMut(&Frame) -> Result<(), Error>,
+    mut each: impl FnMut(&Frame, &[Living]) -> Result<(), Error>,
 ) -> Result<(), Error> {
     let frames = film.frame_count();
     let mut warnings = std::collections::BTreeSet::new();
-    while let Some(frame) = film.next_frame()? {
+    while film.next_frame()?.is_some() {
+        let frame = film.frame().expect("the frame just derived");
         warnings.extend(frame.warnings().iter().cloned());
-        each(frame)?;
+        each(frame, film.living())?;
         progress(frame.number() + 1, frames);
     }
     for w in warnings {
@@ -346,8 +355,13 @@ pub fn open(dir: &Path) -> Result<DeriveRecord, Error> {
 
 /// The render settings as a frame's record keeps them (0 × 0: the
 /// snapshot camera's size, which the snapshot's hash covers).
-fn render_record(settings: &Settings, formats: Formats) -> BTreeMap<String, String> {
+fn render_record(
+    settings: &Settings,
+    formats: Formats,
+    inset: Option<usize>,
+) -> BTreeMap<String, String> {
     [
+        ("inset", inset.map_or("none".into(), |a| a.to_string())),
         ("width", settings.width.to_string()),
         ("height", settings.height.to_string()),
         ("spp", settings.spp.to_string()),
@@ -391,6 +405,7 @@ fn frame_done(dir: &Path, name: &str, k: u64, snapshot: &str, want: &FrameRecord
     };
     r.snapshot == snapshot
         && r.render == want.render
+        && r.inset == want.inset
         && r.lmfilm_version == want.lmfilm_version
         && r.outputs.keys().eq(want.outputs.keys())
         && r.outputs.iter().all(|(f, h)| intact(dir, Path::new(f), h))
@@ -400,17 +415,24 @@ fn frame_done(dir: &Path, name: &str, k: u64, snapshot: &str, want: &FrameRecord
 /// size is the snapshot's camera's unless set); a frame is skipped when
 /// its record shows it was made from the same snapshot with the same
 /// settings and its files are intact. Each frame writes its images, then
-/// its record, so shards never write one file. Returns how many frames
-/// were rendered.
+/// its record, so shards never write one file. `inset`: the actor whose
+/// vision window goes into the frames' top-left corner, from the
+/// folder's `actors/N/vision.NNNN.png` (an actor without one is refused
+/// before anything is rendered). Returns how many frames were rendered.
 pub fn render_frames(
     dir: &Path,
     frames: &[u64],
     settings: &Settings,
     formats: Formats,
+    inset: Option<usize>,
     max_pixels: u64,
     progress: Progress,
 ) -> Result<u64, Error> {
     let rec = open(dir)?;
+    let insets = match inset {
+        Some(a) => actor_images::inset_sources(dir, &rec, a, frames)?,
+        None => BTreeMap::new(),
+    };
     let name = rec.inputs.name.clone();
     let frames_dir = dir.join(FRAMES_DIR);
     std::fs::create_dir_all(&frames_dir).map_err(|e| Error::io(&frames_dir, e))?;
@@ -421,12 +443,13 @@ pub fn render_frames(
         let exts = formats.extensions();
         let mut want = FrameRecord {
             frame: k,
+            inset: insets.get(&k).cloned(),
             lmfilm_version: record::version(),
             outputs: exts
                 .iter()
                 .map(|e| (key(&frame_path(&name, k, e)), String::new()))
                 .collect(),
-            render: render_record(settings, formats),
+            render: render_record(settings, formats, inset),
             snapshot: snap.clone(),
         };
         if !frame_done(dir, &name, k, &snap, &want) {
@@ -444,7 +467,10 @@ pub fn render_frames(
             render::check(&scene).map_err(refuse)?;
             st.frame = k;
             st.layers = formats != Formats::Png;
-            let img = render::render(std::sync::Arc::new(scene), &st);
+            let mut img = render::render(std::sync::Arc::new(scene), &st);
+            if let Some(source) = &want.inset {
+                actor_images::compose(&mut img, &actor_images::read_inset(dir, source)?);
+            }
             for ext in ["exr", "png"] {
                 let p = dir.join(frame_path(&name, k, ext));
                 if exts.contains(&ext) {

@@ -8,6 +8,7 @@ pub mod world;
 pub use frame::Frame;
 pub use world::Film;
 
+pub mod actor_images;
 pub mod assemble;
 pub mod frames;
 pub mod job;

@@ -4,10 +4,12 @@
 //!
 //! * `derive.json`: the derivation's inputs (every scene file and every
 //!   file it references, by content hash; the options that change the
-//!   derivation; the lmfilm version), and the hash of every snapshot and
-//!   of the sound event log it made;
+//!   derivation; the lmfilm version), and the hash of every snapshot, of
+//!   every actor image (`actors/N/*.NNNN.png`) and of the sound event log
+//!   it made;
 //! * `frames/<name>.NNNN.json`: one per frame, beside the frame — the
-//!   snapshot it was rendered from, the render settings, its files'
+//!   snapshot it was rendered from, the render settings (the inset
+//!   among them, with the actor image it showed), its files'
 //!   hashes. No two render processes ever write the same record;
 //! * `soundtrack.json`: the event log's hash, the sound options and the
 //!   soundtrack's hash;
@@ -98,6 +100,10 @@ pub fn film_of<'a>(scenes: impl Iterator<Item = &'a str>) -> Vec<String> {
 /// `derive.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DeriveRecord {
+    /// sha256 of each actor image (`actors/N/vision.NNNN.png`,
+    /// `actors/N/memory.NNNN.png`), keyed by its path in the folder.
+    #[serde(default)]
+    pub actors: BTreeMap<String, String>,
     /// Δt, the time between two frames, in seconds.
     pub dt: f64,
     /// sha256 of `soundtrack.events`.
@@ -142,6 +148,10 @@ impl DeriveRecord {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct FrameRecord {
     pub frame: u64,
+    /// The actor vision image put into the frame (`--inset N`), with
+    /// its sha256.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inset: Option<FileHash>,
     pub lmfilm_version: String,
     /// sha256 of each image, keyed by its path in the folder.
     pub outputs: BTreeMap<String, String>,

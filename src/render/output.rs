@@ -237,6 +237,18 @@ pub fn srgb8(linear: f32) -> u8 {
     (s * 255.0 + 0.5) as u8
 }
 
+/// 8-bit sRGB to linear, the inverse of [`srgb8`]: `srgb8(linear8(s)) == s`
+/// for every `s`, so an sRGB image composed into a frame comes out of
+/// the PNG writer unchanged.
+pub fn linear8(s: u8) -> f32 {
+    let s = f32::from(s) / 255.0;
+    if s <= 0.040_45 {
+        s / 12.92
+    } else {
+        ((s + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// Reads a frame written by `write_exr` back: R, G, B required; A (default
 /// 1), Z (∞), N.X/N.Y/N.Z (0) and `id` (u32::MAX) optional. The first layer
 /// is used; RGB/Z/N may be stored as f16, f32 or u32, `id` must be u32.

@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod actor_images;
 mod cli;
 mod determinism;
 mod film;
