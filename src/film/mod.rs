@@ -9,10 +9,12 @@ pub use frame::Frame;
 pub use world::Film;
 
 pub mod assemble;
+pub mod channels;
 pub mod frames;
 pub mod job;
 pub mod manifest;
 pub mod mux;
 pub mod record;
 pub mod trace;
+pub mod tracks;
 pub mod verify;

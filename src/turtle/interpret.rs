@@ -431,6 +431,7 @@ impl Interpreter<'_> {
                 _ => {}
             },
             b'C' => self.particle(&s),
+            b'I' => self.world.record_actors(),
             b'l' => {
                 let g = DVec3::from_array(self.growth(&s));
                 self.b.camera_symbol(s.par, g, self.who(&s), self.world);
