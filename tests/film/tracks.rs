@@ -247,12 +247,27 @@ fn bad_channel_and_trace_files_are_located() {
 fn a_trace_file_outside_the_folder_is_refused() {
     let root = temp("outside");
     let dir = root.join("dir");
-    for (name, column) in [("../x", 15), ("/tmp/x.trace", 15), ("manifest.json", 15)] {
+    for (name, why) in [
+        ("../x", "not a relative path inside the output folder"),
+        (
+            "/tmp/x.trace",
+            "not a relative path inside the output folder",
+        ),
+        ("manifest.json", "lmfilm's own outputs"),
+    ] {
         let options = format!("NBR_actors 1\ntrace_actor 0 {name}");
         let film = write(&root, "film.lm", &scene(&options, "I"));
         let err = fails(&["derive", &film, "-o", s(&dir)], 2);
-        assert!(err.contains(&format!("film.lm:9:{column}:")), "{err}");
+        assert!(err.contains("film.lm:9:15:"), "{err}");
+        assert!(err.contains(why), "{err}");
     }
+    // An actor the film does not have.
+    let film = write(&root, "film.lm", &scene("trace_actor 0 a.trace", "I"));
+    let err = fails(&["derive", &film, "-o", s(&dir)], 2);
+    assert!(
+        err.contains("film.lm:8:15:") && err.contains("NBR_actors"),
+        "{err}"
+    );
     assert!(!root.join("x").exists());
     std::fs::remove_dir_all(&root).unwrap();
 }
