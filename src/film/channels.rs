@@ -21,8 +21,8 @@ pub const MAX_DATA_BYTES: u64 = 64 << 20;
 /// Most values a channel may announce.
 pub const MAX_VALUES: u64 = 10_000_000;
 
-/// Largest magnitude of a value read from a data file (as in scenes).
-pub const MAX_VALUE: f64 = 1e30;
+/// Largest magnitude of a value read from a data file: as in scenes.
+pub const MAX_VALUE: f64 = crate::lsys::scan::MAX_NUMBER;
 
 /// One imported data channel.
 #[derive(Debug, Clone, PartialEq)]
