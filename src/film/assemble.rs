@@ -36,6 +36,7 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     m.files.insert(EVENTS_FILE.into(), rec.events.clone());
     m.files.extend(rec.sounds.clone());
     m.files.extend(rec.actors.clone());
+    m.files.extend(rec.tracks.clone());
     for (k, h) in rec.snapshots.iter().enumerate() {
         m.files.insert(key(&snapshot_path(k as u64)), h.clone());
     }

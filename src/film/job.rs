@@ -107,6 +107,9 @@ pub fn inputs(
 
 /// The outputs of lmfilm in a folder: what `--clean` removes.
 fn clear(dir: &Path) -> Result<(), Error> {
+    if let Ok(Some(old)) = record::read::<DeriveRecord>(&dir.join(DERIVE_RECORD)) {
+        remove_tracks(dir, &old.tracks)?;
+    }
     for sub in [SCENE_DIR, FRAMES_DIR, SOUNDS_DIR, ACTORS_DIR] {
         let path = dir.join(sub);
         if path.exists() {
@@ -199,7 +202,12 @@ pub fn derive(
             return Ok((old, false));
         }
     }
-    // The old record no longer says what the folder holds.
+    // The old record no longer says what the folder holds; its trace
+    // files are pruned once the new ones are written.
+    let old_tracks = match record::read::<DeriveRecord>(&record_path) {
+        Ok(Some(old)) => old.tracks,
+        _ => BTreeMap::new(),
+    };
     if record_path.exists() {
         std::fs::remove_file(&record_path).map_err(|e| Error::io(&record_path, e))?;
     }
@@ -218,6 +226,7 @@ pub fn derive(
         actor_images::write(dir, frame.number(), living, &mut actors)
     })?;
     let sounds = copy_sounds(film, dir)?;
+    let tracks = write_tracks(film, dir, &old_tracks)?;
     let events = write_events(film, &dir.join(EVENTS_FILE))?;
     prune_snapshots(&scene_dir, frames)?;
     actor_images::prune(dir, &actors)?;
@@ -232,6 +241,7 @@ pub fn derive(
         selection,
         snapshots,
         sounds,
+        tracks,
     };
     record::write(&record_path, &rec).map_err(|e| Error::io(&record_path, e))?;
     prune_frames(dir, &rec)?;
@@ -266,12 +276,55 @@ fn copy_sounds(film: &Film, dir: &Path) -> Result<BTreeMap<String, String>, Erro
     Ok(copied)
 }
 
-/// Whether every snapshot, actor image, the event log and the sound
-/// copies still hash to the record.
+/// Writes the actor trajectories `I` recorded (`trace_actor`) into the
+/// folder and removes those of `old` that the film no longer writes;
+/// returns their paths in the folder and sha256. The names were checked
+/// when the film loaded (inside the folder, not lmfilm's own).
+fn write_tracks(
+    film: &Film,
+    dir: &Path,
+    old: &BTreeMap<String, String>,
+) -> Result<BTreeMap<String, String>, Error> {
+    let mut written = BTreeMap::new();
+    for (file, text) in film.exported_traces() {
+        super::tracks::output_name(&file.name).map_err(|m| Error::from(file.error(m)))?;
+        let to = dir.join(&file.name);
+        if let Some(parent) = to.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+        }
+        write_atomic(&to, text.as_bytes()).map_err(|e| Error::io(&to, e))?;
+        written.insert(key(Path::new(&file.name)), sha256_bytes(text.as_bytes()));
+    }
+    let stale = old
+        .iter()
+        .filter(|(k, _)| !written.contains_key(*k))
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .collect();
+    remove_tracks(dir, &stale)?;
+    Ok(written)
+}
+
+/// Removes the trace files `tracks` lists (a record's), each only when
+/// its name is one lmfilm could have written, inside the folder.
+fn remove_tracks(dir: &Path, tracks: &BTreeMap<String, String>) -> Result<(), Error> {
+    for name in tracks.keys() {
+        if super::tracks::output_name(name).is_ok() {
+            let path = dir.join(name);
+            if path.is_file() {
+                std::fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether every snapshot, actor image, the event log, the sound copies
+/// and the trace files still hash to the record.
 fn derived_intact(dir: &Path, rec: &DeriveRecord) -> bool {
     intact(dir, Path::new(EVENTS_FILE), &rec.events)
         && rec.actors.iter().all(|(f, h)| intact(dir, Path::new(f), h))
         && rec.sounds.iter().all(|(f, h)| intact(dir, Path::new(f), h))
+        && rec.tracks.iter().all(|(f, h)| intact(dir, Path::new(f), h))
         && rec
             .snapshots
             .iter()

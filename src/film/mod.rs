@@ -10,10 +10,12 @@ pub use world::Film;
 
 pub mod actor_images;
 pub mod assemble;
+pub mod channels;
 pub mod frames;
 pub mod job;
 pub mod manifest;
 pub mod mux;
 pub mod record;
 pub mod trace;
+pub mod tracks;
 pub mod verify;

@@ -120,6 +120,10 @@ pub struct DeriveRecord {
     /// soundtrack can be rendered wherever the folder is: their paths
     /// in the folder and sha256.
     pub sounds: BTreeMap<String, String>,
+    /// The actor trajectories `I` wrote (`trace_actor`): their paths in
+    /// the folder and sha256.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub tracks: BTreeMap<String, String>,
 }
 
 impl DeriveRecord {

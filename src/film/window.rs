@@ -21,6 +21,8 @@ use crate::sound::air::{self, Air, AMBIENT_SOURCE};
 use crate::source::FileRef;
 use crate::turtle::{ActorMapping, ParticleMapping, SoundRequest, TurtleWorld};
 
+use super::tracks::Tracks;
+
 /// A `command_file` declaration: number, script, two text arguments.
 pub(super) type Script = (i64, FileRef, String, String);
 
@@ -44,6 +46,8 @@ pub(super) struct Window<'a> {
     pub frame: u64,
     /// The first failure of a turtle request; it stops the frame.
     pub error: Option<Error>,
+    /// The imported and exported data (`?50`, `$` par2 = 5, `I`).
+    pub tracks: Option<&'a mut Tracks>,
 }
 
 /// The particle of symbol `who` in `get`'s table, or else `current`'s
@@ -74,6 +78,7 @@ impl<'a> Window<'a> {
             actor: None,
             frame,
             error: None,
+            tracks: None,
         }
     }
 
@@ -183,6 +188,19 @@ impl Sensors for Window<'_> {
         crate::physics::tennis::field(q).field
     }
 
+    /// `?50`: the data channel at `arg`; a channel the film does not
+    /// declare stops the frame (as an undeclared script does).
+    fn channel(&mut self, channel: f64, arg: f64) -> f64 {
+        let read = match self.tracks.as_deref() {
+            Some(t) => t.channel(channel, arg),
+            None => Ok(0.0),
+        };
+        read.unwrap_or_else(|e| {
+            self.fail(Error::input(e));
+            0.0
+        })
+    }
+
     fn sounds_playing(&mut self) -> f64 {
         self.air.heard().len() as f64
     }
@@ -283,5 +301,16 @@ impl TurtleWorld for Window<'_> {
 
     fn command(&mut self, number: i64, values: [i64; 3]) {
         self.run_script(number, values);
+    }
+
+    fn trace(&mut self, n: i64) -> Option<(DVec3, DVec3)> {
+        self.tracks.as_deref()?.trace(n)
+    }
+
+    /// `I`: the film writes the traced actors' records after the frame.
+    fn record_actors(&mut self) {
+        if let Some(t) = self.tracks.as_deref_mut() {
+            t.wanted = true;
+        }
     }
 }

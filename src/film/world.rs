@@ -22,6 +22,7 @@ use crate::actors::live::{self, Living};
 
 use super::frame::Frame;
 use super::frames::rs_switch;
+use super::tracks::Tracks;
 use super::window::{Scripts, Window};
 
 /// Sound source of particle row 0's collisions; row k uses this + k.
@@ -50,6 +51,8 @@ pub struct Film {
     actors: crate::actors::Table,
     /// The actors as they live through the film (eyes, windows, memory).
     living: Vec<Living>,
+    /// Data channels and actor trajectories (thesis 6.3.3).
+    tracks: Tracks,
 }
 
 /// The `Sound_event_file` initialisations of the first L-system that
@@ -141,6 +144,8 @@ impl Film {
         let air = Air::new(&sound_inits(&anim), lib, search).map_err(Error::input)?;
         let mut physics = Physics::new(&anim);
         physics.register(&anim).map_err(Error::input)?;
+        let living = live::living(&actors);
+        let tracks = Tracks::load(&anim, &living)?;
         Ok(Film {
             anim,
             surfaces,
@@ -153,8 +158,9 @@ impl Film {
             actor: None,
             frame: None,
             sound_files,
-            living: live::living(&actors),
+            living,
             actors,
+            tracks,
         })
     }
 
@@ -186,6 +192,7 @@ impl Film {
             }
         }
         files.extend(self.sound_files.iter().cloned());
+        files.extend(self.data_files());
         if let Some((scripts, dir)) = &self.scripts {
             for (_, script, _, _) in scripts {
                 files.push((script.name.clone(), dir.join(&script.name)));
@@ -194,6 +201,33 @@ impl Film {
         files.retain(|(_, p)| p.is_file());
         let mut seen = std::collections::BTreeSet::new();
         files.retain(|f| seen.insert(f.clone()));
+        files
+    }
+
+    /// The actor trajectories `I` recorded so far (`trace_actor`): each
+    /// file as the scene names it and its records.
+    pub fn exported_traces(&self) -> Vec<(&crate::source::FileRef, &str)> {
+        self.tracks.exported()
+    }
+
+    /// The channel and imported trajectory files, as the scene names
+    /// them and where they are.
+    fn data_files(&self) -> Vec<(String, PathBuf)> {
+        let mut files = Vec::new();
+        for ls in &self.anim.systems {
+            let dir = Path::new(&ls.def.name).parent().unwrap_or(Path::new("."));
+            for o in &ls.def.options {
+                match o {
+                    OptionItem::Channels(names) => {
+                        files.extend(names.iter().map(|f| (f.name.clone(), dir.join(&f.name))));
+                    }
+                    OptionItem::ImportTrace { file, .. } => {
+                        files.push((file.name.clone(), dir.join(&file.name)));
+                    }
+                    _ => {}
+                }
+            }
+        }
         files
     }
 
@@ -338,10 +372,12 @@ impl Film {
         let time = self.anim.time();
         self.air.begin_frame(time).map_err(Error::input)?;
         self.sound_collisions()?;
+        self.tracks.time = time;
         let mut window = Window::new(&mut self.air, &mut self.physics, None, number);
         window.scripts = self.scripts.as_ref();
         window.living = &mut self.living;
         window.actor = self.actor;
+        window.tracks = Some(&mut self.tracks);
         let built = build_scene(
             &mut self.anim,
             &self.surfaces,
@@ -356,6 +392,8 @@ impl Film {
         }
         self.current = current;
         self.actor = actor;
+        // The records an `I` asked for, of the actors as the frame left them.
+        self.tracks.record(number, &self.living);
         // Step 3: the sensors read the world as the frame left it.
         self.physics.sense();
         self.air.sense();
@@ -404,9 +442,13 @@ impl Film {
         );
         window.living = &mut self.living;
         window.actor = self.actor;
+        window.tracks = Some(&mut self.tracks);
         self.anim
             .step(&mut window)
             .map_err(|e| Error::input(e.to_string()))?;
+        if let Some(e) = window.error {
+            return Err(e.context(format!("frame {}", self.anim.frame)));
+        }
         let frame = self.anim.frame;
         self.physics
             .register(&self.anim)
@@ -428,6 +470,7 @@ impl Film {
         );
         window.living = &mut self.living;
         window.actor = self.actor;
+        window.tracks = Some(&mut self.tracks);
         self.anim
             .systems
             .iter_mut()

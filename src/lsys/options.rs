@@ -60,20 +60,27 @@ pub enum OptionItem {
     },
     /// Up to three frame intervals (first, last) for ray tracing.
     RsSwitch(Vec<i64>),
-    Channels(Vec<String>),
+    /// `NbrChannels_listOfNames n file…`: the data channel files `?50`
+    /// reads, channel k being the k-th name (0-based).
+    Channels(Vec<FileRef>),
+    /// `trace_actor actor file`: where `I` writes the actor's records.
     TraceActor {
         actor: i64,
-        file: String,
+        file: FileRef,
     },
+    /// `import_trace actor file`: the trajectory `$` par2 = 5 follows.
     ImportTrace {
         actor: i64,
-        file: String,
+        file: FileRef,
     },
 }
 
 /// Largest `MaxPart`: ten million particles is far beyond what a frame
 /// can evolve, yet keeps the particle table's size an honest number.
 pub const MAX_PARTICLES: i64 = 10_000_000;
+
+/// Most data channels a film declares (thesis 6.3.3).
+pub const MAX_CHANNELS: i64 = 10;
 
 /// Longest list an option may announce (actors, objects, channels).
 const MAX_LIST: i64 = 100_000;
@@ -277,16 +284,17 @@ pub fn parse_option(s: &mut Scanner) -> Result<Option<OptionItem>, Diagnostic> {
             OptionItem::RsSwitch(v.iter().map(|x| *x as i64).collect())
         }
         "NbrChannels_listOfNames" => {
-            let n = s.int_in("the number of channels", 0..=MAX_LIST)?;
+            // Up to 10 data channels (thesis 6.3.3).
+            let n = s.int_in("the number of channels", 0..=MAX_CHANNELS)?;
             let mut names = Vec::new();
             for _ in 0..n {
-                names.push(text(s, "a channel file name")?);
+                names.push(file_ref(s, "a channel file name")?);
             }
             OptionItem::Channels(names)
         }
         "trace_actor" | "import_trace" => {
             let actor = s.int("the actor number")?;
-            let file = text(s, "the trace file name")?;
+            let file = file_ref(s, "the trace file name")?;
             if kw == "trace_actor" {
                 OptionItem::TraceActor { actor, file }
             } else {
@@ -380,12 +388,9 @@ mod tests {
             sound.iter().map(|c| c.name.as_str()).collect::<Vec<_>>(),
             ["INIT_mic", "INIT_source", "PLAY", "TIME", "SP"]
         );
-        assert_eq!(
-            items[13],
-            OptionItem::ImportTrace {
-                actor: 1,
-                file: "in.trace".into()
-            }
-        );
+        let OptionItem::ImportTrace { actor: 1, file } = &items[13] else {
+            panic!("{:?}", items[13])
+        };
+        assert_eq!((file.name.as_str(), file.at.line), ("in.trace", 14));
     }
 }

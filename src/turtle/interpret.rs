@@ -509,6 +509,7 @@ impl Interpreter<'_> {
             b'C' => self.particle(&s),
             b'M' => self.actor_to_turtle(&s),
             b'g' => self.turtle_to_actor(&s),
+            b'I' => self.world.record_actors(),
             b'l' => {
                 let g = DVec3::from_array(self.growth(&s));
                 self.b.camera_symbol(s.par, g, self.who(&s), self.world);

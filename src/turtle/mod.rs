@@ -58,6 +58,9 @@ pub trait TurtleWorld: Sensors {
     fn map_actor(&mut self, _actor: Option<u32>, _mapping: ActorMapping) -> Option<(DVec3, DVec3)> {
         None
     }
+    /// The `I` symbol: the records of the traced actors (`trace_actor`)
+    /// are written for this frame.
+    fn record_actors(&mut self) {}
     /// Microphone `mic` placed at `p` (`l` par3 = 8, 10).
     fn microphone(&mut self, _mic: i64, _p: DVec3) {}
     /// A sound event of the `T` symbol, for the sound event handler.

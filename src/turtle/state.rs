@@ -138,6 +138,9 @@ impl Turtle {
         let angle = axis.length().atan2(self.h.dot(d));
         if axis.length_squared() > 1e-24 {
             self.rotate_about(axis.normalize(), angle);
+        } else if self.h.dot(d) < 0.0 {
+            // Opposite: half a turn about U (any axis ⟂ H is smallest).
+            self.rotate_about(self.u, std::f64::consts::PI);
         }
     }
 
@@ -180,6 +183,16 @@ mod tests {
 
     fn close(a: DVec3, b: DVec3) -> bool {
         (a - b).length() < 1e-12
+    }
+
+    #[test]
+    fn align_turns_round_to_the_opposite_direction() {
+        let mut t = Turtle::default();
+        t.align(-DVec3::X);
+        assert!(close(t.h, -DVec3::X) && close(t.u, DVec3::Z), "{t:?}");
+        assert!(close(t.h.cross(t.l), t.u));
+        t.align(DVec3::Y);
+        assert!(close(t.h, DVec3::Y));
     }
 
     #[test]

@@ -15,3 +15,4 @@ mod frame_loop;
 mod limits;
 mod records;
 mod support;
+mod tracks;
