@@ -199,17 +199,21 @@ fn an_imported_trajectory_places_the_turtle_and_an_export_reads_back() {
     assert!(near(sphere_at(&film, &root, 3), [4.0, 0.0, 4.0]));
     assert!(near(sphere_at(&film, &root, 5), [4.0, 0.0, 8.0]));
 
-    // Round trip: actor 0's records, written by `I`, imported again.
-    let options = "NBR_actors 1\nactorNbr_automata 0 0 9 obs 1.1 0.3 -2.7 lat 0 0 0\n\
+    // Round trip: actor 0 walks 0.5 along +z each frame ([M f g]); its
+    // records, written by `I`, imported again, put the turtle where it was.
+    let options = "NBR_actors 1\nactorNbr_automata 0 0 9 obs 1.1 0.3 -2.7 lat 1.1 0.3 0\n\
                    trace_actor 0 a.trace";
-    let export = write(&root, "export.lm", &scene(options, "I"));
+    let walk = "[ M () (7) () (0) f () () () () (0.5) g () (0) ] I";
+    let export = write(&root, "export.lm", &scene(options, walk));
     let dir = root.join("dir");
     ok(&["derive", &export, "-o", s(&dir)]);
     std::fs::copy(dir.join("a.trace"), root.join("a.trace")).unwrap();
     let again = write(&root, "again.lm", &scene("import_trace 0 a.trace", FOLLOW));
-    let at = sphere_at(&again, &root, 2);
-    let eye = [1.1f32, 0.3, -2.7].map(f64::from);
-    assert!(near(at, eye), "{at:?}");
+    for k in [0u8, 2, 5] {
+        let at = sphere_at(&again, &root, u64::from(k));
+        let eye = [1.1f32, 0.3, -2.7 + 0.5 * f32::from(k + 1)].map(f64::from);
+        assert!(near(at, eye), "frame {k}: {at:?} {eye:?}");
+    }
     std::fs::remove_dir_all(&root).unwrap();
 }
 
