@@ -73,8 +73,9 @@ fn render_into(dir: &Path, args: &RenderArgs, shard: Shard, max_pixels: u64) -> 
 }
 
 /// What the derivation wrote of its actors, for the summaries: `N
-/// vision and M memory images in DIR/actors/` (empty without any).
-fn actor_summary(dir: &Path) -> Result<String> {
+/// vision and M memory images in DIR/actors/` and the trajectories `I`
+/// wrote, one line each (none without any).
+fn actor_summary(dir: &Path) -> Result<Vec<String>> {
     let rec = job::open(dir)?;
     let count = |what: &str| {
         rec.actors
@@ -83,13 +84,17 @@ fn actor_summary(dir: &Path) -> Result<String> {
             .count()
     };
     let (vision, memory) = (count("vision."), count("memory."));
-    if vision + memory == 0 {
-        return Ok(String::new());
+    let mut lines = Vec::new();
+    if vision + memory > 0 {
+        lines.push(format!(
+            "actors: {vision} vision and {memory} memory images in {} (N/vision.NNNN.png, N/memory.NNNN.png)",
+            dir.join(ACTORS_DIR).display()
+        ));
     }
-    Ok(format!(
-        "{vision} vision and {memory} memory images in {} (N/vision.NNNN.png, N/memory.NNNN.png)",
-        dir.join(ACTORS_DIR).display()
-    ))
+    for file in rec.tracks.keys() {
+        lines.push(format!("actor trajectory: {}", dir.join(file).display()));
+    }
+    Ok(lines)
 }
 
 /// What `run` and `derive` start from.
@@ -134,9 +139,8 @@ pub fn run(
         now(sounded),
         dir.join(manifest::MANIFEST_FILE).display()
     );
-    let actors = actor_summary(&dir)?;
-    if !actors.is_empty() {
-        println!("actors: {actors}");
+    for line in actor_summary(&dir)? {
+        println!("{line}");
     }
     if let Some(a) = args.inset {
         println!(
@@ -162,9 +166,8 @@ pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
         if derived { "derived" } else { "up to date" },
         manifest::MANIFEST_FILE
     );
-    let actors = actor_summary(out)?;
-    if !actors.is_empty() {
-        println!("actors: {actors}");
+    for line in actor_summary(out)? {
+        println!("{line}");
     }
     Ok(())
 }

@@ -277,3 +277,26 @@ fn a_cut_branch_gives_back_the_actor_before_it() {
     f.seek(1, |_, _| {}).unwrap();
     assert_eq!(f.words(Format::Symbols), ["[fc]Mwx"]);
 }
+
+#[test]
+fn every_actor_scene_runs() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/actors");
+    let mut scenes: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "lm"))
+        .collect();
+    scenes.sort();
+    assert!(scenes.len() >= 4, "{scenes:?}");
+    for scene in scenes {
+        let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .arg("trace")
+            .arg(&scene)
+            .args(["--frames", "0..3"])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{}: {err}", scene.display());
+        assert_eq!(out.stdout.iter().filter(|&&b| b == b'\n').count(), 3);
+    }
+}
