@@ -295,3 +295,23 @@ pub fn living(table: &Table) -> Vec<Living> {
 pub fn sense(actors: &mut [Living], accel: &Accel, frame: u64) {
     actors.par_iter_mut().for_each(|a| a.sense(accel, frame));
 }
+
+/// An error once the actors' memories hold more than `max` bytes
+/// together ([`MAX_MEMORY_BYTES`](super::MAX_MEMORY_BYTES) in a film),
+/// naming the largest: a voxel edge too fine for what the actors see.
+pub fn check_memory(actors: &[Living], max: usize) -> Result<(), String> {
+    let bytes = |a: &Living| a.memory.as_ref().map_or(0, |m| m.memory_bytes());
+    let total: usize = actors.iter().map(bytes).sum();
+    if total <= max {
+        return Ok(());
+    }
+    let big = actors.iter().max_by_key(|a| bytes(a)).expect("some memory");
+    Err(format!(
+        "the actors' visual memories hold {} bytes, more than {}; actor {}'s holds {} voxels in {} bytes: give its `init` a larger voxel edge or a smaller cube",
+        total,
+        max,
+        big.id,
+        big.memory.as_ref().map_or(0, |m| m.voxels()),
+        bytes(big)
+    ))
+}

@@ -25,6 +25,15 @@ pub const MAX_ACTORS: i64 = 100_000;
 /// Edge lengths a vision window may have, in pixels.
 pub const WINDOW_EDGES: std::ops::RangeInclusive<i64> = 1..=1024;
 
+/// Most pixels the actors' vision windows may have together: what one
+/// frame's sense step casts and keeps (about 52 bytes a pixel, 220 MB),
+/// and the most points it can insert into the memories (docs/limits.md).
+pub const MAX_VISION_PIXELS: u64 = 1 << 22;
+
+/// Most bytes the actors' visual memories may hold together; past it the
+/// film stops with an error rather than exhaust the machine's memory.
+pub const MAX_MEMORY_BYTES: usize = 4 << 30;
+
 /// Most colours a window may tell apart (24-bit colours).
 pub const MAX_COLORS: i64 = 1 << 24;
 
@@ -140,6 +149,7 @@ impl Table {
                 Some(_) => Ok(a.value as usize),
             }
         };
+        let mut pixels = 0u64;
         for o in &options {
             match o {
                 OptionItem::VisionWinSize {
@@ -166,6 +176,12 @@ impl Table {
                         return Err(actor.error(format!(
                             "actor {i} already has a vision window, declared at {}",
                             first.span
+                        )));
+                    }
+                    pixels += (edge.value * edge.value) as u64;
+                    if pixels > MAX_VISION_PIXELS {
+                        return Err(edge.error(format!(
+                            "the actors' vision windows would have {pixels} pixels together, more than {MAX_VISION_PIXELS} (four windows of 1024 × 1024); make them smaller"
                         )));
                     }
                     actors[i].vision = Some(VisionWindow {

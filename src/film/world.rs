@@ -406,6 +406,8 @@ impl Film {
         // Step 3, vision: the actors see into the frame's BVH.
         if self.living.iter().any(|a| a.edge.is_some()) {
             live::sense(&mut self.living, frame.accel(), number);
+            live::check_memory(&self.living, crate::actors::MAX_MEMORY_BYTES)
+                .map_err(|e| at(Error::input(e)))?;
         }
         Ok(frame)
     }

@@ -5,6 +5,7 @@
 
 use std::process::Command;
 
+use lmfilm::actors::live;
 use lmfilm::film::trace::Record;
 use lmfilm::film::Film;
 use lmfilm::lsys::print::Format;
@@ -299,4 +300,29 @@ fn every_actor_scene_runs() {
         assert!(out.status.success(), "{}: {err}", scene.display());
         assert_eq!(out.stdout.iter().filter(|&&b| b == b'\n').count(), 3);
     }
+}
+
+#[test]
+fn vision_and_memory_are_bounded() {
+    // Five windows of 1024 × 1024 are more than the actors may cast.
+    let windows: String = (0..5)
+        .map(|a| format!("iVisionWinSize {a} 1024 4\n"))
+        .collect();
+    let text = scene(1, &format!("NBR_actors 5\n{windows}"), "F", "");
+    let e = Film::from_sources(&[Source::new("big.lm", &text)], None, Options::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("big.lm:9:18:") && e.contains("4194304"), "{e}");
+    // A memory past its budget names the actor and what to change.
+    let options = "NBR_actors 1\niVisionWinSize 0 16 4\n\
+        actorNbr_automata 0 watch init 1 -20 20 0.1 obs 0 2 0 lat 0 2 1";
+    let mut f = film(&scene(1, options, WALL, ""));
+    f.next_frame().unwrap();
+    let e = live::check_memory(f.living(), 1000).unwrap_err();
+    assert!(
+        e.contains("actor 0's holds") && e.contains("larger voxel edge"),
+        "{e}"
+    );
+    assert!(live::check_memory(f.living(), 1 << 30).is_ok());
 }
