@@ -2,7 +2,8 @@
 //! open-ended fuzzing is `tests/fuzz/`, see docs/hostile-input.md).
 //!
 //! From the repository's own inputs — scenes, the flyby event log, the
-//! leaf OBJ/MTL, a WAV, a snapshot derived from the gallery, a manifest —
+//! leaf OBJ/MTL, a WAV, a snapshot derived from the gallery, a manifest,
+//! a data channel and an actor trajectory —
 //! a fixed number of mutated inputs per reader (byte flips, `nan`, `inf`,
 //! `1e999`, huge integers, NUL and invalid UTF-8 put in place of a word,
 //! truncations, duplicated and deleted lines) with a fixed seed. Each
@@ -340,6 +341,26 @@ fn readers() -> Vec<Target> {
                 lmfilm::film::manifest::Manifest::parse(&text).is_ok()
             },
             vec![manifest_json()],
+            mutate,
+        ),
+        target(
+            "data channel",
+            |b: &[u8]| {
+                Source::from_bytes("fuzz.chan", b.to_vec())
+                    .is_ok_and(|src| lmfilm::film::channels::parse(&src).is_ok())
+            },
+            vec![repo("scenes/actors/pulse.chan")],
+            mutate,
+        ),
+        target(
+            "trajectory",
+            |b: &[u8]| {
+                let scene = Source::new("fuzz.lm", "import_trace 0 fuzz.trace");
+                let file = lmfilm::source::FileRef::new(&scene, 15, "fuzz.trace");
+                Source::from_bytes("fuzz.trace", b.to_vec())
+                    .is_ok_and(|src| lmfilm::film::tracks::parse_trace(&src, 0, &file).is_ok())
+            },
+            vec![repo("scenes/actors/pledge.trace")],
             mutate,
         ),
         target(
