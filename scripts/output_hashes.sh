@@ -45,7 +45,7 @@ middle() {
 }
 
 small="--preset preview --width 96 --height 54"
-for scene in scenes/examples/*.lm scenes/physics/*.lm scenes/bench/forest_instanced.lm; do
+for scene in scenes/examples/*.lm scenes/physics/*.lm scenes/actors/*.lm scenes/bench/forest_instanced.lm; do
     mid=$(middle "$scene")
     record "$scene run" run "$scene" -o "$WORK/out/film" $small
     record "$scene print0" print "$scene" --format full
