@@ -9,6 +9,7 @@ use std::collections::BTreeMap;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
+use super::behaviour::{Deed, Progress, Script, Senses};
 use super::memory::{Forgetting, VisualMemory};
 use super::octree::Cube;
 use super::vision::{self, Body, Interest, Percepts, View, Window, THESIS_THRESHOLD};
@@ -94,18 +95,34 @@ pub struct Living {
     /// What the actor saw at the last sense step, and made of it.
     pub window: Option<Window>,
     pub percepts: Option<Percepts>,
+    /// The behaviour stack (5.1): the next command string is the last.
+    pub stack: Vec<Script>,
+    /// Where the running automata is.
+    pub progress: Progress,
+    /// `speed`: how fast it walks, world units a second.
+    pub speed: f32,
+    /// The sounds `talk` says (`words_to_speak`), first first.
+    pub words: Vec<u32>,
+    /// What `listen` waits for: the next n events of a source.
+    pub listen_to: Option<(u32, usize)>,
+    /// The sounds `listen` captured last, in the order they began.
+    pub heard_words: Vec<u32>,
 }
+
+/// Walking speed before any `speed` command, world units a second.
+const DEFAULT_SPEED: f32 = 1.0;
 
 /// Default threshold of `?33`, `?39` (world units) and `?32` (cosine).
 const EPS_ARRIVED: f64 = 0.1;
 const EPS_LOOK_AT: f64 = 0.99;
 
 impl Living {
-    /// The actor as the commands of its first automata set it up.
+    /// The actor with its script on its behaviour stack, the first
+    /// `actorNbr_automata` line popped and running.
     pub fn new(actor: &Actor) -> Living {
         let mut me = Living {
             id: actor.id(),
-            automata: actor.automata().first().map(|e| e.automata),
+            automata: None,
             eye: Vec3::ZERO,
             look_at: Vec3::Z,
             fov: DEFAULT_FOV,
@@ -131,12 +148,20 @@ impl Living {
             display: MemoryDisplay::default(),
             window: None,
             percepts: None,
+            stack: Vec::new(),
+            progress: Progress::default(),
+            speed: DEFAULT_SPEED,
+            words: Vec::new(),
+            listen_to: None,
+            heard_words: Vec::new(),
         };
-        if let Some(first) = actor.automata().first() {
-            for c in &first.commands {
-                me.apply(&c.command);
-            }
+        for entry in actor.automata().iter().rev() {
+            me.push(Script {
+                automata: entry.automata,
+                commands: entry.commands.iter().map(|c| c.command.clone()).collect(),
+            });
         }
+        me.pop();
         me
     }
 
@@ -196,6 +221,9 @@ impl Living {
                 self.eps_look_at.insert(index.unwrap_or(0), threshold);
             }
             C::State(s) => self.state = s,
+            C::Speed(v) => self.speed = v as f32,
+            C::WordsToSpeak(ref w) => self.words = w.iter().map(|&s| s as u32).collect(),
+            C::ListenTo { source, count } => self.listen_to = Some((source as u32, count as usize)),
             C::TennisState(s) => self.tennis_state = s,
             C::Turtle(t) => self.turtle = t,
             C::VisMemOn => self.memory_on = true,
@@ -294,6 +322,17 @@ pub fn living(table: &Table) -> Vec<Living> {
 /// threads.
 pub fn sense(actors: &mut [Living], accel: &Accel, frame: u64) {
     actors.par_iter_mut().for_each(|a| a.sense(accel, frame));
+}
+
+/// The act step: every actor's automata does its frame's work, one
+/// actor after the other in actor order; returns what they do to the
+/// world outside themselves, in that order.
+pub fn act(actors: &mut [Living], senses: &Senses) -> Vec<Deed> {
+    let mut deeds = Vec::new();
+    for a in actors {
+        a.act(senses, &mut deeds);
+    }
+    deeds
 }
 
 /// An error once the actors' memories hold more than `max` bytes

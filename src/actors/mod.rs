@@ -7,6 +7,7 @@
 //! ([`memory`], [`octree`]) exists but is not yet fed by a vision window;
 //! vision and the behaviours come later (docs/actors.md).
 
+pub mod behaviour;
 pub mod display;
 pub mod live;
 pub mod memory;
@@ -33,6 +34,9 @@ pub const MAX_VISION_PIXELS: u64 = 1 << 22;
 /// Most bytes the actors' visual memories may hold together; past it the
 /// film stops with an error rather than exhaust the machine's memory.
 pub const MAX_MEMORY_BYTES: usize = 4 << 30;
+
+/// Most sound events one `listen` may wait for.
+pub const MAX_HEARD: i64 = 10_000;
 
 /// Most colours a window may tell apart (24-bit colours).
 pub const MAX_COLORS: i64 = 1 << 24;
@@ -97,7 +101,30 @@ impl Table {
     /// The table the Options sections of every L-system of `anim`
     /// declare; empty when none declares actors.
     pub fn from_animation(anim: &Animation) -> Result<Table, Diagnostic> {
-        Table::from_options(anim.systems.iter().flat_map(|s| &s.def.options))
+        let table = Table::from_options(anim.systems.iter().flat_map(|s| &s.def.options))?;
+        // The behaviour command strings of the `e` symbols (C.6).
+        let scripts = anim.systems.iter().flat_map(|s| &s.def.growth);
+        for script in scripts.filter_map(|g| g.script.as_ref()) {
+            let n = table.actors.len();
+            match &script.actor {
+                Some(a) if !(0..n as i64).contains(&a.value) => {
+                    return Err(a.error(format!(
+                        "actor {} does not exist: the scene has {n} actors (NBR_actors)",
+                        a.value
+                    )))
+                }
+                None if n == 0 => {
+                    return Err(script
+                        .automata
+                        .error("a behaviour for an actor, and the scene has none (NBR_actors)"))
+                }
+                _ => {}
+            }
+            for c in &script.commands {
+                check(c)?;
+            }
+        }
+        Ok(table)
     }
 
     /// The table of these options (of one or several files, in order).
@@ -365,6 +392,17 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
             at_least(2, *max_speed, 0.0, "the maximal speed")?;
             positive(1, *scale, "the scale factor")?;
             int_in(0, *ray_trace, 0, 1, "the ray tracer switch (1 on, 0 off)")
+        }
+        C::WordsToSpeak(words) => {
+            let n = words.len();
+            for (j, w) in words.iter().enumerate() {
+                int_in(n - 1 - j, *w, 0, i64::from(u32::MAX), "a sound number")?;
+            }
+            Ok(())
+        }
+        C::ListenTo { source, count } => {
+            int_in(1, *source, 0, i64::from(u32::MAX), "the sound source")?;
+            int_in(0, *count, 1, MAX_HEARD, "the number of sound events")
         }
         C::Goal(_)
         | C::ResetGoal

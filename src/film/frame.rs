@@ -48,6 +48,11 @@ impl Frame {
             .get_or_init(|| Accel::new(Arc::clone(&self.scene)))
     }
 
+    /// More warnings about this frame (the sound handler's, at its end).
+    pub(super) fn warn(&mut self, more: Vec<String>) {
+        self.warnings.extend(more);
+    }
+
     /// The turtle's and the sound handler's warnings about this frame.
     pub fn warnings(&self) -> &[String] {
         &self.warnings

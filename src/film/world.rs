@@ -18,6 +18,7 @@ use crate::sound::EventLog;
 use crate::turtle::interpret::Tables;
 use crate::turtle::{build_scene, Options, Surfaces};
 
+use crate::actors::behaviour::{Deed, Script, Senses};
 use crate::actors::live::{self, Living};
 
 use super::frame::Frame;
@@ -146,7 +147,7 @@ impl Film {
         physics.register(&anim).map_err(Error::input)?;
         let living = live::living(&actors);
         let tracks = Tracks::load(&anim, &living)?;
-        Ok(Film {
+        let mut film = Film {
             anim,
             surfaces,
             tables: Vec::new(),
@@ -161,7 +162,9 @@ impl Film {
             living,
             actors,
             tracks,
-        })
+        };
+        film.activate_scripts()?;
+        Ok(film)
     }
 
     /// The scene's actors (`NBR_actors`, `iVisionWinSize`, `actorNbr_automata`).
@@ -386,7 +389,7 @@ impl Film {
             self.opts,
         );
         let (error, current, actor) = (window.error, window.current, window.actor);
-        let (scene, mut warnings) = built.map_err(Error::input)?;
+        let (scene, warnings) = built.map_err(Error::input)?;
         if let Some(e) = error {
             return Err(at(e));
         }
@@ -397,18 +400,29 @@ impl Film {
         // Step 3: the sensors read the world as the frame left it.
         self.physics.sense();
         self.air.sense();
-        // Step 5. The camera may have moved (`l`): microphone 0 follows it.
-        self.air
-            .end_frame(scene.camera.eye.as_dvec3())
-            .map_err(Error::input)?;
-        warnings.extend(self.air.take_warnings());
-        let frame = Frame::new(number, time, scene, warnings);
-        // Step 3, vision: the actors see into the frame's BVH.
+        let eye = scene.camera.eye.as_dvec3();
+        let mut frame = Frame::new(number, time, scene, warnings);
+        // Step 3, actors: they see into the frame's BVH, then act in
+        // actor order; their voices join the frame's sound events.
         if self.living.iter().any(|a| a.edge.is_some()) {
             live::sense(&mut self.living, frame.accel(), number);
             live::check_memory(&self.living, crate::actors::MAX_MEMORY_BYTES)
                 .map_err(|e| at(Error::input(e)))?;
         }
+        let senses = Senses {
+            heard: self.air.heard(),
+            time,
+            dt: self.anim.camera.dt,
+        };
+        for deed in live::act(&mut self.living, &senses) {
+            let Deed::Say { sound, source, at } = deed;
+            self.air
+                .play(sound, source, at.as_dvec3())
+                .map_err(Error::input)?;
+        }
+        // Step 5. The camera may have moved (`l`): microphone 0 follows it.
+        self.air.end_frame(eye).map_err(Error::input)?;
+        frame.warn(self.air.take_warnings());
         Ok(frame)
     }
 
@@ -452,10 +466,47 @@ impl Film {
             return Err(e.context(format!("frame {}", self.anim.frame)));
         }
         let frame = self.anim.frame;
+        self.activate_scripts()?;
         self.physics
             .register(&self.anim)
             .map_err(|e| Error::input(format!("frame {frame}: {e}")))?;
         self.physics.evolve(self.anim.time());
+        Ok(())
+    }
+
+    /// The behaviour command strings of the `e` par1 = 0 the last step
+    /// (or the axiom) met (C.6): each is pushed on its actor's stack and
+    /// activated — the actor its text names, or else the current actor of
+    /// the `e`'s branch, or else the film's current actor, or actor 0.
+    fn activate_scripts(&mut self) -> Result<()> {
+        for ls in &self.anim.systems {
+            for e in ls.events().iter().filter(|e| e.par[0] == 0.0) {
+                let growth = ls.def.growth.get(e.growth as usize);
+                let Some(script) = growth.and_then(|g| g.script.as_ref()) else {
+                    continue;
+                };
+                let id = match &script.actor {
+                    Some(a) => usize::try_from(a.value).ok(),
+                    None => Some(e.actor.or(self.actor).map_or(0, |a| a as usize)),
+                };
+                let Some(actor) = id.and_then(|i| self.living.get_mut(i)) else {
+                    let span = script
+                        .actor
+                        .as_ref()
+                        .map_or(&script.automata.span, |a| &a.span);
+                    let n = self.living.len();
+                    return Err(span
+                        .error(format!(
+                            "this behaviour is for an actor the scene does not have (NBR_actors {n})"
+                        ))
+                        .into());
+                };
+                actor.activate(Script {
+                    automata: script.automata.value,
+                    commands: script.commands.iter().map(|c| c.command.clone()).collect(),
+                });
+            }
+        }
         Ok(())
     }
 

@@ -275,6 +275,16 @@ pub enum AutomataCommand {
         far: f64,
         memory_range: f64,
     },
+    /// `words_to_speak s…` (lmfilm's): the sound numbers the `talk`
+    /// automata says, in order (the thesis's table `words_to_speak`,
+    /// which its automata fill themselves).
+    WordsToSpeak(Vec<i64>),
+    /// `listen_to source n` (lmfilm's): what the `listen` automata
+    /// captures, the next n sound events of that source.
+    ListenTo {
+        source: i64,
+        count: i64,
+    },
     /// `motor_init speed scale trace`: humanoid maximal speed (mm/s),
     /// scale factor, ray tracer output 1/0.
     MotorInit {
@@ -324,7 +334,12 @@ const COMMANDS: &[Spec] = &[
     ("optim_ahead", 1, 1, false),
     ("vision_range", 3, 3, false),
     ("motor_init", 3, 3, false),
+    ("words_to_speak", 1, MAX_WORDS, false),
+    ("listen_to", 2, 2, false),
 ];
+
+/// Most words one `words_to_speak` may give.
+pub const MAX_WORDS: usize = 64;
 
 impl AutomataCommand {
     /// The command's keyword.
@@ -365,6 +380,8 @@ impl AutomataCommand {
             C::OptimAhead(_) => "optim_ahead",
             C::VisionRange { .. } => "vision_range",
             C::MotorInit { .. } => "motor_init",
+            C::WordsToSpeak(_) => "words_to_speak",
+            C::ListenTo { .. } => "listen_to",
         }
     }
 
@@ -408,6 +425,64 @@ pub struct ActorAutomata {
     pub actor: Located<i64>,
     pub automata: Located<Automata>,
     pub commands: Vec<CommandAt>,
+}
+
+/// A behaviour command string of an `e` symbol with par1 = 0 (C.6):
+/// `[actor] automata commands…`; without the actor number it is the
+/// current actor of the `e`'s branch (the last `M` par1 = 7 before it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Script {
+    pub actor: Option<Located<i64>>,
+    pub automata: Located<Automata>,
+    pub commands: Vec<CommandAt>,
+}
+
+/// Parses the text of an `e` par1 = 0 (a group's, from byte `at`): an
+/// automata name or number alone, or the forms of `actorNbr_automata`.
+pub fn parse_script(s: &mut Scanner, at: usize) -> Result<Script, Diagnostic> {
+    let (first_at, first) = s.peek_word()?;
+    let alone = if let Some(a) = Automata::from_name(first) {
+        Some(a)
+    } else if s.at_number()? {
+        // One number, then a command or nothing: the automata alone.
+        let save = s.pos;
+        let n = s.int("an actor or automata number")?;
+        let (_, next) = s.peek_word()?;
+        let single = next.is_empty() || AutomataCommand::is_keyword(next);
+        s.pos = save;
+        match (single, Automata::from_number(n)) {
+            (true, Some(a)) => Some(a),
+            (true, None) => {
+                return Err(s.error(
+                    first_at,
+                    format!(
+                        "unknown automata number {n}; the automata are {}",
+                        Automata::list()
+                    ),
+                ))
+            }
+            (false, _) => None,
+        }
+    } else {
+        None
+    };
+    if let Some(a) = alone {
+        s.word("the automata")?;
+        return Ok(Script {
+            actor: None,
+            automata: Located {
+                value: a,
+                span: Span::new(s.src, first_at),
+            },
+            commands: parse_commands(s)?,
+        });
+    }
+    let a = parse_actor_automata(s, at)?;
+    Ok(Script {
+        actor: Some(a.actor),
+        automata: a.automata,
+        commands: a.commands,
+    })
 }
 
 /// Parses what follows the keyword `actorNbr_automata` (at byte `at`).
@@ -643,6 +718,11 @@ fn typed(
             max_speed: f(0),
             scale: f(1),
             ray_trace: int(2)?,
+        },
+        "words_to_speak" => C::WordsToSpeak((0..n).map(int).collect::<Result<_, _>>()?),
+        "listen_to" => C::ListenTo {
+            source: int(0)?,
+            count: int(1)?,
         },
         _ => unreachable!("every command of COMMANDS has an arm"),
     })

@@ -105,9 +105,9 @@ pub struct SymbolTemplate {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Growth {
     pub f: [Option<Expr>; 3],
-    /// Raw text of the first growth group: the automata command of `e`
-    /// with par1 = 0, which is text rather than an expression.
-    pub text: Option<String>,
+    /// The behaviour command string of `e` with par1 = 0 (C.6): its first
+    /// growth group is text rather than an expression.
+    pub script: Option<crate::lsys::automata::Script>,
 }
 
 /// One `probability … EndProb` part of a production.

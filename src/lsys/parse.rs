@@ -1,13 +1,14 @@
 //! The definition file parser (appendix A, code 6.2.1): sections in their
 //! fixed order, any of them omitted when empty.
 
+use super::automata::{parse_script, Script};
 use super::definition::{
     CameraParams, Definition, Growth, Production, RepetitionParams, RightSide, SymbolTemplate,
 };
 use super::expr::{Code, Compiler, Expr, Op};
 use super::functions::{constant_arity, Constants, Spline};
 use super::options::{parse_option, unknown_option};
-use super::scan::{suggestion, Scanner};
+use super::scan::{suggestion, Group, Scanner};
 use crate::source::{Diagnostic, FileRef, Source};
 
 pub(super) const SECTIONS: [&str; 8] = [
@@ -386,6 +387,22 @@ impl<'a> Parser<'a> {
         .group(text, offset)
     }
 
+    /// The behaviour command string of an `e` par1 = 0 in group `g`,
+    /// nothing but commands left in it.
+    fn script(&mut self, g: Group) -> Result<Script, Diagnostic> {
+        let end = g.offset + g.text.len();
+        let mut s = Scanner::within(self.s.src, g.offset, end);
+        let script = parse_script(&mut s, g.offset)?;
+        let (at, rest) = s.peek_word()?;
+        if !rest.is_empty() {
+            return Err(s.error(
+                at,
+                format!("`{rest}` is not an automata command (table B6)"),
+            ));
+        }
+        Ok(script)
+    }
+
     /// A parametric symbol: a character and up to 7 `( )` groups (age, x,
     /// y, z, f1, f2, f3); trailing empty groups may be omitted.
     fn symbol(&mut self) -> Result<SymbolTemplate, Diagnostic> {
@@ -426,11 +443,13 @@ impl<'a> Parser<'a> {
                 exprs[k] = self.compile(g.text, g.offset)?;
             }
         }
+        let script = match get(4).filter(|_| text_growth) {
+            Some(g) => Some(self.script(g)?),
+            None => None,
+        };
         let growth = Growth {
             f: [exprs[4], exprs[5], exprs[6]],
-            text: text_growth
-                .then(|| get(4).map(|g| g.text.trim().to_string()))
-                .flatten(),
+            script,
         };
         let growth = if growth == Growth::default() {
             0

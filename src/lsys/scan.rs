@@ -25,6 +25,16 @@ impl<'a> Scanner<'a> {
         }
     }
 
+    /// A scanner of `src`'s bytes `start..end` only (a group's text), whose
+    /// errors are located in the whole file.
+    pub fn within(src: &'a Source, start: usize, end: usize) -> Self {
+        Scanner {
+            src,
+            bytes: &src.text.as_bytes()[..end],
+            pos: start,
+        }
+    }
+
     pub fn error(&self, offset: usize, message: impl Into<String>) -> Diagnostic {
         self.src.error(offset, message)
     }

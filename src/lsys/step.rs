@@ -24,6 +24,8 @@ pub struct Ephemeral {
     pub par: [f64; 3],
     /// Its growth functions: field expressions or the automata text.
     pub growth: u32,
+    /// The current actor where it stands (its branch's `M` par1 = 7).
+    pub actor: Option<u32>,
 }
 
 /// Where a cut symbol in an applied right side sends the old branch.
@@ -57,6 +59,14 @@ pub struct ActorScope {
 }
 
 impl ActorScope {
+    /// A scope whose current actor is `actor` to begin with.
+    pub fn starting(actor: Option<u32>) -> Self {
+        ActorScope {
+            saved: Vec::new(),
+            current: actor,
+        }
+    }
+
     /// The current actor of `s`, the next symbol of the word.
     pub fn visit(&mut self, s: &Symbol) -> Option<u32> {
         let [kind, _, actor] = s.par;
@@ -423,6 +433,7 @@ impl Scratch {
         self.symbols.clear();
         self.events.clear();
         let mut cut = None;
+        let mut scope = ActorScope::starting(frame.who.actor);
         for (j, t) in templates.iter().enumerate() {
             let programs = [t.age, t.par[0], t.par[1], t.par[2]];
             let key = if programs
@@ -452,16 +463,21 @@ impl Scratch {
                     id: 0,
                     par,
                     growth: t.growth,
+                    actor: scope.current,
                 }),
-                ch => self.symbols.push(Symbol {
-                    id: 0,
-                    birth,
-                    par,
-                    growth: t.growth,
-                    ticks: 0,
-                    ch,
-                    origin: u32::try_from(t.offset).unwrap_or(super::word::NO_ORIGIN),
-                }),
+                ch => {
+                    let symbol = Symbol {
+                        id: 0,
+                        birth,
+                        par,
+                        growth: t.growth,
+                        ticks: 0,
+                        ch,
+                        origin: u32::try_from(t.offset).unwrap_or(super::word::NO_ORIGIN),
+                    };
+                    scope.visit(&symbol);
+                    self.symbols.push(symbol);
+                }
             }
         }
         cut

@@ -41,6 +41,11 @@ pub struct Air {
     /// The on-going events as the audition sensors last heard them
     /// ([`Air::sense`]).
     heard: Vec<Ongoing>,
+    /// How many events at the end of `ongoing` started after the last
+    /// reading, and those of them that ended before the next: a sound
+    /// shorter than a frame is still heard once.
+    fresh: usize,
+    missed: Vec<Ongoing>,
     mics: BTreeMap<u32, DVec3>,
     /// Microphones that follow the camera (none declared: microphone 0).
     follow_camera: bool,
@@ -75,6 +80,8 @@ impl Air {
             durations: BTreeMap::new(),
             ongoing: Vec::new(),
             heard: Vec::new(),
+            fresh: 0,
+            missed: Vec::new(),
             mics: BTreeMap::new(),
             follow_camera: false,
             sources: BTreeMap::new(),
@@ -126,6 +133,9 @@ impl Air {
         self.time = t;
         self.log.frame(t).map_err(|e| e.to_string())?;
         self.apply_moves();
+        let fresh = &self.ongoing[self.ongoing.len() - self.fresh..];
+        self.missed.extend(fresh.iter().filter(|e| e.end <= t));
+        self.fresh = fresh.iter().filter(|e| e.end > t).count();
         self.ongoing.retain(|e| e.end > t);
         Ok(())
     }
@@ -185,6 +195,7 @@ impl Air {
             start: self.time,
             end: self.time + length,
         });
+        self.fresh += 1;
         self.log.play(source, file).map_err(|e| e.to_string())
     }
 
@@ -239,9 +250,15 @@ impl Air {
 
     /// The audition sensors take their reading (DESIGN §1 step 3): what
     /// `?60`–`?62` hear from this frame's derivation through the next
-    /// frame's interpretation, while new events start.
+    /// frame's interpretation, while new events start. An event that
+    /// started after the last reading and has already ended is heard too.
     pub fn sense(&mut self) {
         self.heard.clone_from(&self.ongoing);
+        if !self.missed.is_empty() {
+            self.heard.append(&mut self.missed);
+            self.heard.sort_by(|a, b| a.start.total_cmp(&b.start));
+        }
+        self.fresh = 0;
     }
 
     /// The on-going events at the last reading, oldest first.

@@ -3,6 +3,7 @@
 //! One test binary per layer (issue 12 §6): each test file is a module
 //! here, so the layer links once.
 
+mod behaviour;
 mod memory_room;
 mod symbols;
 mod vision;

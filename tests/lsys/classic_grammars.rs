@@ -205,16 +205,33 @@ fn ephemeral_symbols_never_enter_the_word() {
     let ev = a.systems[0].events();
     assert_eq!(ev.len(), 1);
     assert_eq!((ev[0].position, ev[0].par[0]), (1, 10.0));
-    // e with par1 = 0 carries its automata command as text.
-    let a = from_text("Axiom\ne () (0) () () (goal 1 2 3) A\n");
+    // e with par1 = 0 carries a behaviour command string as text (C.6):
+    // [actor] automata commands.
+    let a = from_text("Axiom\ne () (0) () () (0 watch goal 1 2 3) A\n");
     let ev = &a.systems[0].events()[0];
-    let text = a.systems[0].def.growth[ev.growth as usize].text.clone();
-    assert_eq!(text.as_deref(), Some("goal 1 2 3"));
-    // An empty par1 is 0 too.
-    let a = from_text("Axiom\ne () () () () (reset_goal) A\n");
+    let script = a.systems[0].def.growth[ev.growth as usize]
+        .script
+        .clone()
+        .unwrap();
+    assert_eq!(script.actor.map(|a| a.value), Some(0));
+    assert_eq!(script.automata.value.name(), "watch");
+    assert_eq!(script.commands.len(), 1);
+    // An empty par1 is 0 too; without the actor, the automata alone.
+    let a = from_text("Axiom\ne () () () () (2 reset_goal) A\n");
     let ev = &a.systems[0].events()[0];
-    let text = a.systems[0].def.growth[ev.growth as usize].text.clone();
-    assert_eq!(text.as_deref(), Some("reset_goal"));
+    let script = a.systems[0].def.growth[ev.growth as usize]
+        .script
+        .clone()
+        .unwrap();
+    assert!(script.actor.is_none());
+    assert_eq!(script.automata.value.name(), "observe");
+    // What is not a command is refused where it stands.
+    let e = lmfilm::lsys::parse(&lmfilm::lsys::Source::new(
+        "e.lm",
+        "Axiom\ne () (0) () () (observe goal 1 2 3 fly) A\n",
+    ))
+    .unwrap_err();
+    assert_eq!((e.line, e.column), (2, 36), "{e}");
 }
 
 #[test]

@@ -1,0 +1,181 @@
+//! The behaviour stack and the simple automata (thesis 5.1, 5.3–5.5,
+//! 6.3.4, C.6): scripts popped in order, `observe` turning once around,
+//! `walk_local`, `auto_align`, `talk` and `listen` through the sound
+//! events, `e` par1 = 0 switching control, `?35` seeing it.
+
+use lmfilm::film::Film;
+use lmfilm::lsys::print::Format;
+use lmfilm::lsys::Source;
+use lmfilm::sound::events::Event;
+use lmfilm::turtle::Options;
+
+fn film(text: &str) -> Film {
+    Film::from_sources(&[Source::new("behave.lm", text)], None, Options::default()).unwrap()
+}
+
+fn scene(seconds: f64, options: &str, axiom: &str, productions: &str) -> String {
+    format!(
+        "Camera_AnimationParameters\nt_final_interval {seconds} 0.04\n\
+         Options\n{options}\nAxiom\n{axiom}\nProductions\n{productions}EndProductions\n"
+    )
+}
+
+/// A closed room 20 × 4 × 20 around the origin, floor at y = 0.
+const ROOM: &str = "[ f () () () (2) (10_) (2) (10) c () () () () (20) (4) (0.4) ] \
+    [ f () () () (2) (10_) (2) (10_) c () () () () (20) (4) (0.4) ] \
+    [ f () () () (2) (10) (2) (0) c () () () () (0.4) (4) (20) ] \
+    [ f () () () (2) (10_) (2) (0) c () () () () (0.4) (4) (20) ] \
+    [ f () () () (2) (10_) (0.5_) (0) c () () () () (20) (1) (20) ]";
+
+fn automata(f: &Film) -> Option<&'static str> {
+    f.living()[0].automata.map(|a| a.name())
+}
+
+#[test]
+fn observe_turns_once_around_then_the_next_script_runs() {
+    // 60° view: 30° a frame, 12 frames for the turn.
+    let options = "NBR_actors 1\niVisionWinSize 0 32 8\n\
+        actorNbr_automata 0 observe init 1 -16 16 0.5 obs 0 1 0 lat 0 1 1 fov 600\n\
+        actorNbr_automata 0 watch";
+    let mut f = film(&scene(1.0, options, ROOM, ""));
+    let mut seen = Vec::new();
+    while let Some(frame) = f.next_frame().unwrap() {
+        let n = frame.number();
+        let a = &f.living()[0];
+        seen.push((n, a.automata.unwrap().name(), a.look_at - a.eye));
+    }
+    let turning: Vec<_> = seen.iter().filter(|s| s.1 == "observe").collect();
+    assert_eq!(turning.len(), 12, "{seen:?}");
+    assert_eq!(seen[12].1, "watch");
+    // Back where it looked first.
+    assert!(
+        (seen[12].2 - glam::Vec3::Z).length() < 1e-4,
+        "{:?}",
+        seen[12].2
+    );
+    // It saw all four walls: its memory holds voxels on each.
+    let memory = f.living()[0].memory.as_ref().unwrap().octree();
+    // Inner faces: x = 10 and −9.6, z = 9.8 and −9.8.
+    let walls = [
+        [10.05, 2.0, 0.0],
+        [-9.65, 2.0, 0.0],
+        [0.0, 2.0, 9.85],
+        [0.0, 2.0, -9.85],
+    ];
+    for w in walls {
+        let v = memory.voxel(w).unwrap();
+        assert!(memory.get(v).is_some(), "wall at {w:?} not memorised");
+    }
+}
+
+#[test]
+fn walk_local_reaches_its_goal_around_a_post() {
+    // A post stands between the actor and its local goal.
+    let options = "NBR_actors 1\niVisionWinSize 0 32 8\n\
+        actorNbr_automata 0 walk_local obs 0 1 -6 lat 0 1 0 local_goal 0 1 6 \
+        eps_arrived 0.3 dist_coll 2 size_actor 1 speed 2";
+    let post = "[ f () () () (2) (0) (0) (0) + () () () () (90) c () () () () (3) (1) (1) ]";
+    let mut f = film(&scene(12.0, options, post, ""));
+    let mut closest = f32::MAX;
+    while f.next_frame().unwrap().is_some() {
+        let a = &f.living()[0];
+        // Never inside the post (half an edge 0.5, plus a margin).
+        assert!(a.eye.x.abs() > 0.5 || a.eye.z.abs() > 0.5, "{}", a.eye);
+        closest = closest.min(a.eye.distance(glam::Vec3::new(0.0, 1.0, 6.0)));
+        if a.automata.is_none() {
+            break;
+        }
+    }
+    assert!(
+        automata(&f).is_none(),
+        "still walking at {}",
+        f.living()[0].eye
+    );
+    assert!(closest < 0.3, "{closest}");
+}
+
+#[test]
+fn auto_align_turns_to_the_align_point() {
+    let options = "NBR_actors 1\nactorNbr_automata 0 19 obs 0 1 0 lat 0 1 1 align -5 1 0\n\
+        actorNbr_automata 0 watch";
+    let mut f = film(&scene(2.0, options, "F", ""));
+    f.seek(40, |_, _| {}).unwrap();
+    let a = &f.living()[0];
+    assert_eq!(automata(&f), Some("watch"));
+    let d = (a.look_at - a.eye).normalize();
+    assert!((d - glam::Vec3::new(-1.0, 0.0, 0.0)).length() < 1e-3, "{d}");
+}
+
+#[test]
+fn talk_says_its_words_in_turn_and_listen_hears_them() {
+    // Actor 0 says sounds 6 (start, 0.05 s) and 2 (cricket) one after
+    // the other; actor 1 listens to actor 0's voice (source 2000).
+    let options = "NBR_actors 2\n\
+        actorNbr_automata 0 talk words_to_speak 6 2 6 obs 0 1 0\n\
+        actorNbr_automata 1 listen listen_to 2000 3 obs 2 1 0\n\
+        actorNbr_automata 1 watch";
+    let mut f = film(&scene(8.0, options, "F", ""));
+    while f.next_frame().unwrap().is_some() {}
+    let said: Vec<(String, u32, f64)> = f
+        .events()
+        .events()
+        .filter_map(|(t, e)| match e {
+            Event::Play { n, file } => Some((file.clone(), *n, t.unwrap())),
+            _ => None,
+        })
+        .collect();
+    let files: Vec<&str> = said
+        .iter()
+        .map(|e| e.0.split('.').next().unwrap())
+        .collect();
+    assert_eq!(files, ["start", "cricket", "start"], "{said:?}");
+    assert!(said.iter().all(|e| e.1 == 2000));
+    // No overlap: each word starts once the one before has ended.
+    assert!(
+        said[1].2 >= said[0].2 + 0.04 && said[2].2 > said[1].2 + 1.0,
+        "{said:?}"
+    );
+    let a = &f.living()[0];
+    assert!(a.automata.is_none() && a.words.is_empty());
+    let b = &f.living()[1];
+    assert_eq!(b.heard_words, [6, 2, 6]);
+    assert_eq!(b.automata.map(|a| a.name()), Some("watch"));
+}
+
+#[test]
+fn e_switches_control_and_the_productions_see_it() {
+    // The actor starts under the productions (L-system, 11); at 0.2 s an
+    // `e` hands it to observe (2), which ?35 then reads.
+    let options = "NBR_actors 1\niVisionWinSize 0 8 4\n\
+        actorNbr_automata 0 L-system obs 0 1 0 lat 0 1 1";
+    let prods = "A (0.2)\n1.0 e () (0) () () (observe fov 900) B EndProb\nEnd\n\
+                 B (0) [(?35 2 -)=]\n1.0 C EndProb\nEnd\n";
+    let mut f = film(&scene(1.0, options, "[ M () (7) () (0) A ]", prods));
+    f.seek(4, |_, _| {}).unwrap();
+    assert_eq!(automata(&f), Some("L-system"));
+    assert_eq!(f.words(Format::Symbols), ["[MA]"]);
+    f.seek(6, |_, _| {}).unwrap();
+    assert_eq!(automata(&f), Some("observe"));
+    assert_eq!(f.living()[0].fov, 900);
+    f.next_frame().unwrap();
+    assert_eq!(f.words(Format::Symbols), ["[MC]"]);
+}
+
+#[test]
+fn a_behaviour_for_no_actor_is_refused_where_it_stands() {
+    let text = scene(1.0, "NBR_actors 1", "e () (0) () () (3 observe) A", "");
+    let e = Film::from_sources(&[Source::new("b.lm", &text)], None, Options::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("b.lm:6:17:") && e.contains("actor 3 does not exist"),
+        "{e}"
+    );
+    let text = scene(1.0, "", "e () (0) () () (observe) A", "");
+    let e = Film::from_sources(&[Source::new("b.lm", &text)], None, Options::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("b.lm:6:17:") && e.contains("has none"), "{e}");
+}
