@@ -179,3 +179,74 @@ fn a_behaviour_for_no_actor_is_refused_where_it_stands() {
         .to_string();
     assert!(e.contains("b.lm:6:17:") && e.contains("has none"), "{e}");
 }
+
+/// The JSON lines `lmfilm trace` writes for a scene of the repository.
+fn trace(scene: &str) -> Vec<serde_json::Value> {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .args(["trace", scene])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+#[test]
+fn the_random_walker_hears_each_collision_once() {
+    // Code 5.10.3: ?40 on the walls' field (10 N beyond |x| or |z| = 8.5).
+    let frames = trace("scenes/actors/random_walk.lm");
+    let hits: Vec<(u64, [f64; 3])> = frames
+        .iter()
+        .flat_map(|f| {
+            let n = f["frame"].as_u64().unwrap();
+            f["sound_events"].as_array().unwrap().iter().map(move |e| {
+                let p = e["pos"].as_array().unwrap();
+                (n, [0, 1, 2].map(|k| p[k].as_f64().unwrap()))
+            })
+        })
+        .collect();
+    assert!(hits.len() >= 2, "{hits:?}");
+    for w in hits.windows(2) {
+        assert!(w[1].0 > w[0].0 + 5, "one collision, one sound: {hits:?}");
+    }
+    for (_, p) in &hits {
+        let edge = p[0].abs().max(p[2].abs());
+        assert!((8.5..8.8).contains(&edge), "heard at {p:?}");
+    }
+}
+
+#[test]
+fn the_pledge_actor_escapes_the_room() {
+    // Code 5.10.2: it leaves through the gap in the east wall (x = 9.8),
+    // never crossing a wall on the way.
+    let frames = trace("scenes/actors/pledge.lm");
+    let pos = |f: &serde_json::Value| -> [f64; 3] {
+        let p = f["actors"][0]["pos"].as_array().unwrap();
+        [0, 1, 2].map(|k| p[k].as_f64().unwrap())
+    };
+    let last = pos(frames.last().unwrap());
+    assert!(last[0] > 10.5, "{last:?}");
+    for f in &frames {
+        let [x, _, z] = pos(f);
+        let inside = x < 9.3;
+        let in_gap = (1.5..5.5).contains(&z);
+        assert!(
+            inside || in_gap || x > 10.5,
+            "in a wall at frame {}: {x} {z}",
+            f["frame"]
+        );
+        assert!(
+            x > -9.7 && z.abs() < 9.7,
+            "in a wall at frame {}: {x} {z}",
+            f["frame"]
+        );
+    }
+}
