@@ -107,6 +107,8 @@ pub struct Living {
     pub listen_to: Option<(u32, usize)>,
     /// The sounds `listen` captured last, in the order they began.
     pub heard_words: Vec<u32>,
+    /// The planned path's key points ahead, first next (`walk_continuously`).
+    pub path: Vec<Vec3>,
 }
 
 /// Walking speed before any `speed` command, world units a second.
@@ -154,6 +156,7 @@ impl Living {
             words: Vec::new(),
             listen_to: None,
             heard_words: Vec::new(),
+            path: Vec::new(),
         };
         for entry in actor.automata().iter().rev() {
             me.push(Script {

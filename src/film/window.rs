@@ -14,6 +14,10 @@ use std::path::PathBuf;
 use glam::DVec3;
 
 use crate::actors::live::Living;
+use crate::lsys::automata::Automata;
+
+/// The `turtle` mapping that shows the planned path (6.3.4).
+const SHOW_PATH: i64 = 3;
 use crate::error::Error;
 use crate::lsys::{Sensors, Who};
 use crate::physics::{Mode, Particle, Physics};
@@ -263,10 +267,16 @@ impl TurtleWorld for Window<'_> {
         let id = a.id as u32;
         let v = DVec3::as_vec3;
         match mapping {
-            ActorMapping::ToTurtle => {
-                let to = (a.eye.as_dvec3(), a.look_at.as_dvec3());
+            ActorMapping::ToTurtle { at, h } => {
+                let to = if a.automata == Some(Automata::FollowTurtle) {
+                    // It follows the turtle rather than lead it.
+                    (a.eye, a.look_at) = (v(&at), v(&(at + h)));
+                    None
+                } else {
+                    Some((a.eye.as_dvec3(), a.look_at.as_dvec3()))
+                };
                 self.actor = Some(id);
-                return Some(to);
+                return to;
             }
             ActorMapping::Place { eye, look_at } => (a.eye, a.look_at) = (v(&eye), v(&look_at)),
             ActorMapping::LocalGoal { at } => {
@@ -276,6 +286,13 @@ impl TurtleWorld for Window<'_> {
             ActorMapping::DisplayLookAt { at } => a.display.look_at = Some(v(&at)),
         }
         None
+    }
+
+    fn shown_path(&mut self, actor: u32) -> Vec<DVec3> {
+        match self.living.get(actor as usize) {
+            Some(a) if a.turtle == SHOW_PATH => a.path.iter().map(|p| p.as_dvec3()).collect(),
+            _ => Vec::new(),
+        }
     }
 
     fn microphone(&mut self, mic: i64, p: DVec3) {

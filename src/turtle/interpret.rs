@@ -87,7 +87,7 @@ fn mapping_is_finite(m: &ActorMapping) -> bool {
         ActorMapping::LocalGoal { at }
         | ActorMapping::DisplayEye { at }
         | ActorMapping::DisplayLookAt { at } => at.is_finite(),
-        ActorMapping::ToTurtle => true,
+        ActorMapping::ToTurtle { at, h } => at.is_finite() && h.is_finite(),
     }
 }
 
@@ -334,7 +334,10 @@ impl Interpreter<'_> {
     fn actor_to_turtle(&mut self, s: &Symbol) {
         let [kind, _, actor] = s.par;
         let mapping = match kind as i64 {
-            7 => ActorMapping::ToTurtle,
+            7 => ActorMapping::ToTurtle {
+                at: self.t.pos,
+                h: self.t.h,
+            },
             14 => ActorMapping::DisplayEye { at: self.t.pos },
             15 => ActorMapping::DisplayLookAt { at: self.t.pos },
             _ => return,
@@ -348,6 +351,28 @@ impl Interpreter<'_> {
         if let Some((eye, look_at)) = self.world.map_actor(Some(actor as u32), mapping) {
             self.t.pos = eye;
             self.t.look_along(look_at - eye);
+        }
+        if kind == 7.0 {
+            self.show_path(s, actor as u32);
+        }
+    }
+
+    /// The planned path of an actor that shows it (`turtle` 3): a small
+    /// sphere at each key point, in the current material.
+    fn show_path(&mut self, s: &Symbol, actor: u32) {
+        const RADIUS: f64 = 0.08;
+        for p in self.world.shown_path(actor) {
+            let t = Turtle {
+                pos: p,
+                ..Turtle::default()
+            };
+            self.shape(
+                s,
+                ShapeKind::Sphere,
+                &[RADIUS],
+                placed(&t, RADIUS, RADIUS, RADIUS),
+                self.material,
+            );
         }
     }
 

@@ -61,6 +61,11 @@ pub trait TurtleWorld: Sensors {
     /// The `I` symbol: the records of the traced actors (`trace_actor`)
     /// are written for this frame.
     fn record_actors(&mut self) {}
+    /// The planned path actor `actor` shows (its `turtle` 3, show path),
+    /// key points from where it is.
+    fn shown_path(&mut self, _actor: u32) -> Vec<DVec3> {
+        Vec::new()
+    }
     /// Microphone `mic` placed at `p` (`l` par3 = 8, 10).
     fn microphone(&mut self, _mic: i64, _p: DVec3) {}
     /// A sound event of the `T` symbol, for the sound event handler.
@@ -93,8 +98,12 @@ pub enum ParticleMapping {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ActorMapping {
     /// `M` par1 = 7: the turtle goes to the actor's eye, looking where it
-    /// looks, and the actor becomes the current actor.
-    ToTurtle,
+    /// looks, and the actor becomes the current actor — unless it runs
+    /// `follow_turtle`, which follows the turtle (`at`, heading `h`).
+    ToTurtle {
+        at: DVec3,
+        h: DVec3,
+    },
     /// `g` par1 = 0, 2: the actor's eye at `eye`, looking at `look_at`.
     Place {
         eye: DVec3,

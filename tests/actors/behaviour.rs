@@ -250,3 +250,26 @@ fn the_pledge_actor_escapes_the_room() {
         );
     }
 }
+
+#[test]
+fn follow_turtle_goes_where_the_turtle_is() {
+    // The turtle moves along x at 2 units a second; the actor follows it.
+    let options = "NBR_actors 1\nactorNbr_automata 0 follow_turtle obs 5 5 5";
+    let axiom =
+        "[ f () () () (2) (T 2 *) (1) (0) M () (7) () (0) c () () () () (0.5) (0.2) (0.2) ]";
+    let mut f = film(&scene(1.0, options, axiom, ""));
+    let frame = f.seek(10, |_, _| {}).unwrap();
+    // The turtle stayed: the box is drawn where the turtle was.
+    let box_at = frame.scene().geometries[0].shapes[0].transform.translation;
+    assert!(
+        (box_at - glam::Vec3A::new(0.8, 1.0, 0.0)).length() < 1e-5,
+        "{box_at}"
+    );
+    let a = &f.living()[0];
+    assert!(
+        (a.eye - glam::Vec3::new(0.8, 1.0, 0.0)).length() < 1e-5,
+        "{}",
+        a.eye
+    );
+    assert!((a.look_at - a.eye - glam::Vec3::X).length() < 1e-5);
+}
