@@ -8,9 +8,11 @@
 //! vision and the behaviours come later (docs/actors.md).
 
 pub mod display;
+pub mod heuristics;
 pub mod live;
 pub mod memory;
 pub mod octree;
+pub mod path;
 
 pub mod vision;
 

@@ -4,5 +4,6 @@
 //! here, so the layer links once.
 
 mod memory_room;
+mod path;
 mod symbols;
 mod vision;
