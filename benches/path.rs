@@ -45,7 +45,9 @@ fn maze(lane: u32) -> Octree {
         let next: Vec<(u32, u32)> = [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)]
             .iter()
             .map(|&(dx, dz)| (i64::from(cx) + dx, i64::from(cz) + dz))
-            .filter(|&(x, z)| (0..i64::from(cells)).contains(&x) && (0..i64::from(cells)).contains(&z))
+            .filter(|&(x, z)| {
+                (0..i64::from(cells)).contains(&x) && (0..i64::from(cells)).contains(&z)
+            })
             .map(|(x, z)| (x as u32, z as u32))
             .filter(|&(x, z)| !seen[(x * cells + z) as usize])
             .collect();

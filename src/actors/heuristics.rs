@@ -313,14 +313,7 @@ pub const HEURISTICS: &[Heuristic] = &[
     Heuristic {
         number: 11,
         kind: Kind::Test,
-        numbering: &[
-            CROSS[0],
-            CROSS[1],
-            CROSS[2],
-            CROSS[3],
-            [0, 0, 0],
-            [0, 1, 0],
-        ],
+        numbering: &[CROSS[0], CROSS[1], CROSS[2], CROSS[3], [0, 0, 0], [0, 1, 0]],
         tested: &[(5, "5*1*2*3*4*6")],
     },
     Heuristic {
@@ -452,7 +445,9 @@ impl Parser<'_> {
             .ok()?
             .parse()
             .ok()?;
-        (1..=a.h.numbering.len()).contains(&usize::from(n)).then(|| a.empty(n))
+        (1..=a.h.numbering.len())
+            .contains(&usize::from(n))
+            .then(|| a.empty(n))
     }
 }
 
@@ -605,13 +600,12 @@ mod tests {
         assert_eq!(cands(7, &floor).len(), 4);
         // A hole under (2,0,0) bars voxel 1 for 7 (its neighbour 5 would
         // stand over nothing) but not for 5.
-        let holed: Vec<[i32; 3]> = floor
-            .iter()
-            .copied()
-            .filter(|&d| d != [2, -1, 0])
-            .collect();
+        let holed: Vec<[i32; 3]> = floor.iter().copied().filter(|&d| d != [2, -1, 0]).collect();
         assert_eq!(cands(5, &holed).len(), 4);
-        assert_eq!(cands(7, &holed), [at([0, 0, -1]), at([-1, 0, 0]), at([0, 0, 1])]);
+        assert_eq!(
+            cands(7, &holed),
+            [at([0, 0, -1]), at([-1, 0, 0]), at([0, 0, 1])]
+        );
     }
 
     #[test]

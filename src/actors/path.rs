@@ -147,7 +147,11 @@ fn distance2(a: Voxel, b: Voxel) -> u64 {
 
 /// Runs `e` to its end; None when no path exists or more than
 /// `max_visited` voxels were added to the path (the search gives up).
-fn run(e: &mut Explorer, mut is_empty: impl FnMut(Voxel) -> bool, max_visited: usize) -> Option<()> {
+fn run(
+    e: &mut Explorer,
+    mut is_empty: impl FnMut(Voxel) -> bool,
+    max_visited: usize,
+) -> Option<()> {
     loop {
         match e.step(&mut is_empty) {
             Step::Arrived => return Some(()),
@@ -219,7 +223,7 @@ pub fn label(
 /// Algorithm 4: the shortest path from the start (label 0) to `end`,
 /// walking back from `end` to the neighbour of least label; the
 /// neighbours of x are the corridor voxels with an arc into x, in the
-/// heuristic's order, the first of least label winning. None when
+/// table's order, the first of least label winning. None when
 /// Algorithm 3 did not reach `end`.
 pub fn shortest(
     h: &Heuristic,
@@ -231,24 +235,17 @@ pub fn shortest(
     let mut lx = *corridor.get(&end).filter(|&&l| l != MAX_LABEL)?;
     let mut path = vec![x];
     while lx != 0 {
-        let mut best: Option<(u32, Voxel)> = None;
-        for &(n, _) in h.tested {
-            let d = h.numbering[usize::from(n) - 1];
-            let Some(y) = offset(x, d.map(|c| -c)) else {
-                continue;
-            };
-            let Some(&ly) = corridor.get(&y) else {
-                continue;
-            };
-            if best.map_or(true, |(lb, _)| ly < lb) && candidates(h, y, &mut is_empty).contains(&x) {
-                best = Some((ly, y));
-            }
-        }
-        // Algorithm 3 labelled x from a voxel one nearer with an arc
-        // into x, so there is one; a None would be a broken corridor.
-        let (ly, y) = best.filter(|&(ly, _)| ly < lx)?;
+        // Algorithm 3 reached x from a voxel labelled lx − 1 with an arc
+        // into x, and none with an arc has less: min_label(S) is the
+        // first voxel of label lx − 1 with an arc into x, so only those
+        // are asked for their candidates. None would be a broken corridor.
+        let y = h.tested.iter().find_map(|&(n, _)| {
+            let y = offset(x, h.numbering[usize::from(n) - 1].map(|c| -c))?;
+            (corridor.get(&y) == Some(&(lx - 1)) && candidates(h, y, &mut is_empty).contains(&x))
+                .then_some(y)
+        })?;
         path.push(y);
-        (x, lx) = (y, ly);
+        (x, lx) = (y, lx - 1);
     }
     path.reverse();
     Some(path)
@@ -341,9 +338,8 @@ impl<'a> SearchGrid<'a> {
         }
         let limit = self.memory.voxels_per_edge();
         let range = |c: u32| (c << self.level)..((c + 1) << self.level).min(limit);
-        range(v[0]).all(|x| {
-            range(v[1]).all(|y| range(v[2]).all(|z| self.memory.get([x, y, z]).is_none()))
-        })
+        range(v[0])
+            .all(|x| range(v[1]).all(|y| range(v[2]).all(|z| self.memory.get([x, y, z]).is_none())))
     }
 }
 

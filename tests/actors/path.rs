@@ -179,10 +179,16 @@ fn the_corridor_shortens_the_searched_path() {
 fn no_path_and_the_search_bound() {
     let g = Grid::parse(&["..#..", "..#..", "..#.."]);
     let h = heuristic(0).unwrap();
-    assert_eq!(search(h, [0, 0, 0], [4, 0, 0], |v| g.is_empty(v), 1000), None);
+    assert_eq!(
+        search(h, [0, 0, 0], [4, 0, 0], |v| g.is_empty(v), 1000),
+        None
+    );
     let open = Grid::parse(&["..........", ".........."]);
     assert!(search(h, [0, 0, 0], [9, 0, 1], |v| open.is_empty(v), 1000).is_some());
-    assert_eq!(search(h, [0, 0, 0], [9, 0, 1], |v| open.is_empty(v), 5), None);
+    assert_eq!(
+        search(h, [0, 0, 0], [9, 0, 1], |v| open.is_empty(v), 5),
+        None
+    );
 }
 
 /// Explore mode: every move is to a neighbour of the voxel before, and an
