@@ -9,9 +9,11 @@
 
 pub mod behaviour;
 pub mod display;
+pub mod heuristics;
 pub mod live;
 pub mod memory;
 pub mod octree;
+pub mod path;
 
 pub mod vision;
 

@@ -5,5 +5,6 @@
 
 mod behaviour;
 mod memory_room;
+mod path;
 mod symbols;
 mod vision;

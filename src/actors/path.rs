@@ -1,0 +1,368 @@
+//! The path search of a navigating actor (thesis 5.2.1–5.2.2): the
+//! heuristic depth-first search of Algorithm 1 over the free voxels of
+//! its visual memory, then Algorithms 2–4, which widen that path into a
+//! corridor (the "pathOctree") and take the shortest path through it.
+//!
+//! Voxels are search voxels: `2^rel_search_level` memory voxels on a side
+//! ([`SearchGrid`]). Everything here is a pure function of the memory,
+//! the end points and the heuristic: the visited set is a hash set used
+//! only for membership, the corridor a `BTreeMap`, and every tie is
+//! broken by the heuristic's candidate order, so the same call gives the
+//! same path on any machine and thread count (DESIGN §4).
+
+use std::collections::{BTreeMap, HashSet, VecDeque};
+
+use super::heuristics::{candidates, Heuristic};
+use super::octree::{Octree, Voxel};
+
+/// The label of a corridor voxel Algorithm 3 has not reached.
+pub const MAX_LABEL: u32 = u32::MAX;
+
+/// An entry of Algorithm 1's candidate list: a candidate, or the label
+/// "new_neighbours" that opens the candidates of one path voxel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Entry {
+    NewNeighbours,
+    Candidate(Voxel),
+}
+
+/// What the explorer does next.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// Go to this voxel: the next candidate, or one voxel back along the
+    /// path when every candidate of the last one failed (backtracking).
+    Go(Voxel),
+    /// The path reaches the end voxel.
+    Arrived,
+    /// Every voxel the heuristic can reach from the start was tried: no
+    /// path to the end exists under this heuristic.
+    Enclosed,
+}
+
+/// Algorithm 1 one voxel at a time, so that the explore mode (5.2.2) can
+/// walk it for real while the memory fills: the candidates of a path
+/// voxel are taken when it is reached, with the memory of that moment.
+#[derive(Debug, Clone)]
+pub struct Explorer<'h> {
+    heuristic: &'h Heuristic,
+    end: Voxel,
+    path: Vec<Voxel>,
+    cand_list: Vec<Entry>,
+    /// The already_treated list (membership only, never iterated).
+    treated: HashSet<Voxel>,
+    /// Voxels added to the path so far, backtracking included.
+    visited: usize,
+    /// The last path voxel's candidates are still to be added.
+    pending: bool,
+}
+
+impl<'h> Explorer<'h> {
+    /// The search from `start` to `end`: `add_path(start)`; the start is
+    /// treated, so no candidate list brings it back.
+    pub fn new(heuristic: &'h Heuristic, start: Voxel, end: Voxel) -> Self {
+        Explorer {
+            heuristic,
+            end,
+            path: vec![start],
+            cand_list: Vec::new(),
+            treated: HashSet::from([start]),
+            visited: 1,
+            pending: true,
+        }
+    }
+
+    /// The path so far, start first.
+    pub fn path(&self) -> &[Voxel] {
+        &self.path
+    }
+
+    /// Voxels added to the path so far (the start included).
+    pub fn visited(&self) -> usize {
+        self.visited
+    }
+
+    /// One move of Algorithm 1. `is_empty` says whether a voxel is free
+    /// now (false past the grid); a candidate found occupied when its
+    /// turn comes (the memory filled meanwhile) is skipped.
+    pub fn step(&mut self, mut is_empty: impl FnMut(Voxel) -> bool) -> Step {
+        loop {
+            let Some(&last) = self.path.last() else {
+                return Step::Enclosed;
+            };
+            if last == self.end {
+                return Step::Arrived;
+            }
+            if self.pending {
+                self.pending = false;
+                self.add_candidates(last, &mut is_empty);
+            }
+            // get_next_candidate: each label on top closes a path voxel
+            // whose candidates all failed.
+            match self.cand_list.pop() {
+                None => return Step::Enclosed,
+                Some(Entry::NewNeighbours) => {
+                    self.path.pop();
+                    return match self.path.last() {
+                        Some(&back) => Step::Go(back),
+                        None => Step::Enclosed,
+                    };
+                }
+                Some(Entry::Candidate(c)) => {
+                    if !is_empty(c) {
+                        continue;
+                    }
+                    self.path.push(c);
+                    self.visited += 1;
+                    self.pending = true;
+                    return Step::Go(c);
+                }
+            }
+        }
+    }
+
+    /// add_candidates_to_candList: the heuristic's candidates of `v` not
+    /// yet treated, after the label, the nearest to the end on top (so
+    /// tried first); equal distances keep the table's order.
+    fn add_candidates(&mut self, v: Voxel, is_empty: impl FnMut(Voxel) -> bool) {
+        let mut x = candidates(self.heuristic, v, is_empty);
+        x.retain(|c| !self.treated.contains(c));
+        x.sort_by_key(|c| distance2(*c, self.end));
+        self.cand_list.push(Entry::NewNeighbours);
+        for &c in x.iter().rev() {
+            self.treated.insert(c);
+            self.cand_list.push(Entry::Candidate(c));
+        }
+    }
+}
+
+/// The squared distance between two voxels, in voxels².
+fn distance2(a: Voxel, b: Voxel) -> u64 {
+    (0..3)
+        .map(|i| {
+            let d = i64::from(a[i]) - i64::from(b[i]);
+            (d * d) as u64
+        })
+        .sum()
+}
+
+/// Runs `e` to its end; None when no path exists or more than
+/// `max_visited` voxels were added to the path (the search gives up).
+fn run(
+    e: &mut Explorer,
+    mut is_empty: impl FnMut(Voxel) -> bool,
+    max_visited: usize,
+) -> Option<()> {
+    loop {
+        match e.step(&mut is_empty) {
+            Step::Arrived => return Some(()),
+            Step::Enclosed => return None,
+            Step::Go(_) if e.visited() > max_visited => return None,
+            Step::Go(_) => {}
+        }
+    }
+}
+
+/// Algorithm 1: a path from `start` to `end` under heuristic `h` (each
+/// voxel a candidate of the one before), None when there is none or the
+/// search adds more than `max_visited` voxels to its path.
+pub fn search(
+    h: &Heuristic,
+    start: Voxel,
+    end: Voxel,
+    is_empty: impl FnMut(Voxel) -> bool,
+    max_visited: usize,
+) -> Option<Vec<Voxel>> {
+    let mut e = Explorer::new(h, start, end);
+    run(&mut e, is_empty, max_visited)?;
+    Some(e.path)
+}
+
+/// The corridor of Algorithms 2–4: voxel → label.
+pub type Corridor = BTreeMap<Voxel, u32>;
+
+/// Algorithm 2: the path voxels and their candidates under `h`, each
+/// labelled [`MAX_LABEL`].
+pub fn extend(h: &Heuristic, path: &[Voxel], mut is_empty: impl FnMut(Voxel) -> bool) -> Corridor {
+    let mut corridor = Corridor::new();
+    for &v in path {
+        corridor.insert(v, MAX_LABEL);
+        for c in candidates(h, v, &mut is_empty) {
+            corridor.insert(c, MAX_LABEL);
+        }
+    }
+    corridor
+}
+
+/// Algorithm 3: labels each corridor voxel with its distance from
+/// `start` (unit arcs, breadth first). An arc goes from u to each of its
+/// candidates under `h` inside the corridor, so a labelled path obeys the
+/// heuristic's conditions as Algorithm 1's did.
+pub fn label(
+    h: &Heuristic,
+    corridor: &mut Corridor,
+    start: Voxel,
+    mut is_empty: impl FnMut(Voxel) -> bool,
+) {
+    let Some(l) = corridor.get_mut(&start) else {
+        return;
+    };
+    *l = 0;
+    let mut queue = VecDeque::from([(start, 0)]);
+    while let Some((u, d)) = queue.pop_front() {
+        for w in candidates(h, u, &mut is_empty) {
+            if let Some(l) = corridor.get_mut(&w) {
+                if *l == MAX_LABEL {
+                    *l = d + 1;
+                    queue.push_back((w, d + 1));
+                }
+            }
+        }
+    }
+}
+
+/// Algorithm 4: the shortest path from the start (label 0) to `end`,
+/// walking back from `end` to the neighbour of least label; the
+/// neighbours of x are the corridor voxels with an arc into x, in the
+/// table's order, the first of least label winning. None when
+/// Algorithm 3 did not reach `end`.
+pub fn shortest(
+    h: &Heuristic,
+    corridor: &Corridor,
+    end: Voxel,
+    mut is_empty: impl FnMut(Voxel) -> bool,
+) -> Option<Vec<Voxel>> {
+    let mut x = end;
+    let mut lx = *corridor.get(&end).filter(|&&l| l != MAX_LABEL)?;
+    let mut path = vec![x];
+    while lx != 0 {
+        // Algorithm 3 reached x from a voxel labelled lx − 1 with an arc
+        // into x, and none with an arc has less: min_label(S) is the
+        // first voxel of label lx − 1 with an arc into x, so only those
+        // are asked for their candidates. None would be a broken corridor.
+        let y = h.tested.iter().find_map(|&(n, _)| {
+            let y = offset(x, h.numbering[usize::from(n) - 1].map(|c| -c))?;
+            (corridor.get(&y) == Some(&(lx - 1)) && candidates(h, y, &mut is_empty).contains(&x))
+                .then_some(y)
+        })?;
+        path.push(y);
+        (x, lx) = (y, lx - 1);
+    }
+    path.reverse();
+    Some(path)
+}
+
+/// v + d, None below the grid.
+fn offset(v: Voxel, d: [i32; 3]) -> Option<Voxel> {
+    let mut out = [0u32; 3];
+    for i in 0..3 {
+        out[i] = u32::try_from(i64::from(v[i]) + i64::from(d[i])).ok()?;
+    }
+    Some(out)
+}
+
+/// The result of [`plan_voxels`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Planned {
+    /// Algorithm 1's path.
+    pub searched: Vec<Voxel>,
+    /// Algorithm 4's path, start first.
+    pub path: Vec<Voxel>,
+    /// Voxels Algorithm 1 added to its path, backtracking included.
+    pub visited: usize,
+    /// Voxels of the corridor (those Algorithm 3 labels at most).
+    pub corridor: usize,
+}
+
+/// Algorithms 1 → 2 → 3 → 4 on search voxels; None when Algorithm 1
+/// finds no path within `max_visited`.
+pub fn plan_voxels(
+    h: &Heuristic,
+    start: Voxel,
+    end: Voxel,
+    mut is_empty: impl FnMut(Voxel) -> bool,
+    max_visited: usize,
+) -> Option<Planned> {
+    let mut e = Explorer::new(h, start, end);
+    run(&mut e, &mut is_empty, max_visited)?;
+    let mut corridor = extend(h, e.path(), &mut is_empty);
+    label(h, &mut corridor, start, &mut is_empty);
+    let path = shortest(h, &corridor, end, &mut is_empty)?;
+    Some(Planned {
+        visited: e.visited(),
+        searched: e.path,
+        path,
+        corridor: corridor.len(),
+    })
+}
+
+/// The search voxels over a visual memory: `2^level` memory voxels on a
+/// side (`rel_search_level`, appendix G), empty when all of them are.
+#[derive(Debug, Clone, Copy)]
+pub struct SearchGrid<'a> {
+    memory: &'a Octree,
+    level: u32,
+    /// Search voxels along an edge.
+    edge: u32,
+}
+
+impl<'a> SearchGrid<'a> {
+    /// The grid of `memory` at `rel_search_level` (at most the memory's
+    /// levels: one search voxel then covers the whole cube).
+    pub fn new(memory: &'a Octree, rel_search_level: u32) -> Self {
+        let level = rel_search_level.min(memory.levels());
+        let edge = memory.voxels_per_edge().div_ceil(1 << level);
+        SearchGrid {
+            memory,
+            level,
+            edge,
+        }
+    }
+
+    /// The search voxel holding world point p, None outside the cube.
+    pub fn voxel(&self, p: [f64; 3]) -> Option<Voxel> {
+        self.memory.voxel(p).map(|v| v.map(|c| c >> self.level))
+    }
+
+    /// The world centre of search voxel v.
+    pub fn centre(&self, v: Voxel) -> [f64; 3] {
+        let cube = self.memory.cube();
+        let side = f64::from(1u32 << self.level);
+        v.map(|c| cube.min + (f64::from(c) + 0.5) * side * cube.voxel_edge)
+    }
+
+    /// Whether no memory voxel of v is occupied; false past the cube
+    /// (the cube's faces are walls to the search).
+    pub fn is_empty(&self, v: Voxel) -> bool {
+        if v.iter().any(|&c| c >= self.edge) {
+            return false;
+        }
+        let limit = self.memory.voxels_per_edge();
+        let range = |c: u32| (c << self.level)..((c + 1) << self.level).min(limit);
+        range(v[0])
+            .all(|x| range(v[1]).all(|y| range(v[2]).all(|z| self.memory.get([x, y, z]).is_none())))
+    }
+}
+
+/// The path from `start` to `end` (world points) through the free voxels
+/// of the memory octree under heuristic `h`, at `rel_search_level`, as
+/// the world centres of its search voxels, start first: Algorithm 1
+/// (giving up past `max_visited` voxels), then Algorithms 2–4. None when
+/// an end point is outside the cube, the end voxel is occupied (no
+/// candidate could reach it: the search would only exhaust the space), or
+/// no path exists under `h`.
+pub fn plan(
+    memory: &Octree,
+    start: [f64; 3],
+    end: [f64; 3],
+    h: &Heuristic,
+    rel_search_level: u32,
+    max_visited: usize,
+) -> Option<Vec<[f64; 3]>> {
+    let grid = SearchGrid::new(memory, rel_search_level);
+    let (s, e) = (grid.voxel(start)?, grid.voxel(end)?);
+    if s != e && !grid.is_empty(e) {
+        return None;
+    }
+    let planned = plan_voxels(h, s, e, |v| grid.is_empty(v), max_visited)?;
+    Some(planned.path.iter().map(|&v| grid.centre(v)).collect())
+}
