@@ -114,6 +114,7 @@ impl Living {
             Some(Automata::AutoAlign) => self.auto_align(senses.dt as f32),
             Some(Automata::Talk) => self.talk(senses, deeds),
             Some(Automata::Listen) => self.listen(senses),
+            Some(Automata::WalkContinuously) => self.walk_continuously(senses.dt as f32),
             // watch: vision and memory only; L-system: the productions
             // act (5.10); follow_turtle: `M` moves it (the window).
             _ => {}

@@ -11,6 +11,7 @@ use rayon::prelude::*;
 
 use super::behaviour::{Deed, Progress, Script, Senses};
 use super::memory::{Forgetting, VisualMemory};
+use super::navigate::Navigation;
 use super::octree::Cube;
 use super::vision::{self, Body, Interest, Percepts, View, Window, THESIS_THRESHOLD};
 use super::{Actor, Table};
@@ -109,6 +110,15 @@ pub struct Living {
     pub heard_words: Vec<u32>,
     /// The planned path's key points ahead, first next (`walk_continuously`).
     pub path: Vec<Vec3>,
+    pub navigation: Navigation,
+    /// `heuristic`, `coll_test_func` (table G.1), `rel_search_level`
+    /// (search voxels of 2^level memory voxels a side), `ahead` (key
+    /// points tested) and `inertia` of the navigation.
+    pub heuristic: i64,
+    pub coll_test_func: i64,
+    pub rel_search_level: u32,
+    pub ahead: i64,
+    pub inertia: f32,
 }
 
 /// Walking speed before any `speed` command, world units a second.
@@ -157,6 +167,12 @@ impl Living {
             listen_to: None,
             heard_words: Vec::new(),
             path: Vec::new(),
+            navigation: Navigation::default(),
+            heuristic: 1,
+            coll_test_func: 3,
+            rel_search_level: 1,
+            ahead: 3,
+            inertia: 0.0,
         };
         for entry in actor.automata().iter().rev() {
             me.push(Script {
@@ -225,6 +241,13 @@ impl Living {
             }
             C::State(s) => self.state = s,
             C::Speed(v) => self.speed = v as f32,
+            C::Heuristic(n) => self.heuristic = n,
+            C::CollTestFunc(n) => self.coll_test_func = n,
+            C::RelSearchLevel(x) => {
+                self.rel_search_level = x.map_or(1, |x| x.round().clamp(0.0, 20.0) as u32)
+            }
+            C::Ahead(n) => self.ahead = n,
+            C::Inertia(x) => self.inertia = x as f32,
             C::WordsToSpeak(ref w) => self.words = w.iter().map(|&s| s as u32).collect(),
             C::ListenTo { source, count } => self.listen_to = Some((source as u32, count as usize)),
             C::TennisState(s) => self.tennis_state = s,
@@ -258,7 +281,12 @@ impl Living {
     }
 
     fn eps_arrived(&self) -> f64 {
-        self.eps_arrived.get(&0).copied().unwrap_or(EPS_ARRIVED)
+        self.eps_arrived_at(0) as f64
+    }
+
+    /// `eps_arrived` of local goal `n`.
+    pub fn eps_arrived_at(&self, n: i64) -> f32 {
+        self.eps_arrived.get(&n).copied().unwrap_or(EPS_ARRIVED) as f32
     }
 
     /// `?30`–`?39` as this actor's last sense step and state give them

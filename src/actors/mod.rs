@@ -12,6 +12,7 @@ pub mod display;
 pub mod heuristics;
 pub mod live;
 pub mod memory;
+pub mod navigate;
 pub mod octree;
 pub mod path;
 

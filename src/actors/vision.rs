@@ -13,9 +13,11 @@ use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::memory::DepthView;
+use crate::render::accel::Hit;
 use crate::render::sample::Settings;
 use crate::render::{shade, Accel};
 use crate::scene::material::chromatic_distance;
+use crate::scene::shape::OVERLAY;
 use crate::scene::Camera;
 
 /// What `?30` returns when the centre pixel sees nothing.
@@ -129,6 +131,20 @@ fn ray(basis: (Vec3, Vec3, Vec3), tan: f32, edge: u32, px: f32, py: f32) -> Vec3
     forward + sx * right + sy * up
 }
 
+/// The closest hit an actor sees along a ray: what is drawn for the
+/// viewer only ([`OVERLAY`]) is looked through.
+fn cast_seen(accel: &Accel, eye: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<Hit> {
+    let mut from = tmin;
+    loop {
+        let h = accel.cast(eye, d, from, tmax)?;
+        if h.symbol != OVERLAY {
+            return Some(h);
+        }
+        // Just past it; an overlay in front of another is passed too.
+        from = h.t + h.t.abs().max(1.0) * 1e-4;
+    }
+}
+
 /// Sees: casts the window's rays (one through each pixel centre) into
 /// `accel`, between the near and far planes, and shades each hit as the
 /// preview renderer does. Rows run in parallel on the current rayon pool.
@@ -151,7 +167,7 @@ pub fn see(accel: &Accel, view: &View, edge: u32) -> Window {
                     let d = Vec3A::from(r / len);
                     // Depth z along the axis is distance / len.
                     let (tmin, tmax) = (view.near.max(0.0) * len, view.far * len);
-                    match accel.cast(eye, d, tmin, tmax) {
+                    match cast_seen(accel, eye, d, tmin, tmax) {
                         Some(h) => Pixel {
                             distance: h.t,
                             depth: h.t / len,
@@ -176,9 +192,8 @@ pub fn see(accel: &Accel, view: &View, edge: u32) -> Window {
         })
         .collect();
     let forward = Vec3A::from(basis.2);
-    let centre = accel
-        .cast(eye, forward, view.near.max(0.0), view.far)
-        .map_or(f32::INFINITY, |h| h.t);
+    let centre =
+        cast_seen(accel, eye, forward, view.near.max(0.0), view.far).map_or(f32::INFINITY, |h| h.t);
     Window {
         view: *view,
         edge,

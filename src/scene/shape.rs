@@ -26,6 +26,11 @@ pub enum ShapeKind {
     Trunk { length: f32, r0: f32, r1: f32 },
 }
 
+/// The symbol identifier of what is drawn for the viewer only — an
+/// actor's planned path (`turtle` 3) — and is not part of the world the
+/// actors see: their vision looks through it.
+pub const OVERLAY: u64 = u64::MAX;
+
 /// One analytic shape.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Shape {

@@ -12,7 +12,7 @@ use super::{ActorMapping, Builder, ParticleMapping, SoundRequest, TurtleWorld};
 use crate::lsys::step::ActorScope;
 use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Limits, Symbol, Who};
-use crate::scene::shape::{bounds, triangle_bounds};
+use crate::scene::shape::{bounds, triangle_bounds, OVERLAY};
 use crate::scene::{material, MAX_COORDINATE};
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
 
@@ -353,26 +353,29 @@ impl Interpreter<'_> {
             self.t.look_along(look_at - eye);
         }
         if kind == 7.0 {
-            self.show_path(s, actor as u32);
+            self.show_path(actor as u32);
         }
     }
 
     /// The planned path of an actor that shows it (`turtle` 3): a small
-    /// sphere at each key point, in the current material.
-    fn show_path(&mut self, s: &Symbol, actor: u32) {
+    /// sphere at each key point, in the current material, drawn for the
+    /// viewer only ([`OVERLAY`]: the actors' vision looks through it).
+    fn show_path(&mut self, actor: u32) {
         const RADIUS: f64 = 0.08;
         for p in self.world.shown_path(actor) {
             let t = Turtle {
                 pos: p,
                 ..Turtle::default()
             };
-            self.shape(
-                s,
-                ShapeKind::Sphere,
-                &[RADIUS],
-                placed(&t, RADIUS, RADIUS, RADIUS),
-                self.material,
-            );
+            let shape = Shape {
+                kind: ShapeKind::Sphere,
+                transform: placed(&t, RADIUS, RADIUS, RADIUS),
+                material: self.material,
+                symbol: OVERLAY,
+            };
+            if bounds(&shape).is_some() && self.b.count(1) {
+                self.geometry().shapes.push(shape);
+            }
         }
     }
 

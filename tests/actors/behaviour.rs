@@ -273,3 +273,61 @@ fn follow_turtle_goes_where_the_turtle_is() {
     );
     assert!((a.look_at - a.eye - glam::Vec3::X).length() < 1e-5);
 }
+
+#[test]
+fn the_navigating_actor_plans_around_the_wall_to_its_goal() {
+    // scenes/actors/navigate.lm: from (0 1 −6) to (0 1 6) around a wall
+    // x ∈ [−6, 6], z ∈ [−0.2, 0.2], through a room it has not seen.
+    let frames = trace("scenes/actors/navigate.lm");
+    let pos = |f: &serde_json::Value| -> [f64; 3] {
+        let p = f["actors"][0]["pos"].as_array().unwrap();
+        [0, 1, 2].map(|k| p[k].as_f64().unwrap())
+    };
+    for f in &frames {
+        let [x, _, z] = pos(f);
+        // Never in the wall, its body (radius 0.3) included.
+        assert!(
+            x.abs() > 6.3 || z.abs() > 0.5,
+            "frame {}: {x} {z}",
+            f["frame"]
+        );
+        assert!(
+            x.abs() < 9.5 && z.abs() < 9.5,
+            "frame {}: {x} {z}",
+            f["frame"]
+        );
+    }
+    let arrived = frames
+        .iter()
+        .position(|f| f["actors"][0]["automata"] == "watch")
+        .expect("it reaches its goal");
+    let [x, _, z] = pos(&frames[arrived]);
+    assert!(x.abs() < 0.1 && (z - 6.0).abs() < 0.1, "{x} {z}");
+    // About 20 m around the wall at up to 2 m/s: within the film's 16 s.
+    assert!(arrived < 400, "{arrived}");
+}
+
+#[test]
+fn the_shown_path_is_drawn_for_the_viewer_only() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/actors/navigate.lm"),
+    )
+    .unwrap();
+    let mut f = film(&text);
+    let frame = f.seek(5, |_, _| {}).unwrap();
+    let overlay = lmfilm::scene::shape::OVERLAY;
+    let shown = frame.scene().geometries[0]
+        .shapes
+        .iter()
+        .filter(|s| s.symbol == overlay)
+        .count();
+    assert!(shown > 10, "{shown}");
+    // The actor's window never shows them: no pixel at a key point.
+    let a = &f.living()[0];
+    let window = a.window.as_ref().unwrap();
+    for p in window.pixels.iter().filter(|p| p.hit()) {
+        assert_ne!(p.object, u32::MAX);
+        let near_key = a.path.iter().any(|k| k.distance(p.position) < 0.09);
+        assert!(!near_key, "the actor sees its path at {}", p.position);
+    }
+}

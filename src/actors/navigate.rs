@@ -1,0 +1,190 @@
+//! The navigation automata `walk_continuously` (thesis 5.2.4): the states
+//! search_new_path and move. Searching pops a goal from the goal stack
+//! and plans a path through the free voxels of the actor's visual memory
+//! (Algorithms 1–4, [`super::path`]); moving follows the path's key
+//! points at `speed`, its velocity turning with `inertia`, and tests the
+//! next `ahead` key points with the `coll_test_func` heuristic against
+//! the memory as vision updates it, searching again when one is blocked.
+//! With no path it pushes itself and observes (5.3), a few times, then
+//! gives the goal up.
+
+use glam::Vec3;
+
+use super::behaviour::Script;
+use super::heuristics::{self, collision_free, Heuristic};
+use super::live::Living;
+use super::path::{self, SearchGrid};
+use crate::lsys::automata::Automata;
+
+/// `state` values of table B6.
+const SEARCH_NEW_PATH: i64 = 7;
+const WALK: i64 = 10;
+
+/// Most voxels one search may add to its path (Algorithm 1's bound).
+const MAX_VISITED: usize = 1 << 20;
+
+/// Searches in a row that found no path before the goal is given up.
+const MAX_FAILURES: u32 = 3;
+
+/// What a navigating actor keeps between frames.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Navigation {
+    /// The goal it walks to, popped from the goal stack.
+    pub destination: Option<Vec3>,
+    pub velocity: Vec3,
+    /// Searches in a row without a path.
+    pub failures: u32,
+}
+
+/// Whether heuristic `h` searches in the horizontal plane of the start
+/// (its candidates all have dy = 0): then the path keeps the eye's height.
+fn planar(h: &Heuristic) -> bool {
+    h.tested
+        .iter()
+        .all(|&(n, _)| h.numbering[usize::from(n) - 1][1] == 0)
+}
+
+impl Living {
+    /// One frame of `walk_continuously`.
+    pub(super) fn walk_continuously(&mut self, dt: f32) {
+        if self.memory.is_none() {
+            // Without a memory there is nothing to plan on (`init`).
+            return self.pop();
+        }
+        if self.state == WALK && !self.path.is_empty() {
+            return self.move_along(dt);
+        }
+        self.search_new_path();
+    }
+
+    /// search_new_path: the destination (popped from the goal stack when
+    /// there is none), then a plan to it on the memory.
+    fn search_new_path(&mut self) {
+        self.state = SEARCH_NEW_PATH;
+        let dest = match self.navigation.destination {
+            Some(d) => d,
+            None => match self.goals.pop() {
+                Some(g) => *self.navigation.destination.insert(g),
+                None => return self.pop(),
+            },
+        };
+        if self.eye.distance(dest) < self.eps_arrived_at(0) {
+            self.navigation.destination = None;
+            return;
+        }
+        let Some(h) = heuristics::heuristic(self.heuristic as u32) else {
+            return self.pop();
+        };
+        let flat = planar(h);
+        let aim = if flat {
+            Vec3::new(dest.x, self.eye.y, dest.z)
+        } else {
+            dest
+        };
+        let memory = self.memory.as_ref().expect("checked").octree();
+        let to = |p: Vec3| p.as_dvec3().to_array();
+        let found = path::plan(
+            memory,
+            to(self.eye),
+            to(aim),
+            h,
+            self.rel_search_level,
+            MAX_VISITED,
+        );
+        match found {
+            Some(points) => {
+                let y = self.eye.y;
+                self.path = points
+                    .iter()
+                    .skip(1)
+                    .map(|p| {
+                        let v = glam::DVec3::from_array(*p).as_vec3();
+                        if flat {
+                            Vec3::new(v.x, y, v.z)
+                        } else {
+                            v
+                        }
+                    })
+                    .collect();
+                // The last key point is the goal itself, not its voxel.
+                if let Some(last) = self.path.last_mut() {
+                    *last = aim;
+                } else {
+                    self.path.push(aim);
+                }
+                self.navigation.failures = 0;
+                self.state = WALK;
+            }
+            None if self.navigation.failures + 1 >= MAX_FAILURES => {
+                self.navigation = Navigation::default();
+                self.path.clear();
+                self.pop();
+            }
+            None => {
+                // Push itself and look around: the memory may then hold a
+                // way (5.2.4).
+                self.navigation.failures += 1;
+                self.path.clear();
+                self.push(Script {
+                    automata: Automata::WalkContinuously,
+                    commands: Vec::new(),
+                });
+                self.activate(Script {
+                    automata: Automata::Observe,
+                    commands: Vec::new(),
+                });
+            }
+        }
+    }
+
+    /// move: toward the next key point at `speed`, after checking the
+    /// next `ahead` ones against the memory.
+    fn move_along(&mut self, dt: f32) {
+        if self.path_blocked() {
+            self.path.clear();
+            return self.search_new_path();
+        }
+        let next = self.path[0];
+        let to = next - self.eye;
+        let reach = (self.speed * dt).max(1e-4);
+        if to.length() <= reach {
+            self.eye = next;
+            self.path.remove(0);
+            if self.path.is_empty() {
+                // At the goal: the next one, or the next behaviour.
+                self.navigation.destination = None;
+                self.navigation.velocity = Vec3::ZERO;
+                self.state = SEARCH_NEW_PATH;
+            }
+            return;
+        }
+        let desired = to.normalize() * self.speed;
+        let keep = self.inertia.clamp(0.0, 0.99);
+        let v = self.navigation.velocity * keep + desired * (1.0 - keep);
+        self.navigation.velocity = v;
+        let step = (v * dt).clamp_length_max(to.length());
+        self.eye += step;
+        let flat = Vec3::new(v.x, 0.0, v.z).normalize_or_zero();
+        if flat != Vec3::ZERO {
+            let dist = (self.look_at - self.eye).length().max(1.0);
+            self.look_at = self.eye + flat * dist;
+        }
+    }
+
+    /// Whether one of the next `ahead` key points fails the collision
+    /// test heuristic (`coll_test_func`) on the memory as it is now.
+    fn path_blocked(&self) -> bool {
+        let (Some(memory), Some(test)) = (
+            self.memory.as_ref(),
+            heuristics::heuristic(self.coll_test_func as u32),
+        ) else {
+            return false;
+        };
+        let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+        let ahead = self.ahead.max(1) as usize;
+        self.path.iter().take(ahead).any(|p| {
+            grid.voxel(p.as_dvec3().to_array())
+                .is_some_and(|v| !collision_free(test, v, |u| grid.is_empty(u)))
+        })
+    }
+}
