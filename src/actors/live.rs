@@ -264,11 +264,13 @@ impl Living {
     }
 
     /// The goal the actor heads for now: local goal 0 when set, else the
-    /// top of its goal stack (docs/actors.md, "Sensor functions").
+    /// goal it navigates to, else the top of its goal stack (docs/actors.md,
+    /// "Sensor functions").
     pub fn actual_goal(&self) -> Option<Vec3> {
         self.local_goals
             .get(&0)
             .copied()
+            .or(self.navigation.destination)
             .or_else(|| self.goals.last().copied())
     }
 
