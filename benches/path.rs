@@ -9,6 +9,9 @@
 //!   heuristic 1 (a voxel of clearance) has no path there at all.
 //! - `maze3/h1`: corridors 3 voxels wide, heuristic 1.
 //!
+//! Cases: `plan` (world points in and out, Algorithms 1–4), `algorithm1`
+//! (`search` alone, the depth-first part), `astar`.
+//!
 //! `cargo bench --bench path -- --sample-size 10`
 
 use std::cmp::Reverse;
@@ -17,7 +20,7 @@ use std::collections::{BinaryHeap, HashMap};
 use criterion::Criterion;
 use lmfilm::actors::heuristics::{candidates, heuristic, Heuristic};
 use lmfilm::actors::octree::{Cube, Octree, Voxel};
-use lmfilm::actors::path::{plan, plan_voxels, SearchGrid};
+use lmfilm::actors::path::{plan, plan_voxels, search, SearchGrid};
 
 const EDGE: u32 = 128;
 const HEIGHT: u32 = 8;
@@ -143,6 +146,9 @@ fn main() {
         let mut group = c.benchmark_group(name);
         group.bench_function("plan", |bench| {
             bench.iter(|| plan(&m, a, b, h, 0, LIMIT).unwrap())
+        });
+        group.bench_function("algorithm1", |bench| {
+            bench.iter(|| search(h, s, e, |v| grid.is_empty(v), LIMIT).unwrap())
         });
         group.bench_function("astar", |bench| {
             bench.iter(|| astar(h, &grid, s, e).unwrap())
