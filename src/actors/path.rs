@@ -366,3 +366,57 @@ pub fn plan(
     let planned = plan_voxels(h, s, e, |v| grid.is_empty(v), max_visited)?;
     Some(planned.path.iter().map(|&v| grid.centre(v)).collect())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::actors::heuristics::heuristic;
+    use crate::actors::octree::Cube;
+
+    /// The nearest candidate to the aim goes first; equal distances keep
+    /// the table's order (1 = +x before 4 = +z); the candidate list holds
+    /// a label before each voxel's candidates.
+    #[test]
+    fn candidates_nearest_first_ties_in_table_order() {
+        let h = heuristic(0).unwrap();
+        let open = |v: Voxel| v[1] == 0 && v[0] < 8 && v[2] < 8;
+        let mut e = Explorer::new(h, [3, 0, 3], [3, 0, 0]);
+        assert_eq!(e.step(open), Step::Go([3, 0, 2]));
+        let mut e = Explorer::new(h, [3, 0, 3], [6, 0, 6]);
+        assert_eq!(e.step(open), Step::Go([4, 0, 3]));
+        // The start's label, then its other candidates, farthest lowest
+        // (the table's order reversed among equals).
+        let c = Entry::Candidate;
+        assert_eq!(
+            e.cand_list,
+            [
+                Entry::NewNeighbours,
+                c([2, 0, 3]),
+                c([3, 0, 2]),
+                c([3, 0, 4])
+            ]
+        );
+        // The next step opens the candidates of [4, 0, 3] with a label.
+        assert_eq!(e.step(open), Step::Go([4, 0, 4]));
+        assert_eq!(e.cand_list[4], Entry::NewNeighbours);
+        assert_eq!(e.visited(), 3);
+    }
+
+    /// A search voxel of level 1 is empty only when its eight memory
+    /// voxels are; past the cube it is occupied.
+    #[test]
+    fn search_voxels_at_a_relative_level() {
+        let mut m = Octree::new(Cube::new(0.0, 8.0, 1.0), false);
+        m.insert([3, 1, 2], 1);
+        let g = SearchGrid::new(&m, 1);
+        assert!(!g.is_empty([1, 0, 1]));
+        assert!(g.is_empty([1, 0, 0]) && g.is_empty([0, 0, 1]));
+        assert!(!g.is_empty([4, 0, 0]));
+        assert_eq!(g.voxel([3.5, 1.5, 2.5]), Some([1, 0, 1]));
+        assert_eq!(g.centre([1, 0, 1]), [3.0, 1.0, 3.0]);
+        let g0 = SearchGrid::new(&m, 0);
+        assert!(!g0.is_empty([3, 1, 2]) && g0.is_empty([2, 1, 2]));
+        // A level past the memory's is its whole cube.
+        assert!(!SearchGrid::new(&m, 9).is_empty([0, 0, 0]));
+    }
+}
