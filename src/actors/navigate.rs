@@ -5,35 +5,37 @@
 //! points at `speed`, its velocity turning with `inertia`, and tests the
 //! next `ahead` key points with the `coll_test_func` heuristic against
 //! the memory as vision updates it, searching again when one is blocked.
-//! With no path it pushes itself and observes (5.3), a few times, then
-//! gives the goal up.
+//! With no path it pushes itself and observes (5.3); still without one it
+//! explores (5.2.2): Algorithm 1 walked for real, voxel by voxel, while
+//! the memory fills, until it reaches the goal or knows it is enclosed.
 
 use glam::Vec3;
 
 use super::behaviour::Script;
 use super::heuristics::{self, collision_free, Heuristic};
 use super::live::Living;
-use super::path::{self, SearchGrid};
+use super::path::{self, Explorer, SearchGrid, Step};
 use crate::lsys::automata::Automata;
 
 /// `state` values of table B6.
 const SEARCH_NEW_PATH: i64 = 7;
 const WALK: i64 = 10;
+const EXPLORE: i64 = 11;
 
 /// Most voxels one search may add to its path (Algorithm 1's bound).
 const MAX_VISITED: usize = 1 << 20;
 
-/// Searches in a row that found no path before the goal is given up.
-const MAX_FAILURES: u32 = 3;
-
 /// What a navigating actor keeps between frames.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct Navigation {
     /// The goal it walks to, popped from the goal stack.
     pub destination: Option<Vec3>,
     pub velocity: Vec3,
     /// Searches in a row without a path.
     pub failures: u32,
+    /// The explore mode's search, and the voxel centre it walks to.
+    pub explorer: Option<Explorer<'static>>,
+    pub target: Option<Vec3>,
 }
 
 /// Whether heuristic `h` searches in the horizontal plane of the start
@@ -50,6 +52,9 @@ impl Living {
         if self.memory.is_none() {
             // Without a memory there is nothing to plan on (`init`).
             return self.pop();
+        }
+        if self.navigation.explorer.is_some() {
+            return self.explore(dt);
         }
         if self.state == WALK && !self.path.is_empty() {
             return self.move_along(dt);
@@ -115,10 +120,18 @@ impl Living {
                 self.navigation.failures = 0;
                 self.state = WALK;
             }
-            None if self.navigation.failures + 1 >= MAX_FAILURES => {
-                self.navigation = Navigation::default();
-                self.path.clear();
-                self.pop();
+            None if self.navigation.failures > 0 => {
+                // Observing did not show a way: explore (5.2.2).
+                let grid = SearchGrid::new(memory, self.rel_search_level);
+                let ends = grid.voxel(to(self.eye)).zip(grid.voxel(to(aim)));
+                match ends {
+                    Some((start, end)) => {
+                        self.navigation.explorer = Some(Explorer::new(h, start, end));
+                        self.navigation.target = None;
+                        self.state = EXPLORE;
+                    }
+                    None => self.give_up(),
+                }
             }
             None => {
                 // Push itself and look around: the memory may then hold a
@@ -137,6 +150,47 @@ impl Living {
         }
     }
 
+    /// The goal cannot be reached: the next behaviour runs.
+    fn give_up(&mut self) {
+        self.navigation = Navigation::default();
+        self.path.clear();
+        self.pop();
+    }
+
+    /// explore (5.2.2): walks to the voxel Algorithm 1 chose, then asks
+    /// it for the next one with the memory as it is now.
+    fn explore(&mut self, dt: f32) {
+        self.state = EXPLORE;
+        if let Some(target) = self.navigation.target {
+            if !self.walk_to(target, dt) {
+                return;
+            }
+        }
+        let (Some(memory), Some(e)) = (self.memory.as_ref(), self.navigation.explorer.as_mut())
+        else {
+            return;
+        };
+        let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+        match e.step(|v| grid.is_empty(v)) {
+            Step::Go(v) => {
+                let c = glam::DVec3::from_array(grid.centre(v)).as_vec3();
+                let flat = heuristics::heuristic(self.heuristic as u32).is_some_and(planar);
+                let y = if flat { self.eye.y } else { c.y };
+                self.navigation.target = Some(Vec3::new(c.x, y, c.z));
+            }
+            Step::Arrived => {
+                // In the goal's voxel: the last steps to the goal itself.
+                self.navigation.explorer = None;
+                self.navigation.target = None;
+                if let Some(d) = self.navigation.destination {
+                    self.path = vec![d];
+                    self.state = WALK;
+                }
+            }
+            Step::Enclosed => self.give_up(),
+        }
+    }
+
     /// move: toward the next key point at `speed`, after checking the
     /// next `ahead` ones against the memory.
     fn move_along(&mut self, dt: f32) {
@@ -144,19 +198,26 @@ impl Living {
             self.path.clear();
             return self.search_new_path();
         }
-        let next = self.path[0];
-        let to = next - self.eye;
-        let reach = (self.speed * dt).max(1e-4);
-        if to.length() <= reach {
-            self.eye = next;
+        if self.walk_to(self.path[0], dt) {
             self.path.remove(0);
             if self.path.is_empty() {
                 // At the goal: the next one, or the next behaviour.
                 self.navigation.destination = None;
+                self.navigation.failures = 0;
                 self.navigation.velocity = Vec3::ZERO;
                 self.state = SEARCH_NEW_PATH;
             }
-            return;
+        }
+    }
+
+    /// One frame's walk toward `next` at `speed`, the velocity keeping
+    /// `inertia` of the last; true once there.
+    fn walk_to(&mut self, next: Vec3, dt: f32) -> bool {
+        let to = next - self.eye;
+        let reach = (self.speed * dt).max(1e-4);
+        if to.length() <= reach {
+            self.eye = next;
+            return true;
         }
         let desired = to.normalize() * self.speed;
         let keep = self.inertia.clamp(0.0, 0.99);
@@ -169,6 +230,7 @@ impl Living {
             let dist = (self.look_at - self.eye).length().max(1.0);
             self.look_at = self.eye + flat * dist;
         }
+        false
     }
 
     /// Whether one of the next `ahead` key points fails the collision

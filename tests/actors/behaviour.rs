@@ -331,3 +331,25 @@ fn the_shown_path_is_drawn_for_the_viewer_only() {
         assert!(!near_key, "the actor sees its path at {}", p.position);
     }
 }
+
+#[test]
+fn without_a_path_the_actor_explores_to_its_goal() {
+    // scenes/actors/explore.lm: heuristic 7 needs a known support, so
+    // no plan exists at first; it observes, then explores (state 11).
+    let frames = trace("scenes/actors/explore.lm");
+    let actor = |f: &serde_json::Value| f["actors"][0].clone();
+    assert!(frames.iter().any(|f| actor(f)["state"] == 11));
+    assert!(frames.iter().any(|f| actor(f)["automata"] == "observe"));
+    let done = frames
+        .iter()
+        .position(|f| actor(f)["automata"] == "watch")
+        .expect("it reaches its goal");
+    let p = actor(&frames[done])["pos"].clone();
+    let [x, z] = [0, 2].map(|k| p[k].as_f64().unwrap());
+    assert!(x.abs() < 0.1 && (z - 6.0).abs() < 0.1, "{x} {z}");
+    for f in &frames {
+        let p = actor(f)["pos"].clone();
+        let [x, z] = [0, 2].map(|k| p[k].as_f64().unwrap());
+        assert!(x.abs() > 6.3 || z.abs() > 0.5, "in the wall: {x} {z}");
+    }
+}
