@@ -353,3 +353,20 @@ fn without_a_path_the_actor_explores_to_its_goal() {
         assert!(x.abs() > 6.3 || z.abs() > 0.5, "in the wall: {x} {z}");
     }
 }
+
+#[test]
+fn navigation_is_the_same_for_one_and_two_threads() {
+    let run = |threads: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .args(["trace", "scenes/bench/maze_20_actors.lm", "--frames", "0..80"])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        out.stdout
+    };
+    let one = run("1");
+    assert!(String::from_utf8_lossy(&one).contains("walk_continuously"));
+    assert_eq!(one, run("2"));
+}
