@@ -358,7 +358,12 @@ fn without_a_path_the_actor_explores_to_its_goal() {
 fn navigation_is_the_same_for_one_and_two_threads() {
     let run = |threads: &str| {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-            .args(["trace", "scenes/bench/maze_20_actors.lm", "--frames", "0..80"])
+            .args([
+                "trace",
+                "scenes/bench/maze_20_actors.lm",
+                "--frames",
+                "0..80",
+            ])
             .current_dir(env!("CARGO_MANIFEST_DIR"))
             .env("RAYON_NUM_THREADS", threads)
             .output()
