@@ -119,6 +119,10 @@ pub struct Living {
     pub rel_search_level: u32,
     pub ahead: i64,
     pub inertia: f32,
+    /// Algorithm 5 every `optim_rate` frames (0: never) over the next
+    /// `optim_ahead` key points.
+    pub optim_rate: i64,
+    pub optim_ahead: i64,
 }
 
 /// Walking speed before any `speed` command, world units a second.
@@ -173,6 +177,8 @@ impl Living {
             rel_search_level: 1,
             ahead: 3,
             inertia: 0.0,
+            optim_rate: 0,
+            optim_ahead: 5,
         };
         for entry in actor.automata().iter().rev() {
             me.push(Script {
@@ -247,6 +253,8 @@ impl Living {
                 self.rel_search_level = x.map_or(1, |x| x.round().clamp(0.0, 20.0) as u32)
             }
             C::Ahead(n) => self.ahead = n,
+            C::OptimRate(n) => self.optim_rate = n,
+            C::OptimAhead(n) => self.optim_ahead = n,
             C::Inertia(x) => self.inertia = x as f32,
             C::WordsToSpeak(ref w) => self.words = w.iter().map(|&s| s as u32).collect(),
             C::ListenTo { source, count } => self.listen_to = Some((source as u32, count as usize)),

@@ -5,6 +5,8 @@
 //! points at `speed`, its velocity turning with `inertia`, and tests the
 //! next `ahead` key points with the `coll_test_func` heuristic against
 //! the memory as vision updates it, searching again when one is blocked.
+//! Every `optim_rate` frames it walks straight to the last of the next
+//! `optim_ahead` key points it sees clearly (Algorithm 5).
 //! With no path it pushes itself and observes (5.3); still without one it
 //! explores (5.2.2): Algorithm 1 walked for real, voxel by voxel, while
 //! the memory fills, until it reaches the goal or knows it is enclosed.
@@ -14,7 +16,9 @@ use glam::Vec3;
 use super::behaviour::Script;
 use super::heuristics::{self, collision_free, Heuristic};
 use super::live::Living;
+use super::memory::DepthView;
 use super::path::{self, Explorer, SearchGrid, Step};
+use super::vision::{Pixel, Window};
 use crate::lsys::automata::Automata;
 
 /// `state` values of table B6.
@@ -36,6 +40,8 @@ pub struct Navigation {
     /// The explore mode's search, and the voxel centre it walks to.
     pub explorer: Option<Explorer<'static>>,
     pub target: Option<Vec3>,
+    /// Frames since the last local optimisation (Algorithm 5).
+    pub since_optimised: i64,
 }
 
 /// Whether heuristic `h` searches in the horizontal plane of the start
@@ -44,6 +50,25 @@ fn planar(h: &Heuristic) -> bool {
     h.tested
         .iter()
         .all(|&(n, _)| h.numbering[usize::from(n) - 1][1] == 0)
+}
+
+/// Algorithm 5's test of key point `p` in the last window: it projects
+/// into the window with nothing in front of it, and no pixel of its row
+/// or column that shows something nearer than `p` lies within the
+/// actor's size (`size_actor` in pixels at that pixel's depth) of it.
+fn clearly_visible(window: &Window, view: &DepthView, p: Vec3, size: f32) -> bool {
+    let Some(((x, y), d)) = view.project(p) else {
+        return false;
+    };
+    if window.pixel(x, y).distance < d {
+        return false;
+    }
+    let near = |q: &Pixel, offset: u32| {
+        q.distance < d && (offset as f32) < size / window.footprint(q.depth)
+    };
+    (0..window.edge).all(|k| {
+        !near(window.pixel(k, y), k.abs_diff(x)) && !near(window.pixel(x, k), k.abs_diff(y))
+    })
 }
 
 impl Living {
@@ -198,6 +223,7 @@ impl Living {
             self.path.clear();
             return self.search_new_path();
         }
+        self.optimise();
         if self.walk_to(self.path[0], dt) {
             self.path.remove(0);
             if self.path.is_empty() {
@@ -231,6 +257,57 @@ impl Living {
             self.look_at = self.eye + flat * dist;
         }
         false
+    }
+
+    /// Algorithm 5, every `optim_rate` frames: of the next `optim_ahead`
+    /// key points, the last one the actor sees clearly becomes the next:
+    /// it walks straight to it, and the key points before it are dropped.
+    fn optimise(&mut self) {
+        self.navigation.since_optimised += 1;
+        if self.optim_rate <= 0 || self.navigation.since_optimised < self.optim_rate {
+            return;
+        }
+        self.navigation.since_optimised = 0;
+        let Some(window) = &self.window else {
+            return;
+        };
+        let view = window.depth_view();
+        let n = usize::try_from(self.optim_ahead)
+            .unwrap_or(0)
+            .min(self.path.len());
+        let seen = |p: Vec3| clearly_visible(window, &view, p, self.size_actor);
+        let shortcut = (1..n)
+            .rev()
+            .find(|&k| seen(self.path[k]) && self.free_way(self.path[k]));
+        if let Some(k) = shortcut {
+            self.path.drain(..k);
+        }
+    }
+
+    /// Whether the straight way from the eye to `p`, as wide as the actor,
+    /// passes only voxels the collision test (`coll_test_func`) finds
+    /// free in the memory: what vision sees of the key point alone does
+    /// not clear the corners on the way (a reading, docs/actors.md).
+    fn free_way(&self, p: Vec3) -> bool {
+        let (Some(memory), Some(test)) = (
+            self.memory.as_ref(),
+            heuristics::heuristic(self.coll_test_func as u32),
+        ) else {
+            return false;
+        };
+        let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+        let cube = memory.octree().cube();
+        let step = (cube.voxel_edge as f32 * (1u32 << self.rel_search_level) as f32) * 0.5;
+        let way = p - self.eye;
+        let side = Vec3::new(-way.z, 0.0, way.x).normalize_or_zero() * (self.size_actor * 0.5);
+        let n = (way.length() / step).ceil().max(1.0) as u32;
+        (0..=n).all(|i| {
+            let c = self.eye + way * (i as f32 / n as f32);
+            [c, c + side, c - side].iter().all(|q| {
+                grid.voxel(q.as_dvec3().to_array())
+                    .is_some_and(|v| collision_free(test, v, |u| grid.is_empty(u)))
+            })
+        })
     }
 
     /// Whether one of the next `ahead` key points fails the collision

@@ -375,3 +375,44 @@ fn navigation_is_the_same_for_one_and_two_threads() {
     assert!(String::from_utf8_lossy(&one).contains("walk_continuously"));
     assert_eq!(one, run("2"));
 }
+
+/// The positions of actor 0 in each frame of `text`, derived in-process.
+fn walk(text: &str) -> Vec<glam::Vec3> {
+    let mut f = film(text);
+    let mut out = Vec::new();
+    while f.next_frame().unwrap().is_some() {
+        out.push(f.living()[0].eye);
+    }
+    out
+}
+
+#[test]
+fn local_optimisation_shortens_the_way_and_keeps_clear_of_the_wall() {
+    // navigate.lm with and without Algorithm 5 (optim_rate 5).
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/actors/navigate.lm"),
+    )
+    .unwrap();
+    assert!(text.contains("optim_rate 5"));
+    let plain = text.replace("optim_rate 5 ", "");
+    let length = |w: &[glam::Vec3]| w.windows(2).map(|p| p[0].distance(p[1])).sum::<f32>();
+    let (short, long) = (walk(&text), walk(&plain));
+    assert!(
+        length(&short) < 0.85 * length(&long),
+        "{} {}",
+        length(&short),
+        length(&long)
+    );
+    // The wall x ∈ [−6, 6], z ∈ [−0.2, 0.2]; the actor is 0.8 wide.
+    for p in &short {
+        let (dx, dz) = ((p.x.abs() - 6.0).max(0.0), (p.z.abs() - 0.2).max(0.0));
+        assert!(dx.hypot(dz) > 0.4, "{p}");
+    }
+    assert!(
+        short
+            .last()
+            .unwrap()
+            .distance(glam::Vec3::new(0.0, 1.0, 6.0))
+            < 0.01
+    );
+}
