@@ -22,6 +22,7 @@ use crate::lsys::automata::{ActorAutomata, Automata, AutomataCommand, CommandAt,
 use crate::lsys::options::OptionItem;
 use crate::lsys::Animation;
 use crate::source::Diagnostic;
+use heuristics::Kind;
 
 /// Most actors a scene may declare.
 pub const MAX_ACTORS: i64 = 100_000;
@@ -292,10 +293,26 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
         None => Ok(()),
     };
     const BIG: i64 = i64::MAX;
+    // A number of table G.1 of the kind the command needs.
+    let heuristic_of = |n: i64, kind: Kind, what: &str| {
+        let found = u32::try_from(n).ok().and_then(heuristics::heuristic);
+        if found.is_some_and(|h| h.kind == kind) {
+            return Ok(());
+        }
+        let numbers: Vec<String> = heuristics::HEURISTICS
+            .iter()
+            .filter(|h| h.kind == kind)
+            .map(|h| h.number.to_string())
+            .collect();
+        refuse(
+            0,
+            format!("{n} is not {what} of table G.1: {}", numbers.join(", ")),
+        )
+    };
     match &c.command {
         C::KeyframeDef { n, .. } => int_in(1, *n, 0, BIG, "the track number"),
-        C::CollTestFunc(n) => int_in(0, *n, 0, BIG, "the heuristic number"),
-        C::Heuristic(n) => int_in(0, *n, 0, BIG, "the heuristic number"),
+        C::CollTestFunc(n) => heuristic_of(*n, Kind::Test, "a collision test"),
+        C::Heuristic(n) => heuristic_of(*n, Kind::Search, "a search heuristic"),
         C::RelSearchLevel(Some(x)) => positive(0, *x, "the relative voxel size"),
         C::RelSearchLevel(None) => Ok(()),
         C::LocalGoal { index: i, .. } => index(3, *i),

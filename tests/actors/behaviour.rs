@@ -416,3 +416,25 @@ fn local_optimisation_shortens_the_way_and_keeps_clear_of_the_wall() {
             < 0.01
     );
 }
+
+#[test]
+fn heuristics_are_those_of_table_g1() {
+    let refused = |command: &str| {
+        let options = format!("NBR_actors 1\nactorNbr_automata 0 walk_continuously {command}");
+        let text = scene(1.0, &options, "F", "");
+        Film::from_sources(&[Source::new("h.lm", &text)], None, Options::default())
+            .err()
+            .map(|e| e.to_string())
+    };
+    let e = refused("heuristic 12").unwrap();
+    assert!(
+        e.contains("12 is not a search heuristic of table G.1"),
+        "{e}"
+    );
+    let e = refused("coll_test_func 1").unwrap();
+    assert!(
+        e.contains("1 is not a collision test of table G.1: 3, 4, 6, 8, 11, 18"),
+        "{e}"
+    );
+    assert!(refused("heuristic 9 coll_test_func 11").is_none());
+}
