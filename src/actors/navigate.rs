@@ -285,45 +285,44 @@ impl Living {
     }
 
     /// Whether the straight way from the eye to `p`, as wide as the actor,
-    /// passes only voxels the collision test (`coll_test_func`) finds
-    /// free in the memory: what vision sees of the key point alone does
-    /// not clear the corners on the way (a reading, docs/actors.md).
+    /// passes only voxels the collision test finds free in the memory:
+    /// what vision sees of the key point alone does not clear the corners
+    /// on the way (a reading, docs/actors.md).
     fn free_way(&self, p: Vec3) -> bool {
-        let (Some(memory), Some(test)) = (
-            self.memory.as_ref(),
-            heuristics::heuristic(self.coll_test_func as u32),
-        ) else {
+        let (Some(free), Some(memory)) = (self.collision_test(), self.memory.as_ref()) else {
             return false;
         };
-        let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
-        let cube = memory.octree().cube();
-        let step = (cube.voxel_edge as f32 * (1u32 << self.rel_search_level) as f32) * 0.5;
+        let edge = memory.octree().cube().voxel_edge as f32;
+        let step = edge * (1u32 << self.rel_search_level.min(20)) as f32 * 0.5;
         let way = p - self.eye;
         let side = Vec3::new(-way.z, 0.0, way.x).normalize_or_zero() * (self.size_actor * 0.5);
         let n = (way.length() / step).ceil().max(1.0) as u32;
         (0..=n).all(|i| {
             let c = self.eye + way * (i as f32 / n as f32);
-            [c, c + side, c - side].iter().all(|q| {
-                grid.voxel(q.as_dvec3().to_array())
-                    .is_some_and(|v| collision_free(test, v, |u| grid.is_empty(u)))
-            })
+            free(c) && free(c + side) && free(c - side)
         })
     }
 
     /// Whether one of the next `ahead` key points fails the collision
-    /// test heuristic (`coll_test_func`) on the memory as it is now.
+    /// test on the memory as it is now.
     fn path_blocked(&self) -> bool {
-        let (Some(memory), Some(test)) = (
-            self.memory.as_ref(),
-            heuristics::heuristic(self.coll_test_func as u32),
-        ) else {
+        let Some(free) = self.collision_test() else {
             return false;
         };
-        let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
         let ahead = self.ahead.max(1) as usize;
-        self.path.iter().take(ahead).any(|p| {
+        self.path.iter().take(ahead).any(|&p| !free(p))
+    }
+
+    /// The collision test `coll_test_func` of a world point on the
+    /// memory as it is now (false outside the memory's cube); None
+    /// without a memory or a test.
+    fn collision_test(&self) -> Option<impl Fn(Vec3) -> bool + '_> {
+        let memory = self.memory.as_ref()?;
+        let test = heuristics::heuristic(self.coll_test_func as u32)?;
+        let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+        Some(move |p: Vec3| {
             grid.voxel(p.as_dvec3().to_array())
-                .is_some_and(|v| !collision_free(test, v, |u| grid.is_empty(u)))
+                .is_some_and(|v| collision_free(test, v, |u| grid.is_empty(u)))
         })
     }
 }
