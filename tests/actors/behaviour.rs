@@ -9,16 +9,7 @@ use lmfilm::lsys::Source;
 use lmfilm::sound::events::Event;
 use lmfilm::turtle::Options;
 
-fn film(text: &str) -> Film {
-    Film::from_sources(&[Source::new("behave.lm", text)], None, Options::default()).unwrap()
-}
-
-fn scene(seconds: f64, options: &str, axiom: &str, productions: &str) -> String {
-    format!(
-        "Camera_AnimationParameters\nt_final_interval {seconds} 0.04\n\
-         Options\n{options}\nAxiom\n{axiom}\nProductions\n{productions}EndProductions\n"
-    )
-}
+use super::support::{film, scene, trace, trace_bytes};
 
 /// A closed room 20 × 4 × 20 around the origin, floor at y = 0.
 const ROOM: &str = "[ f () () () (2) (10_) (2) (10) c () () () () (20) (4) (0.4) ] \
@@ -180,25 +171,6 @@ fn a_behaviour_for_no_actor_is_refused_where_it_stands() {
     assert!(e.contains("b.lm:6:17:") && e.contains("has none"), "{e}");
 }
 
-/// The JSON lines `lmfilm trace` writes for a scene of the repository.
-fn trace(scene: &str) -> Vec<serde_json::Value> {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-        .args(["trace", scene])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect()
-}
-
 #[test]
 fn the_random_walker_hears_each_collision_once() {
     // Code 5.10.3: ?40 on the walls' field (10 N beyond |x| or |z| = 8.5).
@@ -356,20 +328,9 @@ fn without_a_path_the_actor_explores_to_its_goal() {
 
 #[test]
 fn navigation_is_the_same_for_one_and_two_threads() {
-    let run = |threads: &str| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-            .args([
-                "trace",
-                "scenes/bench/maze_20_actors.lm",
-                "--frames",
-                "0..80",
-            ])
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .unwrap();
-        assert!(out.status.success());
-        out.stdout
+    let run = |threads| {
+        let args = ["--frames", "0..80"];
+        trace_bytes("scenes/bench/maze_20_actors.lm", &args, Some(threads))
     };
     let one = run("1");
     assert!(String::from_utf8_lossy(&one).contains("walk_continuously"));

@@ -6,5 +6,6 @@
 mod behaviour;
 mod memory_room;
 mod path;
+mod support;
 mod symbols;
 mod vision;

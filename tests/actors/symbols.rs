@@ -3,8 +3,6 @@
 //! symbols of its branch, whose conditions read that actor's percepts;
 //! `g` maps the turtle back; `M` 14/15 place the memory display.
 
-use std::process::Command;
-
 use lmfilm::actors::live;
 use lmfilm::film::trace::Record;
 use lmfilm::film::Film;
@@ -12,19 +10,7 @@ use lmfilm::lsys::print::Format;
 use lmfilm::lsys::Source;
 use lmfilm::turtle::Options;
 
-fn film(text: &str) -> Film {
-    Film::from_sources(&[Source::new("actors.lm", text)], None, Options::default()).unwrap()
-}
-
-/// A scene of `frames` steps of 0.04 s with these options, axiom and
-/// productions.
-fn scene(frames: u32, options: &str, axiom: &str, productions: &str) -> String {
-    format!(
-        "Camera_AnimationParameters\nt_final_interval {} 0.04\n\
-         Options\n{options}\nAxiom\n{axiom}\nProductions\n{productions}EndProductions\n",
-        f64::from(frames) * 0.04
-    )
-}
+use super::support::{film, scene, trace_bytes};
 
 /// A wall 20 × 20 whose face toward −z is the plane z = 9.5.
 const WALL: &str = "[ f () () () (2) (10_) (0) (10) c () () () () (20) (20) (1) ]";
@@ -41,7 +27,7 @@ fn a_branch_reads_the_actor_its_m_made_current() {
         actorNbr_automata 0 watch obs 0 0 0 lat 0 0 1\n\
         actorNbr_automata 1 watch obs 0 0 0 lat 0 0 -1";
     let axiom = format!("{WALL} [ M () (7) () (0) x ] [ M () (7) () (1) x ] x");
-    let mut f = film(&scene(2, options, &axiom, &x_to_y("[(?30 10 -)<]")));
+    let mut f = film(&scene(0.08, options, &axiom, &x_to_y("[(?30 10 -)<]")));
     f.seek(1, |_, _| {}).unwrap();
     // Outside any M branch the current actor is the last M's: actor 1.
     assert_eq!(f.words(Format::Symbols), ["[fc][My][Mx]x"]);
@@ -55,7 +41,7 @@ fn a_walking_actor_sees_the_wall_come_closer() {
     let options = "NBR_actors 1\niVisionWinSize 0 16 8\n\
         actorNbr_automata 0 watch obs 0 2 0 lat 0 2 1";
     let axiom = format!("{WALL} [ M () (7) () (0) f () () () () (0.5) x g () (0) ]");
-    let mut f = film(&scene(20, options, &axiom, &x_to_y("[(?30 3 -)<]")));
+    let mut f = film(&scene(0.8, options, &axiom, &x_to_y("[(?30 3 -)<]")));
     f.seek(13, |_, _| {}).unwrap();
     assert_eq!(f.words(Format::Symbols), ["[fc][Mfxg]"]);
     let eye = f.living()[0].eye;
@@ -79,7 +65,7 @@ fn obstacle_side_drives_the_choice_of_a_production() {
         );
         let prods = "x (0) [(?31 1 +)=]\n1.0 l EndProb\nEnd\n\
                      x (0) [(?31 1 -)=]\n1.0 r EndProb\nEnd\n";
-        let mut f = film(&scene(2, options, &axiom, prods));
+        let mut f = film(&scene(0.08, options, &axiom, prods));
         f.seek(1, |_, _| {}).unwrap();
         assert_eq!(f.words(Format::Symbols), [format!("[f+c][M{expect}]")]);
     }
@@ -90,7 +76,7 @@ fn g_maps_the_turtle_to_the_actor() {
     let options = "NBR_actors 1\nactorNbr_automata 0 watch obs 0 0 0 lat 0 0 1";
     // g 0: eye at the turtle, looking along H (the default H is +x).
     let mut f = film(&scene(
-        1,
+        0.04,
         options,
         "f () () () (2) (1) (2) (3) g () (0)",
         "",
@@ -103,7 +89,7 @@ fn g_maps_the_turtle_to_the_actor() {
     );
     // g 2: the same with the height par4, looking in the horizontal plane.
     let axiom = "f () () () (2) (1) (2) (3) + () () () () (30) g () (2) () () (5)";
-    let mut f = film(&scene(1, options, axiom, ""));
+    let mut f = film(&scene(0.04, options, axiom, ""));
     f.next_frame().unwrap();
     let a = &f.living()[0];
     assert_eq!(a.eye.to_array(), [1.0, 5.0, 3.0]);
@@ -114,7 +100,7 @@ fn g_maps_the_turtle_to_the_actor() {
     );
     // g 1: the local goal at the turtle; it is the goal the trace lists.
     let mut f = film(&scene(
-        1,
+        0.04,
         options,
         "f () () () (2) (4) (0) (5) g () (1)",
         "",
@@ -130,7 +116,7 @@ fn m_puts_the_turtle_at_the_actor_looking_where_it_looks() {
     // look-at point.
     let options = "NBR_actors 1\nactorNbr_automata 0 watch obs 1 2 3 lat 1 2 9";
     let mut f = film(&scene(
-        1,
+        0.04,
         options,
         "M () (7) () (0) c () () () () (2) (0.2) (0.2)",
         "",
@@ -158,7 +144,7 @@ fn m_14_and_15_place_the_memory_display() {
     let options = "NBR_actors 1\nactorNbr_automata 0 watch mem_displ_points";
     let axiom =
         "f () () () (2) (0) (9) (5_) M () (14) () (0) f () () () (2) (1) (0) (0) M () (15) () (0)";
-    let mut f = film(&scene(1, options, axiom, ""));
+    let mut f = film(&scene(0.04, options, axiom, ""));
     f.next_frame().unwrap();
     let d = f.living()[0].display;
     assert_eq!(d.eye.map(|v| v.to_array()), Some([0.0, 9.0, -5.0]));
@@ -168,12 +154,12 @@ fn m_14_and_15_place_the_memory_display() {
 #[test]
 fn an_actor_that_does_not_exist_is_warned_of() {
     let options = "NBR_actors 1\nactorNbr_automata 0 watch";
-    let mut f = film(&scene(1, options, "M () (7) () (3) g () (0)", ""));
+    let mut f = film(&scene(0.04, options, "M () (7) () (3) g () (0)", ""));
     let frame = f.next_frame().unwrap().unwrap();
     let w = frame.warnings().join("\n");
     assert!(w.contains("`M` names actor 3"), "{w}");
     // Without actors, g is warned of too.
-    let mut f = film(&scene(1, "", "g () (0)", ""));
+    let mut f = film(&scene(0.04, "", "g () (0)", ""));
     let w = f.next_frame().unwrap().unwrap().warnings().join("\n");
     assert!(w.contains("the scene has none"), "{w}");
 }
@@ -186,13 +172,13 @@ fn goal_functions_read_the_actors_goals() {
     let prods = "a (0) [(?32)>]\n1.0 A EndProb\nEnd\n\
                  b (0) [(?33)>]\n1.0 B EndProb\nEnd\n\
                  c (0) [(?39)>]\n1.0 C EndProb\nEnd\n";
-    let mut f = film(&scene(2, options, "a b c", prods));
+    let mut f = film(&scene(0.08, options, "a b c", prods));
     f.seek(1, |_, _| {}).unwrap();
     assert_eq!(f.words(Format::Symbols), ["ABC"]);
     // A local goal behind, and a threshold too small to have arrived.
     let options = "NBR_actors 1\nactorNbr_automata 0 watch obs 0 0 0 lat 0 0 1 \
         goal 0 0 5 local_goal 0 0 0 -5 eps_arrived 1";
-    let mut f = film(&scene(2, options, "a b c", prods));
+    let mut f = film(&scene(0.08, options, "a b c", prods));
     f.seek(1, |_, _| {}).unwrap();
     assert_eq!(f.words(Format::Symbols), ["abc"]);
 }
@@ -206,7 +192,7 @@ fn the_thing_of_interest_is_found_and_located() {
     let options = "NBR_actors 1\niVisionWinSize 0 64 16\n\
         actorNbr_automata 0 watch obs 0 1 0 lat 0 1 8 fov 300 interest 1 0";
     let prods = "x (0) [(?36)>]\n1.0 X EndProb\nEnd\n";
-    let mut f = film(&scene(2, options, &format!("{BALL} x"), prods));
+    let mut f = film(&scene(0.08, options, &format!("{BALL} x"), prods));
     f.seek(1, |_, _| {}).unwrap();
     assert_eq!(f.words(Format::Symbols), ["[fma]X"]);
     let r = Record::of(&f).unwrap();
@@ -219,7 +205,7 @@ fn the_thing_of_interest_is_found_and_located() {
     assert!(p[2] > 7.0 && p[2] < 7.5, "{p:?}");
     // Off: not found.
     let off = options.replace("interest 1 0", "interest 0 0");
-    let mut f = film(&scene(2, &off, &format!("{BALL} x"), prods));
+    let mut f = film(&scene(0.08, &off, &format!("{BALL} x"), prods));
     f.seek(1, |_, _| {}).unwrap();
     assert_eq!(f.words(Format::Symbols), ["[fma]x"]);
 }
@@ -231,7 +217,7 @@ fn rgb_interest_sets_local_goal_1() {
     let options = "NBR_actors 1\niVisionWinSize 0 32 16\n\
         actorNbr_automata 0 watch obs 0 1 0 lat 0 1 8 fov 300 rgb_interest 25 204 51 1";
     let prods = "x (0) [(?38)>]\n1.0 X EndProb\nEnd\n";
-    let mut f = film(&scene(2, options, &format!("{BALL} x"), prods));
+    let mut f = film(&scene(0.08, options, &format!("{BALL} x"), prods));
     f.seek(1, |_, _| {}).unwrap();
     assert_eq!(f.words(Format::Symbols), ["[fma]X"]);
     let goal = f.living()[0].local_goals[&1];
@@ -243,19 +229,9 @@ fn rgb_interest_sets_local_goal_1() {
 
 #[test]
 fn trace_is_the_same_for_one_and_two_threads() {
-    let trace = |threads: &str| {
-        let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-            .args(["trace", "scenes/actors/flower_room.lm", "--frames", "0..12"])
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        out.stdout
+    let trace = |threads| {
+        let args = ["--frames", "0..12"];
+        trace_bytes("scenes/actors/flower_room.lm", &args, Some(threads))
     };
     let one = trace("1");
     assert!(String::from_utf8_lossy(&one).contains("\"memory_voxels\": "));
@@ -274,7 +250,7 @@ fn a_cut_branch_gives_back_the_actor_before_it() {
         "k (0)\n1.0 ] () (1_) w EndProb\nEnd\n{}",
         x_to_y("[(?30 10 -)<]")
     );
-    let mut f = film(&scene(2, options, &axiom, &prods));
+    let mut f = film(&scene(0.08, options, &axiom, &prods));
     f.seek(1, |_, _| {}).unwrap();
     assert_eq!(f.words(Format::Symbols), ["[fc]Mwx"]);
 }
@@ -290,15 +266,8 @@ fn every_actor_scene_runs() {
     scenes.sort();
     assert!(scenes.len() >= 4, "{scenes:?}");
     for scene in scenes {
-        let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-            .arg("trace")
-            .arg(&scene)
-            .args(["--frames", "0..3"])
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{}: {err}", scene.display());
-        assert_eq!(out.stdout.iter().filter(|&&b| b == b'\n').count(), 3);
+        let out = trace_bytes(scene.to_str().unwrap(), &["--frames", "0..3"], None);
+        assert_eq!(out.iter().filter(|&&b| b == b'\n').count(), 3);
     }
 }
 
@@ -308,7 +277,7 @@ fn vision_and_memory_are_bounded() {
     let windows: String = (0..5)
         .map(|a| format!("iVisionWinSize {a} 1024 4\n"))
         .collect();
-    let text = scene(1, &format!("NBR_actors 5\n{windows}"), "F", "");
+    let text = scene(0.04, &format!("NBR_actors 5\n{windows}"), "F", "");
     let e = Film::from_sources(&[Source::new("big.lm", &text)], None, Options::default())
         .err()
         .unwrap()
@@ -317,7 +286,7 @@ fn vision_and_memory_are_bounded() {
     // A memory past its budget names the actor and what to change.
     let options = "NBR_actors 1\niVisionWinSize 0 16 4\n\
         actorNbr_automata 0 watch init 1 -20 20 0.1 obs 0 2 0 lat 0 2 1";
-    let mut f = film(&scene(1, options, WALL, ""));
+    let mut f = film(&scene(0.04, options, WALL, ""));
     f.next_frame().unwrap();
     let e = live::check_memory(f.living(), 1000).unwrap_err();
     assert!(
