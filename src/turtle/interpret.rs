@@ -236,10 +236,17 @@ impl Interpreter<'_> {
             material,
             symbol: s.id,
         };
+        self.add_shape(shape, s.ch);
+    }
+
+    /// Adds `shape`, drawn by symbol `ch`, when its bounds lie within
+    /// ±[`MAX_COORDINATE`] (else one warning per symbol kind) and the
+    /// scene's primitive limit allows.
+    fn add_shape(&mut self, shape: Shape, ch: u8) {
         if bounds(&shape).is_none() {
             self.warn(&format!(
                 "`{}` reaching beyond ±{MAX_COORDINATE:e} is skipped",
-                s.ch as char
+                ch as char
             ));
             return;
         }
@@ -373,9 +380,7 @@ impl Interpreter<'_> {
                 material: self.material,
                 symbol: OVERLAY,
             };
-            if bounds(&shape).is_some() && self.b.count(1) {
-                self.geometry().shapes.push(shape);
-            }
+            self.add_shape(shape, b'M');
         }
     }
 
