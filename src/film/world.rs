@@ -49,7 +49,6 @@ pub struct Film {
     /// The sound files found on disk for the scene's sound numbers, as
     /// the log's `PLAY` lines name them (see [`Film::sound_files`]).
     sound_files: Vec<(String, PathBuf)>,
-    actors: crate::actors::Table,
     /// The actors as they live through the film (eyes, windows, memory).
     living: Vec<Living>,
     /// Data channels and actor trajectories (thesis 6.3.3).
@@ -160,16 +159,10 @@ impl Film {
             frame: None,
             sound_files,
             living,
-            actors,
             tracks,
         };
         film.activate_scripts()?;
         Ok(film)
-    }
-
-    /// The scene's actors (`NBR_actors`, `iVisionWinSize`, `actorNbr_automata`).
-    pub fn actors(&self) -> &crate::actors::Table {
-        &self.actors
     }
 
     /// The actors as the last sense step left them, in actor order.
