@@ -15,6 +15,7 @@ pub mod memory;
 pub mod navigate;
 pub mod octree;
 pub mod path;
+pub mod spline;
 
 pub mod vision;
 

@@ -1,10 +1,11 @@
 //! The navigation automata `walk_continuously` (thesis 5.2.4): the states
 //! search_new_path and move. Searching pops a goal from the goal stack
 //! and plans a path through the free voxels of the actor's visual memory
-//! (Algorithms 1–4, [`super::path`]); moving follows the path's key
-//! points at `speed`, its velocity turning with `inertia`, and tests the
-//! next `ahead` key points with the `coll_test_func` heuristic against
-//! the memory as vision updates it, searching again when one is blocked.
+//! (Algorithms 1–4, [`super::path`]); moving follows the path spline
+//! through its key points ([`super::spline`], shaped by `inertia`) at
+//! `speed`, and tests the next `ahead` key points with the
+//! `coll_test_func` heuristic against the memory as vision updates it,
+//! searching again when one is blocked.
 //! Every `optim_rate` frames it walks straight to the last of the next
 //! `optim_ahead` key points it sees clearly (Algorithm 5).
 //! With no path it pushes itself and observes (5.3); still without one it
@@ -18,6 +19,7 @@ use super::heuristics::{self, collision_free, Heuristic};
 use super::live::Living;
 use super::memory::DepthView;
 use super::path::{self, Explorer, SearchGrid, Step};
+use super::spline::{self, Piece};
 use super::vision::{Pixel, Window};
 use crate::lsys::automata::Automata;
 
@@ -34,7 +36,11 @@ const MAX_VISITED: usize = 1 << 20;
 pub struct Navigation {
     /// The goal it walks to, popped from the goal stack.
     pub destination: Option<Vec3>,
-    pub velocity: Vec3,
+    /// The unit direction it walks in (zero standing).
+    pub heading: Vec3,
+    /// The path spline's piece it walks along, and how far it is on it.
+    pub piece: Option<Piece>,
+    pub travelled: f32,
     /// Searches in a row without a path.
     pub failures: u32,
     /// The explore mode's search, and the voxel centre it walks to.
@@ -216,28 +222,65 @@ impl Living {
         }
     }
 
-    /// move: toward the next key point at `speed`, after checking the
-    /// next `ahead` ones against the memory.
+    /// move: along the path spline at `speed`, after checking the next
+    /// `ahead` key points; a piece is laid from where the actor is, along
+    /// its heading, whenever the key points ahead changed (a new plan, or
+    /// Algorithm 5 dropped some).
     fn move_along(&mut self, dt: f32) {
         if self.path_blocked() {
             self.path.clear();
             return self.search_new_path();
         }
         self.optimise();
-        if self.walk_to(self.path[0], dt) {
-            self.path.remove(0);
-            if self.path.is_empty() {
-                // At the goal: the next one, or the next behaviour.
-                self.navigation.destination = None;
-                self.navigation.failures = 0;
-                self.navigation.velocity = Vec3::ZERO;
-                self.state = SEARCH_NEW_PATH;
+        let nav = &mut self.navigation;
+        let piece = match nav.piece.take() {
+            Some(p) if p.leads_along(&self.path) => p,
+            _ => {
+                nav.travelled = 0.0;
+                match Piece::new(self.eye, nav.heading, &self.path, self.inertia) {
+                    Some(p) => p,
+                    None => return self.search_new_path(),
+                }
             }
+        };
+        nav.travelled += (self.speed * dt).max(1e-4);
+        let (at, heading) = piece.along(nav.travelled);
+        self.eye = at;
+        nav.heading = heading;
+        if nav.travelled < piece.length() {
+            nav.piece = Some(piece);
+            self.face(heading);
+            return;
+        }
+        self.path.remove(0);
+        if self.path.is_empty() {
+            // At the goal: the next one, or the next behaviour.
+            nav.destination = None;
+            nav.failures = 0;
+            nav.heading = Vec3::ZERO;
+            self.state = SEARCH_NEW_PATH;
         }
     }
 
-    /// One frame's walk toward `next` at `speed`, the velocity keeping
-    /// `inertia` of the last; true once there.
+    /// The spline ahead of a walking actor, dotted every half search
+    /// voxel: what `turtle` 3 draws.
+    pub fn path_ahead(&self) -> Vec<Vec3> {
+        let Some(spacing) = self.half_search_voxel() else {
+            return Vec::new();
+        };
+        let nav = &self.navigation;
+        let current = nav.piece.as_ref().map(|p| (p, nav.travelled));
+        spline::ahead(
+            current,
+            self.eye,
+            nav.heading,
+            &self.path,
+            self.inertia,
+            spacing,
+        )
+    }
+
+    /// One frame's straight walk toward `next` at `speed`; true once there.
     fn walk_to(&mut self, next: Vec3, dt: f32) -> bool {
         let to = next - self.eye;
         let reach = (self.speed * dt).max(1e-4);
@@ -245,18 +288,20 @@ impl Living {
             self.eye = next;
             return true;
         }
-        let desired = to.normalize() * self.speed;
-        let keep = self.inertia.clamp(0.0, 0.99);
-        let v = self.navigation.velocity * keep + desired * (1.0 - keep);
-        self.navigation.velocity = v;
-        let step = (v * dt).clamp_length_max(to.length());
-        self.eye += step;
-        let flat = Vec3::new(v.x, 0.0, v.z).normalize_or_zero();
+        let heading = to.normalize();
+        self.navigation.heading = heading;
+        self.eye += heading * reach;
+        self.face(heading);
+        false
+    }
+
+    /// Looks the way it walks, in the horizontal plane.
+    fn face(&mut self, heading: Vec3) {
+        let flat = Vec3::new(heading.x, 0.0, heading.z).normalize_or_zero();
         if flat != Vec3::ZERO {
             let dist = (self.look_at - self.eye).length().max(1.0);
             self.look_at = self.eye + flat * dist;
         }
-        false
     }
 
     /// Algorithm 5, every `optim_rate` frames: of the next `optim_ahead`
@@ -284,16 +329,21 @@ impl Living {
         }
     }
 
+    /// Half the edge of a search voxel (`rel_search_level`), the step of
+    /// the tests along a way; None without a memory.
+    fn half_search_voxel(&self) -> Option<f32> {
+        let edge = self.memory.as_ref()?.octree().cube().voxel_edge as f32;
+        Some(edge * (1u32 << self.rel_search_level.min(20)) as f32 * 0.5)
+    }
+
     /// Whether the straight way from the eye to `p`, as wide as the actor,
     /// passes only voxels the collision test finds free in the memory:
     /// what vision sees of the key point alone does not clear the corners
     /// on the way (a reading, docs/actors.md).
     fn free_way(&self, p: Vec3) -> bool {
-        let (Some(free), Some(memory)) = (self.collision_test(), self.memory.as_ref()) else {
+        let (Some(free), Some(step)) = (self.collision_test(), self.half_search_voxel()) else {
             return false;
         };
-        let edge = memory.octree().cube().voxel_edge as f32;
-        let step = edge * (1u32 << self.rel_search_level.min(20)) as f32 * 0.5;
         let way = p - self.eye;
         let side = Vec3::new(-way.z, 0.0, way.x).normalize_or_zero() * (self.size_actor * 0.5);
         let n = (way.length() / step).ceil().max(1.0) as u32;

@@ -123,7 +123,8 @@ pub fn run(
     let derived = derive_into(&mut loaded, &dir, film.clean, film.allow_commands)?;
     let (rendered, selected) = render_into(&dir, args, Shard::all(), film.limits.pixels)?;
     let sounded = soundtrack(&dir, &sound_settings)?;
-    let mp4 = if mux::ffmpeg_available() {
+    let complete = job::all_rendered(&dir)?;
+    let mp4 = if complete && mux::ffmpeg_available() {
         Some(job::mux(&dir)?)
     } else {
         None
@@ -149,6 +150,7 @@ pub fn run(
     }
     match mp4 {
         Some((path, made)) => println!("film: {} ({})", path.display(), now(made)),
+        None if !complete => println!("no MP4: only some frames are rendered (`lmfilm render {}` renders the rest, then `lmfilm mux {}`)", dir.display(), dir.display()),
         None => println!("ffmpeg is not installed: frames and soundtrack are in {}; `lmfilm mux {}` makes the MP4 once it is", dir.display(), dir.display()),
     }
     Ok(())

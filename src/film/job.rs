@@ -614,6 +614,13 @@ pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<Option<sound
 pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
     let rec = open(dir)?;
     let name = &rec.inputs.name;
+    if let Some(k) = first_unrendered(dir, &rec) {
+        return Err(Error::input(format!(
+            "{}: frame {k} has no image yet, and the MP4 needs every frame; `lmfilm render {}` renders the rest",
+            dir.display(),
+            dir.display()
+        )));
+    }
     let rate = ffmpeg::FrameRate::from_dt(rec.dt).map_err(|e| Error::input(e.to_string()))?;
     let sound = record::read::<SoundRecord>(&dir.join(SOUND_RECORD))
         .ok()
@@ -648,6 +655,19 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
     let rp = dir.join(&record_path);
     record::write(&rp, &want).map_err(|e| Error::io(&rp, e))?;
     Ok((out, true))
+}
+
+/// The first frame of the film without its PNG (`--frames` rendered
+/// only some), None when every frame has one.
+fn first_unrendered(dir: &Path, rec: &DeriveRecord) -> Option<u64> {
+    (0..rec.frame_count).find(|&k| !dir.join(frame_path(&rec.inputs.name, k, "png")).is_file())
+}
+
+/// Whether every frame of the derived film in `dir` has its PNG: an MP4
+/// can be made.
+pub fn all_rendered(dir: &Path) -> Result<bool, Error> {
+    let rec = open(dir)?;
+    Ok(first_unrendered(dir, &rec).is_none())
 }
 
 /// Removes, in `frames/`, the images and records of frames past the

@@ -1,9 +1,11 @@
-//! Integration tests of the actors: synthetic vision (issue 13).
+//! Integration tests of the actors: synthetic vision and memory (issue
+//! 13), behaviours and navigation (issue 14).
 //!
 //! One test binary per layer (issue 12 §6): each test file is a module
 //! here, so the layer links once.
 
 mod behaviour;
+mod maze;
 mod memory_room;
 mod path;
 mod support;

@@ -178,6 +178,27 @@ fn bad_input_says_what_to_do() {
         err.contains("0002.snap") && err.contains("lmfilm derive"),
         "{err}"
     );
+    // An MP4 needs every frame: `run --frames` says it made none, `mux`
+    // refuses a folder with frames still to render.
+    let part = root.join("part");
+    let out = ok(&[
+        "run",
+        &scene,
+        "-o",
+        s(&part),
+        "--frames",
+        "1..2",
+        "--preset",
+        "preview",
+    ]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        said.contains("no MP4") && !part.join("film.mp4").exists(),
+        "{said}"
+    );
+    let out = lmfilm(&["mux", s(&part)]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("frame 0 has no image"));
     // Bad ranges and shards.
     for bad in [["--frames", "3..1"], ["--shard", "3/2"]] {
         let out = lmfilm(&[&["render", s(&dir)], &bad[..]].concat());
