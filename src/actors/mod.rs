@@ -16,6 +16,7 @@ pub mod navigate;
 pub mod octree;
 pub mod path;
 pub mod spline;
+pub mod tennis;
 
 pub mod vision;
 

@@ -1,0 +1,4 @@
+//! Tennis (thesis 5.6, 5.7): the pure parts the players' and the
+//! referee's automata are made of — the match's scoring and calls, and
+//! the stroke: impact estimation and learning, the hit, the racket's
+//! timed spline.
