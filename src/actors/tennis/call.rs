@@ -198,6 +198,7 @@ fn number(n: u32) -> Vec<u32> {
 mod tests {
     use super::*;
     use crate::sound::Library;
+    use proptest::prelude::*;
     use Player::{Blue, Green};
 
     fn point(loser: Player, cause: Cause) -> Verdict {
@@ -293,6 +294,45 @@ mod tests {
         }
         assert_eq!(text(&last), "fault blue game green green seven five exit");
         assert!(m.finished());
+    }
+
+    fn verdict() -> impl Strategy<Value = Verdict> {
+        let player = prop_oneof![Just(Green), Just(Blue)];
+        let cause = prop_oneof![
+            Just(Cause::Out),
+            Just(Cause::Net),
+            Just(Cause::DoubleBounce),
+            Just(Cause::NotBounced),
+        ];
+        prop_oneof![
+            Just(Verdict::Let),
+            cause.clone().prop_map(Verdict::Fault),
+            (player, cause).prop_map(|(loser, cause)| Verdict::Point { loser, cause }),
+        ]
+    }
+
+    proptest! {
+        /// Every call is in the library's words and ends with the next
+        /// service, or with "exit" once, at the match's end.
+        #[test]
+        fn calls_end_with_the_service_or_exit(
+            verdicts in proptest::collection::vec(verdict(), 0..400),
+        ) {
+            let mut m = Match::new(3, Green);
+            for v in verdicts {
+                if m.finished() {
+                    break;
+                }
+                let words = update(&mut m, v);
+                prop_assert!(!text(&words).contains('#'));
+                if m.finished() {
+                    prop_assert_eq!(words.last(), Some(&EXIT));
+                } else {
+                    prop_assert!(words.ends_with(&service(&m)));
+                    prop_assert!(!words.contains(&EXIT));
+                }
+            }
+        }
     }
 
     #[test]

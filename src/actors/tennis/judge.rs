@@ -105,9 +105,7 @@ impl Judge {
             return None;
         }
         let Some(striker) = self.striker else {
-            if e == (Heard::BallRacket {
-                striker: self.server,
-            }) {
+            if matches!(e, Heard::BallRacket { striker } if striker == self.server) {
                 self.striker = Some(self.server);
             }
             return None;
@@ -179,6 +177,7 @@ impl Judge {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
     use Heard::{BallGround, BallNet, BallRacket};
     use Player::{Blue, Green};
 
@@ -354,6 +353,44 @@ mod tests {
         j.hear(hit(Green));
         j.hear(at(7.0, 0.0));
         assert_eq!(j.verdict(), Some(Verdict::Fault(Cause::Out)));
+    }
+
+    fn heard() -> impl Strategy<Value = Heard> {
+        prop_oneof![
+            Just(hit(Green)),
+            Just(hit(Blue)),
+            Just(BallNet),
+            (-14.0..14.0, -6.0..6.0).prop_map(|(x, z)| at(x, z)),
+        ]
+    }
+
+    proptest! {
+        /// Whatever it hears, the judge decides at most once, and never
+        /// lets the ball bounce twice after the service without a
+        /// decision.
+        #[test]
+        fn one_verdict_and_no_third_bounce(
+            events in proptest::collection::vec(heard(), 0..40),
+        ) {
+            let verdicts = judge(Green, Half::Left, &events);
+            prop_assert!(verdicts.len() <= 1);
+            let mut served = false;
+            let mut bounces = 0;
+            for (i, e) in events.iter().enumerate() {
+                match e {
+                    BallRacket { striker } => {
+                        served |= *striker == Green;
+                        bounces = 0;
+                    }
+                    BallGround { .. } if served => bounces += 1,
+                    _ => {}
+                }
+                if bounces == 2 {
+                    prop_assert!(verdicts.first().is_some_and(|&(j, _)| j <= i));
+                    break;
+                }
+            }
+        }
     }
 
     #[test]
