@@ -2,3 +2,8 @@
 //! referee's automata are made of — the match's scoring and calls, and
 //! the stroke: impact estimation and learning, the hit, the racket's
 //! timed spline.
+
+pub mod call;
+pub mod court;
+pub mod judge;
+pub mod score;
