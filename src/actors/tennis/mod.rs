@@ -2,3 +2,9 @@
 //! referee's automata are made of — the match's scoring and calls, and
 //! the stroke: impact estimation and learning, the hit, the racket's
 //! timed spline.
+
+pub mod hit;
+pub mod impact;
+pub mod racket_path;
+#[cfg(test)]
+mod test_ball;
