@@ -81,13 +81,13 @@ impl RacketPath {
         let mut points = vec![p.position];
         let first = p.position + p.velocity * approach;
         let stroke_start = impact - dir * length;
-        for k in 1..m {
+        for k in 1..m - 1 {
             times.push(p.now + k as f64 * approach);
             points.push(first.lerp(stroke_start, (k - 1) as f64 / (m - 2) as f64));
         }
         let stroke_end = impact + dir * length;
-        times.extend([t_i, t_i + duration]);
-        points.extend([impact, stroke_end]);
+        times.extend([t_i - duration, t_i, t_i + duration]);
+        points.extend([stroke_start, impact, stroke_end]);
         let back = p.return_time / (m - 2) as f64;
         for k in 1..=m - 2 {
             times.push(t_i + duration + k as f64 * back);
