@@ -8,7 +8,7 @@ pub mod library;
 pub mod limiter;
 pub mod loudness;
 pub mod render;
-mod trajectory;
+pub mod trajectory;
 pub mod wav;
 
 use std::path::{Path, PathBuf};

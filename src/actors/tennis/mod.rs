@@ -5,5 +5,10 @@
 
 pub mod call;
 pub mod court;
+pub mod hit;
+pub mod impact;
 pub mod judge;
+pub mod racket_path;
 pub mod score;
+#[cfg(test)]
+mod test_ball;
