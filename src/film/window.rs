@@ -243,6 +243,11 @@ impl TurtleWorld for Window<'_> {
                 self.physics.place(id, at, Mode::Turtle);
                 None
             }
+            ParticleMapping::Racket { actor } => {
+                let at = self.living.get(actor as usize)?.eye.as_dvec3();
+                self.physics.place(id, at, Mode::Racket);
+                Some(at)
+            }
         };
         if self.physics.get(id).is_some() {
             self.current = Some(who);

@@ -34,6 +34,8 @@ pub struct State {
     /// `fConst` arrays; `?15`, `?21`, `?23` store results in slot 7.
     pub fconst: Vec<[f64; 8]>,
     pub memory: [f64; MEMORY_SLOTS],
+    /// The normal of the last `?15`'s racket, for `?16`, `?17`.
+    pub racket_normal: [f64; 3],
 }
 
 impl State {
@@ -41,6 +43,7 @@ impl State {
         State {
             fconst: def.fconst(),
             memory: [0.0; MEMORY_SLOTS],
+            racket_normal: [0.0; 3],
         }
     }
 
@@ -273,9 +276,10 @@ impl<'a> Machine<'a> {
                 // Racket field (physics::tennis); ?16, ?17 read its force.
                 let v = self.tennis(15, f);
                 self.state.set_c(0, 7, v.force);
+                self.state.racket_normal = v.normal;
                 v.value
             }
-            16 | 17 => s.c(0, 7) * s.c(0, (n - 15) as usize),
+            16 | 17 => s.c(0, 7) * s.racket_normal[(n - 15) as usize],
             18 | 20 | 25 => self.sensors.particle(n, f.who),
             19 | 26 | 27 => self.tennis(n, f).value,
             21 => {

@@ -54,6 +54,9 @@ pub struct FieldValue {
     /// `?15`: the racket force F, which the L-system stores in
     /// `Const[0][7]` for `?16`, `?17`; 0 for the others.
     pub force: f64,
+    /// `?15`: the racket's normal n, which `?16`, `?17` take the y and z
+    /// of (it may be the racket's motion, not `Const[0][0..2]`).
+    pub normal: [f64; 3],
 }
 
 pub trait Sensors {

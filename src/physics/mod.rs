@@ -210,7 +210,8 @@ impl Physics {
         true
     }
 
-    /// `C` par1 = 1 (`mode` [`Mode::Placed`]) or 6 ([`Mode::Turtle`]):
+    /// `C` par1 = 1 (`mode` [`Mode::Placed`]), 5 ([`Mode::Racket`]) or 6
+    /// ([`Mode::Turtle`]):
     /// the particle is at `at`; its velocity comes from its previous
     /// placement, one frame or more ago.
     pub fn place(&mut self, id: u64, at: DVec3, mode: Mode) {
@@ -285,6 +286,9 @@ impl Physics {
             y[6 * j..6 * j + 3].copy_from_slice(&pos[i].to_array());
             y[6 * j + 3..6 * j + 6].copy_from_slice(&vel[i].to_array());
         }
+        let rackets: Vec<usize> = (0..self.particles.len())
+            .filter(|&i| self.particles[i].mode == Mode::Racket)
+            .collect();
         let h = (to - from) / f64::from(self.substeps);
         for s in 0..self.substeps {
             let t = from + f64::from(s) * h;
@@ -292,6 +296,9 @@ impl Physics {
                 for (j, &i) in moving.iter().enumerate() {
                     pos[i] = DVec3::from_slice(&y[6 * j..6 * j + 3]);
                     vel[i] = DVec3::from_slice(&y[6 * j + 3..6 * j + 6]);
+                }
+                for &i in &rackets {
+                    pos[i] = self.particles[i].at(t);
                 }
                 let carriers = self.carriers(&pos);
                 // One task per particle, each summing in table order: the
@@ -462,9 +469,14 @@ impl<'a> Laws<'a> {
     /// destructuring makes a new `State` field a compile error here.
     fn reset(&mut self, ph: &Physics) {
         for (mine, theirs) in self.states.iter_mut().zip(&ph.states) {
-            let State { fconst, memory } = theirs;
+            let State {
+                fconst,
+                memory,
+                racket_normal,
+            } = theirs;
             mine.fconst.clone_from(fconst);
             mine.memory = *memory;
+            mine.racket_normal = *racket_normal;
         }
     }
 

@@ -25,6 +25,11 @@ pub enum Mode {
     Placed,
     /// par1 = 6: placed at the turtle each frame, velocity from positions.
     Turtle,
+    /// par1 = 5: placed at a racket actor each frame, velocity from
+    /// positions, and moving on at that velocity while the integrated
+    /// particles evolve to the next frame (a racket strikes while it
+    /// moves: the ball must meet it where it is, not where it was).
+    Racket,
 }
 
 /// One row of the particle table.
@@ -77,5 +82,14 @@ impl Particle {
     /// Whether it has a position (its `C` was interpreted).
     pub fn is_placed(&self) -> bool {
         self.mode != Mode::Waiting
+    }
+
+    /// Where a carrier is at time `t` of a step: a racket moves on at its
+    /// velocity from its placement, the others stay where `C` put them.
+    pub fn at(&self, t: f64) -> DVec3 {
+        match self.mode {
+            Mode::Racket => self.pos + self.vel * (t - self.placed),
+            _ => self.pos,
+        }
     }
 }

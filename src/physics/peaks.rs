@@ -142,7 +142,7 @@ impl Physics {
         if fields.is_empty() && !own.contains(&true) {
             return;
         }
-        let mut pos: Vec<DVec3> = self.particles.iter().map(|p| p.pos).collect();
+        let mut pos: Vec<DVec3> = self.particles.iter().map(|p| p.at(t)).collect();
         let mut vel: Vec<DVec3> = self.particles.iter().map(|p| p.vel).collect();
         for (j, &i) in moving.iter().enumerate() {
             pos[i] = DVec3::from_slice(&y[6 * j..6 * j + 3]);

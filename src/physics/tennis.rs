@@ -32,10 +32,22 @@ pub fn field(q: &FieldQuery) -> Felt {
 /// F = c4·3^(−c5·|h|^c6)·sign(h), h the height above the disc. Eq. 7.1.5
 /// is lost in the scan: docs/language.md has the reconstruction. The value
 /// is F·n_x; `force` is F, which `?16`, `?17` scale by n_y, n_z.
+/// With c0..c2 all 0 the normal is the carrier's direction of motion
+/// u v w (5.6.6: "the racket normal is always aligned with the direction
+/// of its movement"), so each racket of a match has its own; a racket
+/// standing still then has no face.
 pub fn racket(at: [f64; 3], field: [f64; 7], c: &[f64; 8]) -> Felt {
     let [x, y, z] = at;
-    let [ox, oy, oz, ..] = field;
-    let nrm = [c[0], c[1], c[2]];
+    let [ox, oy, oz, u, v, w, _] = field;
+    let nrm = if c[..3] == [0.0; 3] {
+        let speed = (u * u + v * v + w * w).sqrt();
+        if speed == 0.0 || !speed.is_finite() {
+            return Felt::default();
+        }
+        [u / speed, v / speed, w / speed]
+    } else {
+        [c[0], c[1], c[2]]
+    };
     let d = [x - ox, y - oy, z - oz];
     let h = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2];
     let lat2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - h * h).max(0.0);
@@ -50,6 +62,7 @@ pub fn racket(at: [f64; 3], field: [f64; 7], c: &[f64; 8]) -> Felt {
         field: FieldValue {
             value: force * nrm[0],
             force,
+            normal: nrm,
         },
         level,
     }
@@ -66,7 +79,7 @@ pub fn net(at: [f64; 3], field: [f64; 7], c: &[f64; 8]) -> Felt {
     Felt {
         field: FieldValue {
             value: ((x - a) - u * e) / shape,
-            force: 0.0,
+            ..FieldValue::default()
         },
         level,
     }
@@ -87,7 +100,7 @@ fn ramp(arg: f64, c: &[f64; 8]) -> Felt {
     Felt {
         field: FieldValue {
             value: hermite(arg, c[0], c[1], c[2]),
-            force: 0.0,
+            ..FieldValue::default()
         },
         level: hermite(arg, c[0], 0.0, 1.0),
     }

@@ -326,6 +326,20 @@ impl Interpreter<'_> {
                 at: DVec3::from_array(self.growth(s)),
             },
             6 => ParticleMapping::Turtle { at: self.t.pos },
+            5 => {
+                let actor = self.growth(s)[0];
+                let count = self.world.actor_count();
+                match usize::try_from(actor as i64) {
+                    Ok(a) if a < count && actor.fract() == 0.0 => {
+                        ParticleMapping::Racket { actor: a as u32 }
+                    }
+                    _ => {
+                        return self.warn(&format!(
+                            "`C` par1 = 5 names racket actor {actor}, which the scene does not declare (NBR_actors {count}); skipped"
+                        ))
+                    }
+                }
+            }
             _ => return,
         };
         if let Some(p) = self.world.map_particle(self.who(s), mapping) {

@@ -91,6 +91,9 @@ pub enum ParticleMapping {
     Place { at: DVec3 },
     /// par1 = 6: the particle at the turtle.
     Turtle { at: DVec3 },
+    /// par1 = 5: the particle at the racket of actor par4, and the turtle
+    /// with it.
+    Racket { actor: u32 },
 }
 
 /// What an `M` or `g` symbol asks of an actor (C.5), in world
