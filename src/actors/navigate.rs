@@ -77,7 +77,10 @@ fn ground_unseen_beside(grid: &SearchGrid, v: Voxel) -> bool {
         let (Some(x), Some(z)) = (v[0].checked_add_signed(dx), v[2].checked_add_signed(dz)) else {
             return false;
         };
-        (0..3).all(|k| v[1].checked_sub(k).is_some_and(|y| grid.is_empty([x, y, z])))
+        (0..3).all(|k| {
+            v[1].checked_sub(k)
+                .is_some_and(|y| grid.is_empty([x, y, z]))
+        })
     })
 }
 
@@ -142,9 +145,14 @@ impl Living {
         };
         let memory = self.memory.as_ref().expect("checked").octree();
         let to = |p: Vec3| p.as_dvec3().to_array();
+        let grid = SearchGrid::new(memory, self.rel_search_level);
+        let from = match self.standing_voxel(&grid, h) {
+            Some(v) if !flat => glam::DVec3::from_array(grid.centre(v)).as_vec3(),
+            _ => self.eye,
+        };
         let found = path::plan(
             memory,
-            to(self.eye),
+            to(from),
             to(aim),
             h,
             self.rel_search_level,
@@ -176,8 +184,7 @@ impl Living {
             }
             None if self.navigation.failures > 0 => {
                 // Observing did not show a way: explore (5.2.2).
-                let grid = SearchGrid::new(memory, self.rel_search_level);
-                let ends = grid.voxel(to(self.eye)).zip(grid.voxel(to(aim)));
+                let ends = grid.voxel(to(from)).zip(grid.voxel(to(aim)));
                 match ends {
                     Some((start, end)) => {
                         self.navigation.explorer = Some(Explorer::new(h, start, end));
@@ -221,6 +228,33 @@ impl Living {
         Vec3::new(c.x, y, c.z)
     }
 
+    /// The search voxel the actor stands in: the one its eye is in. For
+    /// a support heuristic, when that one is not free above an occupied
+    /// one (the eye halfway up or down a step, on the corner of four
+    /// voxels), the one under or over it that is: where it comes from or
+    /// goes to.
+    fn standing_voxel(&self, grid: &SearchGrid, h: &Heuristic) -> Option<Voxel> {
+        let v = grid.voxel(self.eye.as_dvec3().to_array())?;
+        if planar(h) || !needs_support(h) {
+            return Some(v);
+        }
+        let stands = |u: Voxel| {
+            grid.is_empty(u)
+                && u[1]
+                    .checked_sub(1)
+                    .is_some_and(|y| !grid.is_empty([u[0], y, u[2]]))
+        };
+        let below = v[1].checked_sub(1).map(|y| [v[0], y, v[2]]);
+        let above = [v[0], v[1] + 1, v[2]];
+        Some(
+            [Some(v), below, Some(above)]
+                .into_iter()
+                .flatten()
+                .find(|&u| stands(u))
+                .unwrap_or(v),
+        )
+    }
+
     /// What `turtle 3` shows of the mental process: the path spline
     /// ahead ([`Self::path_ahead`]), or while exploring Algorithm 1's
     /// path list, from where the exploration began to the voxel the actor
@@ -260,7 +294,9 @@ impl Living {
         if !self.navigation.looked_around
             && e.dead_end(|v| grid.is_empty(v))
             && needs_support(h)
-            && e.path().last().is_some_and(|&v| ground_unseen_beside(&grid, v))
+            && e.path()
+                .last()
+                .is_some_and(|&v| ground_unseen_beside(&grid, v))
         {
             // A voxel just reached with no way on under what it has seen,
             // beside ground it has not seen: before walking back it looks

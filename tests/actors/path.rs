@@ -322,7 +322,10 @@ impl Terrain {
 fn assert_walkable(path: &[Voxel], t: &Terrain) {
     for v in path {
         assert!(t.is_empty(*v), "{v:?} occupied");
-        assert!(t.supported(*v), "{v:?} has no support: the actor would fall");
+        assert!(
+            t.supported(*v),
+            "{v:?} has no support: the actor would fall"
+        );
     }
     for w in path.windows(2) {
         let side = w[0][0].abs_diff(w[1][0]) + w[0][2].abs_diff(w[1][2]);
@@ -360,7 +363,10 @@ fn heuristic_9_climbs_the_stairs_and_crosses_the_bridge() {
     assert_eq!(heights, BTreeSet::from([4, 5, 6, 7, 8]));
     assert!(p.path.iter().any(|v| (13..17).contains(&v[0])));
     for v in p.path.iter().filter(|v| (13..17).contains(&v[0])) {
-        assert!((3..=5).contains(&v[2]) && v[1] == 8, "off the bridge: {v:?}");
+        assert!(
+            (3..=5).contains(&v[2]) && v[1] == 8,
+            "off the bridge: {v:?}"
+        );
     }
     // Down again: the same stairs, one step at a time.
     let back = plan_voxels(h, end, start, empty, 100_000).expect("the way back");
@@ -392,7 +398,10 @@ fn heuristic_9_does_not_step_off_an_edge() {
     // Everything it can reach from the start stands on a support: the
     // higher floor's open edges and the gap's edges are never crossed.
     let reach = bfs(h, [2, 4, 2], &empty, None);
-    assert!(reach.keys().any(|v| v[1] == 8), "it reaches the higher floor");
+    assert!(
+        reach.keys().any(|v| v[1] == 8),
+        "it reaches the higher floor"
+    );
     for v in reach.keys() {
         assert!(t.supported(*v), "{v:?}");
         assert!(v[0] < 13, "{v:?} past the edge");
