@@ -427,3 +427,41 @@ fn heuristic_9_does_not_step_off_an_edge() {
     let reach = bfs(h, [1, 4, 2], &|v| t.is_empty(v), None);
     assert!(reach.keys().all(|v| v[0] <= 3), "{reach:?}");
 }
+
+/// The explore mode's look around (docs/actors.md): a voxel just reached
+/// without a candidate is a dead end; reopened, its candidates are taken
+/// again with what the memory holds then, and the walk goes on.
+#[test]
+fn a_dead_end_reopened_takes_its_candidates_again() {
+    let h = heuristic(9).unwrap();
+    // At first the floor is known only under the start and around it;
+    // the rest of the room, toward the end at z = 6, is unseen.
+    let seen = Terrain::parse(&[".....", ".333.", ".333.", ".333.", "....."]);
+    let full = Terrain::parse(&[
+        "33333", "33333", "33333", "33333", "33333", "33333", "33333", "33333",
+    ]);
+    let (start, end) = ([2, 4, 2], [2, 4, 6]);
+    let mut e = Explorer::new(h, start, end);
+    assert!(e.dead_end(|v| seen.is_empty(v)));
+    // Not reopened: the next step gives up the start at once.
+    let mut gave_up = e.clone();
+    assert_eq!(gave_up.step(|v| seen.is_empty(v)), Step::Enclosed);
+    // Reopened after looking around: the corridor is there.
+    e.reopen();
+    assert!(!e.dead_end(|v| full.is_empty(v)));
+    assert_eq!(e.step(|v| full.is_empty(v)), Step::Go([2, 4, 3]));
+    assert!(!e.dead_end(|v| full.is_empty(v)));
+    // A voxel walked back to is no dead end: its candidates were taken
+    // when it was reached.
+    let mut back = Explorer::new(h, start, end);
+    let closed = |v: Voxel| full.is_empty(v) && v[2] < 4;
+    let (mut steps, mut returned) = (0, false);
+    while let Step::Go(v) = back.step(closed) {
+        steps += 1;
+        if v == start && steps > 1 {
+            assert!(!back.dead_end(closed));
+            returned = true;
+        }
+    }
+    assert!(returned);
+}
