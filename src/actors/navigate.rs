@@ -18,6 +18,7 @@ use super::behaviour::Script;
 use super::heuristics::{self, collision_free, Heuristic};
 use super::live::Living;
 use super::memory::DepthView;
+use super::octree::Voxel;
 use super::path::{self, Explorer, SearchGrid, Step};
 use super::spline::{self, Piece};
 use super::vision::{Pixel, Window};
@@ -48,6 +49,9 @@ pub struct Navigation {
     pub target: Option<Vec3>,
     /// Frames since the last local optimisation (Algorithm 5).
     pub since_optimised: i64,
+    /// The explorer's last voxel was a dead end and the actor has looked
+    /// around there: its candidates are taken once more, then it walks on.
+    pub looked_around: bool,
 }
 
 /// Whether heuristic `h` searches in the horizontal plane of the start
@@ -56,6 +60,28 @@ fn planar(h: &Heuristic) -> bool {
     h.tested
         .iter()
         .all(|&(n, _)| h.numbering[usize::from(n) - 1][1] == 0)
+}
+
+/// Whether heuristic `h` asks some voxel to be occupied (a support):
+/// then unseen ground bars its way as a hole would.
+fn needs_support(h: &Heuristic) -> bool {
+    h.tested.iter().any(|&(_, c)| c.contains('!'))
+}
+
+/// Whether beside search voxel `v` (one of its four horizontal
+/// neighbours) the memory holds nothing at its level nor in the two
+/// voxels under it: ground not yet seen, or a drop the actor cannot tell
+/// from it.
+fn ground_unseen_beside(grid: &SearchGrid, v: Voxel) -> bool {
+    [[1, 0], [0, -1], [-1, 0], [0, 1]].iter().any(|&[dx, dz]| {
+        let (Some(x), Some(z)) = (v[0].checked_add_signed(dx), v[2].checked_add_signed(dz)) else {
+            return false;
+        };
+        (0..3).all(|k| {
+            v[1].checked_sub(k)
+                .is_some_and(|y| grid.is_empty([x, y, z]))
+        })
+    })
 }
 
 /// Algorithm 5's test of key point `p` in the last window: it projects
@@ -119,9 +145,14 @@ impl Living {
         };
         let memory = self.memory.as_ref().expect("checked").octree();
         let to = |p: Vec3| p.as_dvec3().to_array();
+        let grid = SearchGrid::new(memory, self.rel_search_level);
+        let from = match self.standing_voxel(&grid, h) {
+            Some(v) if !flat => glam::DVec3::from_array(grid.centre(v)).as_vec3(),
+            _ => self.eye,
+        };
         let found = path::plan(
             memory,
-            to(self.eye),
+            to(from),
             to(aim),
             h,
             self.rel_search_level,
@@ -153,8 +184,7 @@ impl Living {
             }
             None if self.navigation.failures > 0 => {
                 // Observing did not show a way: explore (5.2.2).
-                let grid = SearchGrid::new(memory, self.rel_search_level);
-                let ends = grid.voxel(to(self.eye)).zip(grid.voxel(to(aim)));
+                let ends = grid.voxel(to(from)).zip(grid.voxel(to(aim)));
                 match ends {
                     Some((start, end)) => {
                         self.navigation.explorer = Some(Explorer::new(h, start, end));
@@ -169,15 +199,73 @@ impl Living {
                 // way (5.2.4).
                 self.navigation.failures += 1;
                 self.path.clear();
-                self.push(Script {
-                    automata: Automata::WalkContinuously,
-                    commands: Vec::new(),
-                });
-                self.activate(Script {
-                    automata: Automata::Observe,
-                    commands: Vec::new(),
-                });
+                self.look_around();
             }
+        }
+    }
+
+    /// Pushes itself and runs `observe`, which pops it back.
+    fn look_around(&mut self) {
+        self.push(Script {
+            automata: Automata::WalkContinuously,
+            commands: Vec::new(),
+        });
+        self.activate(Script {
+            automata: Automata::Observe,
+            commands: Vec::new(),
+        });
+    }
+
+    /// Where the actor's eye goes in search voxel `v`: its centre, at the
+    /// eye's height for a planar heuristic. For a support heuristic the
+    /// voxel the eye is in is the actor's path voxel and the one under it
+    /// its support, so the eye walks the centres (docs/actors.md, "The
+    /// height of a support heuristic's path").
+    fn key_point(&self, grid: &SearchGrid, v: Voxel) -> Vec3 {
+        let c = glam::DVec3::from_array(grid.centre(v)).as_vec3();
+        let flat = heuristics::heuristic(self.heuristic as u32).is_some_and(planar);
+        let y = if flat { self.eye.y } else { c.y };
+        Vec3::new(c.x, y, c.z)
+    }
+
+    /// The search voxel the actor stands in: the one its eye is in. For
+    /// a support heuristic, when that one is not free above an occupied
+    /// one (the eye halfway up or down a step, on the corner of four
+    /// voxels), the one under or over it that is: where it comes from or
+    /// goes to.
+    fn standing_voxel(&self, grid: &SearchGrid, h: &Heuristic) -> Option<Voxel> {
+        let v = grid.voxel(self.eye.as_dvec3().to_array())?;
+        if planar(h) || !needs_support(h) {
+            return Some(v);
+        }
+        let stands = |u: Voxel| {
+            grid.is_empty(u)
+                && u[1]
+                    .checked_sub(1)
+                    .is_some_and(|y| !grid.is_empty([u[0], y, u[2]]))
+        };
+        let below = v[1].checked_sub(1).map(|y| [v[0], y, v[2]]);
+        let above = [v[0], v[1] + 1, v[2]];
+        Some(
+            [Some(v), below, Some(above)]
+                .into_iter()
+                .flatten()
+                .find(|&u| stands(u))
+                .unwrap_or(v),
+        )
+    }
+
+    /// What `turtle 3` shows of the mental process: the path spline
+    /// ahead ([`Self::path_ahead`]), or while exploring Algorithm 1's
+    /// path list, from where the exploration began to the voxel the actor
+    /// walks to.
+    pub fn shown_path(&self) -> Vec<Vec3> {
+        match (&self.navigation.explorer, &self.memory) {
+            (Some(e), Some(memory)) => {
+                let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+                e.path().iter().map(|&v| self.key_point(&grid, v)).collect()
+            }
+            _ => self.path_ahead(),
         }
     }
 
@@ -202,12 +290,26 @@ impl Living {
             return;
         };
         let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+        let h = e.heuristic();
+        if !self.navigation.looked_around
+            && e.dead_end(|v| grid.is_empty(v))
+            && needs_support(h)
+            && e.path()
+                .last()
+                .is_some_and(|&v| ground_unseen_beside(&grid, v))
+        {
+            // A voxel just reached with no way on under what it has seen,
+            // beside ground it has not seen: before walking back it looks
+            // around (observe, as when no path is found), then takes the
+            // voxel's candidates again.
+            e.reopen();
+            self.navigation.looked_around = true;
+            return self.look_around();
+        }
         match e.step(|v| grid.is_empty(v)) {
             Step::Go(v) => {
-                let c = glam::DVec3::from_array(grid.centre(v)).as_vec3();
-                let flat = heuristics::heuristic(self.heuristic as u32).is_some_and(planar);
-                let y = if flat { self.eye.y } else { c.y };
-                self.navigation.target = Some(Vec3::new(c.x, y, c.z));
+                self.navigation.looked_around = false;
+                self.navigation.target = Some(self.key_point(&grid, v));
             }
             Step::Arrived => {
                 // In the goal's voxel: the last steps to the goal itself.

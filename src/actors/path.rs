@@ -71,6 +71,11 @@ impl<'h> Explorer<'h> {
         }
     }
 
+    /// The heuristic it searches with.
+    pub fn heuristic(&self) -> &'h Heuristic {
+        self.heuristic
+    }
+
     /// The path so far, start first.
     pub fn path(&self) -> &[Voxel] {
         &self.path
@@ -117,6 +122,33 @@ impl<'h> Explorer<'h> {
                     return Step::Go(c);
                 }
             }
+        }
+    }
+
+    /// Whether the last path voxel, just reached, has no candidate with
+    /// the memory as it is now, so that the next step would walk back.
+    /// Takes its candidates (what the next step would do first); false
+    /// for a voxel walked back to, whose candidates were taken before,
+    /// and at the end.
+    pub fn dead_end(&mut self, mut is_empty: impl FnMut(Voxel) -> bool) -> bool {
+        let Some(&last) = self.path.last() else {
+            return false;
+        };
+        if !self.pending || last == self.end {
+            return false;
+        }
+        self.pending = false;
+        self.add_candidates(last, &mut is_empty);
+        self.cand_list.last() == Some(&Entry::NewNeighbours)
+    }
+
+    /// At a [`dead_end`](Self::dead_end): its label is dropped, so that
+    /// the next step takes the last path voxel's candidates again, with
+    /// the memory as it will be then (after the actor has looked around).
+    pub fn reopen(&mut self) {
+        if self.cand_list.last() == Some(&Entry::NewNeighbours) {
+            self.cand_list.pop();
+            self.pending = true;
         }
     }
 

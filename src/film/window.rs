@@ -296,7 +296,7 @@ impl TurtleWorld for Window<'_> {
     fn shown_path(&mut self, actor: u32) -> Vec<DVec3> {
         match self.living.get(actor as usize) {
             Some(a) if a.turtle == SHOW_PATH => {
-                a.path_ahead().iter().map(|p| p.as_dvec3()).collect()
+                a.shown_path().iter().map(|p| p.as_dvec3()).collect()
             }
             _ => Vec::new(),
         }

@@ -10,4 +10,5 @@ mod memory_room;
 mod path;
 mod support;
 mod symbols;
+mod terrain;
 mod vision;

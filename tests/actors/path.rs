@@ -275,3 +275,193 @@ fn plan_goes_around_a_wall_in_the_memory() {
     }
     assert_eq!(plan(&m, a, b, h, 0, 100_000), None);
 }
+
+/// A 3D world of voxel columns for heuristic 9, one character a column
+/// (rows are z, characters x): a digit d is solid from y = 0 to d, a
+/// letter a–j a single voxel at y = 0–9 (a bridge), `.` nothing (a drop
+/// to the bottom of the grid). The grid is 10 high; past its sides and
+/// top everything is occupied, as past a memory's cube.
+struct Terrain {
+    columns: Vec<Vec<u8>>,
+}
+
+impl Terrain {
+    fn parse(rows: &[&str]) -> Terrain {
+        Terrain {
+            columns: rows.iter().map(|r| r.bytes().collect()).collect(),
+        }
+    }
+
+    fn occupied(&self, v: Voxel) -> bool {
+        let Some(&c) = self
+            .columns
+            .get(v[2] as usize)
+            .and_then(|r| r.get(v[0] as usize))
+        else {
+            return true;
+        };
+        match c {
+            b'0'..=b'9' => v[1] <= u32::from(c - b'0'),
+            b'a'..=b'j' => v[1] == u32::from(c - b'a'),
+            _ => v[1] >= 10,
+        }
+    }
+
+    fn is_empty(&self, v: Voxel) -> bool {
+        v[1] < 10 && !self.occupied(v)
+    }
+
+    /// The voxel under `v` is occupied: something to stand on.
+    fn supported(&self, v: Voxel) -> bool {
+        v[1] > 0 && self.occupied([v[0], v[1] - 1, v[2]])
+    }
+}
+
+/// Every voxel of `path` is free and stands on an occupied one, and each
+/// move is one voxel sideways, at most one up or down.
+fn assert_walkable(path: &[Voxel], t: &Terrain) {
+    for v in path {
+        assert!(t.is_empty(*v), "{v:?} occupied");
+        assert!(
+            t.supported(*v),
+            "{v:?} has no support: the actor would fall"
+        );
+    }
+    for w in path.windows(2) {
+        let side = w[0][0].abs_diff(w[1][0]) + w[0][2].abs_diff(w[1][2]);
+        assert_eq!(side, 1, "{:?} → {:?}", w[0], w[1]);
+        assert!(w[0][1].abs_diff(w[1][1]) <= 1, "{:?} → {:?}", w[0], w[1]);
+    }
+}
+
+/// A lower floor (top y = 3), stairs of single steps (4, 5, 6) up to a
+/// higher floor (top 7) without walls, a gap down to the bottom of the
+/// grid, a bridge (h: one voxel at y = 7) over it, and the far floor.
+const TERRAIN: [&str; 9] = [
+    "......................",
+    ".333333456777....777..",
+    ".333333456777....777..",
+    ".333333456777hhhh777..",
+    ".333333456777hhhh777..",
+    ".333333456777hhhh777..",
+    ".333333456777....777..",
+    ".333333456777....777..",
+    "......................",
+];
+
+#[test]
+fn heuristic_9_climbs_the_stairs_and_crosses_the_bridge() {
+    let t = Terrain::parse(&TERRAIN);
+    let h = heuristic(9).unwrap();
+    let empty = |v: Voxel| t.is_empty(v);
+    let (start, end) = ([2, 4, 2], [18, 8, 4]);
+    let p = plan_voxels(h, start, end, empty, 100_000).expect("a way up and over");
+    assert_walkable(&p.searched, &t);
+    assert_walkable(&p.path, &t);
+    // Up the three steps one at a time, then over the bridge at y = 8.
+    let heights: BTreeSet<u32> = p.path.iter().map(|v| v[1]).collect();
+    assert_eq!(heights, BTreeSet::from([4, 5, 6, 7, 8]));
+    assert!(p.path.iter().any(|v| (13..17).contains(&v[0])));
+    for v in p.path.iter().filter(|v| (13..17).contains(&v[0])) {
+        assert!(
+            (3..=5).contains(&v[2]) && v[1] == 8,
+            "off the bridge: {v:?}"
+        );
+    }
+    // Down again: the same stairs, one step at a time.
+    let back = plan_voxels(h, end, start, empty, 100_000).expect("the way back");
+    assert_walkable(&back.path, &t);
+    assert_eq!(back.path.len(), p.path.len());
+    // The explorer, walked for real, never stands over nothing either,
+    // backtracking included.
+    let mut e = Explorer::new(h, start, end);
+    let mut walked = vec![start];
+    loop {
+        match e.step(empty) {
+            Step::Go(v) => walked.push(v),
+            Step::Arrived => break,
+            Step::Enclosed => panic!("enclosed"),
+        }
+    }
+    assert_walkable(&walked, &t);
+}
+
+#[test]
+fn heuristic_9_does_not_step_off_an_edge() {
+    let h = heuristic(9).unwrap();
+    // Without the bridge the gap is a cliff on both sides: no way.
+    let rows: Vec<String> = TERRAIN.iter().map(|r| r.replace('h', ".")).collect();
+    let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
+    let t = Terrain::parse(&rows);
+    let empty = |v: Voxel| t.is_empty(v);
+    assert_eq!(search(h, [2, 4, 2], [18, 8, 4], empty, 100_000), None);
+    // Everything it can reach from the start stands on a support: the
+    // higher floor's open edges and the gap's edges are never crossed.
+    let reach = bfs(h, [2, 4, 2], &empty, None);
+    assert!(
+        reach.keys().any(|v| v[1] == 8),
+        "it reaches the higher floor"
+    );
+    for v in reach.keys() {
+        assert!(t.supported(*v), "{v:?}");
+        assert!(v[0] < 13, "{v:?} past the edge");
+    }
+    // Without the stairs, the higher floor is out of reach.
+    let flat: Vec<String> = TERRAIN
+        .iter()
+        .map(|r| r.replace(['4', '5', '6'], "3"))
+        .collect();
+    let flat: Vec<&str> = flat.iter().map(String::as_str).collect();
+    let t = Terrain::parse(&flat);
+    let reach = bfs(h, [2, 4, 2], &|v| t.is_empty(v), None);
+    assert!(reach.keys().all(|v| v[1] == 4 && v[0] < 10));
+    // A step of two voxels is no stair.
+    let steep: Vec<String> = TERRAIN.iter().map(|r| r.replace('4', "5")).collect();
+    let steep: Vec<&str> = steep.iter().map(String::as_str).collect();
+    let t = Terrain::parse(&steep);
+    let reach = bfs(h, [2, 4, 2], &|v| t.is_empty(v), None);
+    assert!(reach.keys().all(|v| v[1] == 4));
+    // A wall beyond a gap (the third term, a step up two voxels ahead)
+    // does not lure it over the gap.
+    let t = Terrain::parse(&[".......", ".333.9.", ".333.9.", ".333.9.", "......."]);
+    let reach = bfs(h, [1, 4, 2], &|v| t.is_empty(v), None);
+    assert!(reach.keys().all(|v| v[0] <= 3), "{reach:?}");
+}
+
+/// The explore mode's look around (docs/actors.md): a voxel just reached
+/// without a candidate is a dead end; reopened, its candidates are taken
+/// again with what the memory holds then, and the walk goes on.
+#[test]
+fn a_dead_end_reopened_takes_its_candidates_again() {
+    let h = heuristic(9).unwrap();
+    // At first the floor is known only under the start and around it;
+    // the rest of the room, toward the end at z = 6, is unseen.
+    let seen = Terrain::parse(&[".....", ".333.", ".333.", ".333.", "....."]);
+    let full = Terrain::parse(&[
+        "33333", "33333", "33333", "33333", "33333", "33333", "33333", "33333",
+    ]);
+    let (start, end) = ([2, 4, 2], [2, 4, 6]);
+    let mut e = Explorer::new(h, start, end);
+    assert!(e.dead_end(|v| seen.is_empty(v)));
+    // Not reopened: the next step gives up the start at once.
+    let mut gave_up = e.clone();
+    assert_eq!(gave_up.step(|v| seen.is_empty(v)), Step::Enclosed);
+    // Reopened after looking around: the corridor is there.
+    e.reopen();
+    assert!(!e.dead_end(|v| full.is_empty(v)));
+    assert_eq!(e.step(|v| full.is_empty(v)), Step::Go([2, 4, 3]));
+    assert!(!e.dead_end(|v| full.is_empty(v)));
+    // A voxel walked back to is no dead end: its candidates were taken
+    // when it was reached.
+    let mut back = Explorer::new(h, start, end);
+    let closed = |v: Voxel| full.is_empty(v) && v[2] < 4;
+    let (mut steps, mut returned) = (0, false);
+    while let Step::Go(v) = back.step(closed) {
+        steps += 1;
+        if v == start && steps > 1 {
+            assert!(!back.dead_end(closed));
+            returned = true;
+        }
+    }
+    assert!(returned);
+}
