@@ -115,6 +115,8 @@ impl Living {
             Some(Automata::Talk) => self.talk(senses, deeds),
             Some(Automata::Listen) => self.listen(senses),
             Some(Automata::WalkContinuously) => self.walk_continuously(senses.dt as f32),
+            Some(Automata::Referee) => self.referee(),
+            Some(Automata::TennisErrorDetection) => self.tennis_error_detection(senses),
             // watch: vision and memory only; L-system: the productions
             // act (5.10); follow_turtle: `M` moves it (the window).
             _ => {}
@@ -150,6 +152,12 @@ impl Living {
         let d = self.look_at - self.eye;
         self.look_at = self.eye + turn(d, step);
         self.progress.turned += step;
+    }
+
+    /// The eyes turn half a view angle to the left (the look_around state).
+    pub(super) fn turn_eyes(&mut self) {
+        let d = self.look_at - self.eye;
+        self.look_at = self.eye + turn(d, (self.fov as f32 / 20.0).to_radians());
     }
 
     /// Turns the heading toward `dir` by at most `max` radians; returns

@@ -13,6 +13,7 @@ use super::behaviour::{Deed, Progress, Script, Senses};
 use super::memory::{Forgetting, VisualMemory};
 use super::navigate::Navigation;
 use super::octree::Cube;
+use super::tennis::referee::Umpire;
 use super::vision::{self, Body, Interest, Percepts, View, Window, THESIS_THRESHOLD};
 use super::{Actor, Table};
 use crate::lsys::automata::{Automata, AutomataCommand};
@@ -111,6 +112,8 @@ pub struct Living {
     /// The planned path's key points ahead, first next (`walk_continuously`).
     pub path: Vec<Vec3>,
     pub navigation: Navigation,
+    /// The referee's match and judge (`referee`, 5.7), once it runs.
+    pub umpire: Option<Umpire>,
     /// `heuristic`, `coll_test_func` (table G.1), `rel_search_level`
     /// (search voxels of 2^level memory voxels a side), `ahead` (key
     /// points tested) and `inertia` of the navigation.
@@ -172,6 +175,7 @@ impl Living {
             heard_words: Vec::new(),
             path: Vec::new(),
             navigation: Navigation::default(),
+            umpire: None,
             heuristic: 1,
             coll_test_func: 3,
             rel_search_level: 1,

@@ -10,5 +10,6 @@ mod memory_room;
 mod path;
 mod support;
 mod symbols;
+mod tennis;
 mod terrain;
 mod vision;

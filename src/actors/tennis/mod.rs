@@ -9,6 +9,7 @@ pub mod hit;
 pub mod impact;
 pub mod judge;
 pub mod racket_path;
+pub mod referee;
 pub mod score;
 #[cfg(test)]
 mod test_ball;

@@ -1,0 +1,65 @@
+//! The referee of thesis 5.7 (`scenes/tennis/referee.lm`): it follows the
+//! ball with its eyes, judges the collisions it hears and says its calls
+//! in appendix D's words, in order, through `talk`.
+
+use lmfilm::sound::events::Event;
+
+use super::support::{film, trace};
+
+const SCENE: &str = "scenes/tennis/referee.lm";
+
+/// The words the referee said (its voice is source 2000), in order.
+fn calls(text: &str) -> Vec<String> {
+    let mut f = film(text);
+    while f.next_frame().unwrap().is_some() {}
+    f.events()
+        .events()
+        .filter_map(|(_, e)| match e {
+            Event::Play { n: 2000, file } => Some(file.trim_end_matches(".wav").to_string()),
+            _ => None,
+        })
+        .collect()
+}
+
+fn scene() -> String {
+    std::fs::read_to_string(SCENE).unwrap()
+}
+
+#[test]
+fn a_service_out_is_a_fault_and_called() {
+    // "service green, right"; the ball lands beyond the service line:
+    // "out, fault green, service green, right" (the second service).
+    let service = ["service", "green", "right"];
+    let fault = ["out", "fault", "green", "service", "green", "right"];
+    assert_eq!(calls(&scene()), [&service[..], &fault].concat());
+    // It was following the ball when it bounced.
+    let frames = trace(SCENE);
+    let bounce = frames
+        .iter()
+        .find(|f| {
+            f["sound_events"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|e| e["sound"] == 1)
+        })
+        .unwrap();
+    assert_eq!(bounce["actors"][0]["found"], true);
+}
+
+#[test]
+fn an_ace_wins_the_point() {
+    // Slower, the service lands in blue's right box and bounces again
+    // beyond the base line: blue did not return it. "fault blue, fifteen
+    // love, service green, left".
+    let text = scene().replace("(26) (1) (1.5_)", "(22) (1) (1.5_)");
+    let words = "service green right fault blue fifteen love service green left";
+    assert_eq!(calls(&text), words.split(' ').collect::<Vec<_>>());
+}
+
+#[test]
+fn a_referee_who_cannot_see_the_ball_calls_nothing() {
+    // Its eyes reach 1 m: it hears the bounce but cannot place it.
+    let text = scene().replace("vision_range 0.3 60 60", "vision_range 0.3 1 1");
+    assert_eq!(calls(&text), ["service", "green", "right"]);
+}
