@@ -4,6 +4,7 @@
 //! parts; each use builds the lower layers' window from split borrows of
 //! them ([`super::window`]).
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
@@ -39,6 +40,8 @@ pub struct Film {
     physics: Physics,
     opts: Options,
     scripts: Option<Scripts>,
+    /// Particle rows that have sounded: their sources follow them.
+    sounding: BTreeSet<usize>,
     /// The particle of the last `C` the turtle interpreted: the current
     /// particle of the expressions derived after it.
     current: Option<Who>,
@@ -154,6 +157,7 @@ impl Film {
             physics,
             opts,
             scripts: None,
+            sounding: BTreeSet::new(),
             current: None,
             actor: None,
             frame: None,
@@ -423,19 +427,33 @@ impl Film {
     /// evolved to this frame (7.4), as sound events of this frame: each
     /// at the particle's position then, from source
     /// [`PARTICLE_SOURCE`] + the particle's row.
+    /// A particle that has sounded stays a source that moves with it,
+    /// placed every frame it does not sound: a ball's sounds are heard
+    /// from where it flies (with Doppler), and its source never jumps
+    /// from one bounce to the next.
     fn sound_collisions(&mut self) -> Result<()> {
-        for c in self.physics.take_collisions() {
-            let source = u32::try_from(c.row)
+        let source_of = |row: usize| {
+            u32::try_from(row)
                 .ok()
                 .and_then(|r| r.checked_add(PARTICLE_SOURCE))
-                .filter(|&s| s != AMBIENT_SOURCE);
+                .filter(|&s| s != AMBIENT_SOURCE)
+        };
+        let mut sounded = BTreeSet::new();
+        for c in self.physics.take_collisions() {
             // Rows too large for a source number stay silent.
-            if let Some(source) = source {
+            if let Some(source) = source_of(c.row) {
                 self.air
                     .play(c.kind.sound(), source, c.at)
                     .map_err(Error::input)?;
+                sounded.insert(c.row);
             }
         }
+        for &row in self.sounding.difference(&sounded) {
+            if let (Some(source), Some(p)) = (source_of(row), self.physics.particles().get(row)) {
+                self.air.move_source(source, p.pos).map_err(Error::input)?;
+            }
+        }
+        self.sounding.extend(sounded);
         Ok(())
     }
 

@@ -63,3 +63,27 @@ fn a_referee_who_cannot_see_the_ball_calls_nothing() {
     let text = scene().replace("vision_range 0.3 60 60", "vision_range 0.3 1 1");
     assert_eq!(calls(&text), ["service", "green", "right"]);
 }
+
+#[test]
+fn the_ball_is_heard_from_where_it_flies() {
+    // Once it has sounded, the ball's source (1000) is placed with it
+    // every frame it does not sound, so it never jumps from one bounce
+    // to the next (which the soundtrack would refuse as faster than
+    // sound): one position a frame from its first sound on.
+    let mut f = film(&scene());
+    while f.next_frame().unwrap().is_some() {}
+    let mut keys = Vec::new();
+    for (t, e) in f.events().events() {
+        if let Event::SourcePosition { n: 1000, position } = e {
+            keys.push((t.unwrap(), *position));
+        }
+    }
+    // From its first bounce (2.84 s) to the film's end (8 s), a frame
+    // apart, never faster than the ball's 30 m/s by much (a bounce is
+    // heard where the ball was when it hit, up to a frame earlier).
+    assert!(keys.len() > 120, "{}", keys.len());
+    for w in keys.windows(2) {
+        let (dt, d) = (w[1].0 - w[0].0, w[1].1.distance(w[0].1));
+        assert!(dt < 0.041 && d / dt < 60.0, "{w:?}");
+    }
+}
