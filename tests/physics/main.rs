@@ -7,4 +7,5 @@
 mod collisions;
 mod grid;
 mod particles;
+mod racket;
 mod scenes;
