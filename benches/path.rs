@@ -15,12 +15,13 @@
 //! `cargo bench --bench path -- --sample-size 10`
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 use criterion::Criterion;
 use lmfilm::actors::heuristics::{candidates, heuristic, Heuristic};
 use lmfilm::actors::octree::{Cube, Octree, Voxel};
 use lmfilm::actors::path::{plan, plan_voxels, search, SearchGrid};
+use rustc_hash::FxHashMap;
 
 const EDGE: u32 = 128;
 const HEIGHT: u32 = 8;
@@ -91,7 +92,7 @@ fn maze(lane: u32) -> Octree {
 /// A*: the path length in voxels and the nodes expanded.
 fn astar(h: &Heuristic, grid: &SearchGrid, start: Voxel, end: Voxel) -> Option<(usize, usize)> {
     let manhattan = |v: Voxel| -> u32 { (0..3).map(|i| v[i].abs_diff(end[i])).sum() };
-    let mut g: HashMap<Voxel, u32> = HashMap::from([(start, 0)]);
+    let mut g: FxHashMap<Voxel, u32> = FxHashMap::from_iter([(start, 0)]);
     let mut heap = BinaryHeap::from([Reverse((manhattan(start), 0u32, start))]);
     let mut expanded = 0;
     while let Some(Reverse((_, gu, u))) = heap.pop() {

@@ -5,12 +5,15 @@
 //!
 //! Voxels are search voxels: `2^rel_search_level` memory voxels on a side
 //! ([`SearchGrid`]). Everything here is a pure function of the memory,
-//! the end points and the heuristic: the visited set is a hash set used
-//! only for membership, the corridor a `BTreeMap`, and every tie is
-//! broken by the heuristic's candidate order, so the same call gives the
-//! same path on any machine and thread count (DESIGN §4).
+//! the end points and the heuristic: the treated set, the corridor and
+//! the candidate lists of a plan are hash maps (Fx, fixed keys) only
+//! looked up, never iterated for a result, and every tie is broken by the
+//! heuristic's candidate order, so the same call gives the same path on
+//! any machine and thread count (DESIGN §4).
 
-use std::collections::{BTreeMap, HashSet, VecDeque};
+use std::collections::VecDeque;
+
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::heuristics::{candidates, Heuristic};
 use super::octree::{Octree, Voxel};
@@ -49,7 +52,7 @@ pub struct Explorer<'h> {
     path: Vec<Voxel>,
     cand_list: Vec<Entry>,
     /// The already_treated list (membership only, never iterated).
-    treated: HashSet<Voxel>,
+    treated: FxHashSet<Voxel>,
     /// Voxels added to the path so far, backtracking included.
     visited: usize,
     /// The last path voxel's candidates are still to be added.
@@ -65,7 +68,7 @@ impl<'h> Explorer<'h> {
             end,
             path: vec![start],
             cand_list: Vec::new(),
-            treated: HashSet::from([start]),
+            treated: FxHashSet::from_iter([start]),
             visited: 1,
             pending: true,
         }
@@ -89,7 +92,16 @@ impl<'h> Explorer<'h> {
     /// One move of Algorithm 1. `is_empty` says whether a voxel is free
     /// now (false past the grid); a candidate found occupied when its
     /// turn comes (the memory filled meanwhile) is skipped.
-    pub fn step(&mut self, mut is_empty: impl FnMut(Voxel) -> bool) -> Step {
+    pub fn step(&mut self, is_empty: impl FnMut(Voxel) -> bool) -> Step {
+        self.step_in(&mut Fresh {
+            h: self.heuristic,
+            is_empty,
+        })
+    }
+
+    /// [`step`](Self::step) with the candidate lists and the voxels of
+    /// `ask`.
+    fn step_in(&mut self, ask: &mut impl Ask) -> Step {
         loop {
             let Some(&last) = self.path.last() else {
                 return Step::Enclosed;
@@ -99,7 +111,8 @@ impl<'h> Explorer<'h> {
             }
             if self.pending {
                 self.pending = false;
-                self.add_candidates(last, &mut is_empty);
+                let listed = ask.candidates(last);
+                self.add_candidates(listed);
             }
             // get_next_candidate: each label on top closes a path voxel
             // whose candidates all failed.
@@ -113,7 +126,7 @@ impl<'h> Explorer<'h> {
                     };
                 }
                 Some(Entry::Candidate(c)) => {
-                    if !is_empty(c) {
+                    if !ask.is_empty(c) {
                         continue;
                     }
                     self.path.push(c);
@@ -138,7 +151,7 @@ impl<'h> Explorer<'h> {
             return false;
         }
         self.pending = false;
-        self.add_candidates(last, &mut is_empty);
+        self.add_candidates(candidates(self.heuristic, last, &mut is_empty));
         self.cand_list.last() == Some(&Entry::NewNeighbours)
     }
 
@@ -152,11 +165,11 @@ impl<'h> Explorer<'h> {
         }
     }
 
-    /// add_candidates_to_candList: the heuristic's candidates of `v` not
-    /// yet treated, after the label, the nearest to the end on top (so
-    /// tried first); equal distances keep the table's order.
-    fn add_candidates(&mut self, v: Voxel, is_empty: impl FnMut(Voxel) -> bool) {
-        let mut x = candidates(self.heuristic, v, is_empty);
+    /// add_candidates_to_candList: the heuristic's candidates `x` of the
+    /// last path voxel not yet treated, after the label, the nearest to
+    /// the end on top (so tried first); equal distances keep the table's
+    /// order.
+    fn add_candidates(&mut self, mut x: Vec<Voxel>) {
         x.retain(|c| !self.treated.contains(c));
         x.sort_by_key(|c| distance2(*c, self.end));
         self.cand_list.push(Entry::NewNeighbours);
@@ -164,6 +177,53 @@ impl<'h> Explorer<'h> {
             self.treated.insert(c);
             self.cand_list.push(Entry::Candidate(c));
         }
+    }
+}
+
+/// What the algorithms ask of the memory: a voxel's candidates under the
+/// heuristic, and whether a voxel is free.
+trait Ask {
+    fn candidates(&mut self, v: Voxel) -> Vec<Voxel>;
+    fn is_empty(&mut self, v: Voxel) -> bool;
+}
+
+/// Asks the memory each time (the explore mode: it fills meanwhile).
+struct Fresh<'h, F> {
+    h: &'h Heuristic,
+    is_empty: F,
+}
+
+impl<F: FnMut(Voxel) -> bool> Ask for Fresh<'_, F> {
+    fn candidates(&mut self, v: Voxel) -> Vec<Voxel> {
+        candidates(self.h, v, &mut self.is_empty)
+    }
+
+    fn is_empty(&mut self, v: Voxel) -> bool {
+        (self.is_empty)(v)
+    }
+}
+
+/// Asks the memory once per voxel for its candidates: during one plan
+/// the memory does not change, and Algorithms 2–4 ask again for most of
+/// the voxels Algorithm 1 met (a list per voxel is cheaper to look up
+/// than the dozen voxels it is made of; docs/performance.md).
+struct Memo<'h, F> {
+    fresh: Fresh<'h, F>,
+    lists: FxHashMap<Voxel, Vec<Voxel>>,
+}
+
+impl<F: FnMut(Voxel) -> bool> Ask for Memo<'_, F> {
+    fn candidates(&mut self, v: Voxel) -> Vec<Voxel> {
+        if let Some(x) = self.lists.get(&v) {
+            return x.clone();
+        }
+        let x = self.fresh.candidates(v);
+        self.lists.insert(v, x.clone());
+        x
+    }
+
+    fn is_empty(&mut self, v: Voxel) -> bool {
+        self.fresh.is_empty(v)
     }
 }
 
@@ -179,13 +239,9 @@ fn distance2(a: Voxel, b: Voxel) -> u64 {
 
 /// Runs `e` to its end; None when no path exists or more than
 /// `max_visited` voxels were added to the path (the search gives up).
-fn run(
-    e: &mut Explorer,
-    mut is_empty: impl FnMut(Voxel) -> bool,
-    max_visited: usize,
-) -> Option<()> {
+fn run(e: &mut Explorer, ask: &mut impl Ask, max_visited: usize) -> Option<()> {
     loop {
-        match e.step(&mut is_empty) {
+        match e.step_in(ask) {
             Step::Arrived => return Some(()),
             Step::Enclosed => return None,
             Step::Go(_) if e.visited() > max_visited => return None,
@@ -205,20 +261,24 @@ pub fn search(
     max_visited: usize,
 ) -> Option<Vec<Voxel>> {
     let mut e = Explorer::new(h, start, end);
-    run(&mut e, is_empty, max_visited)?;
+    run(&mut e, &mut Fresh { h, is_empty }, max_visited)?;
     Some(e.path)
 }
 
 /// The corridor of Algorithms 2–4: voxel → label.
-pub type Corridor = BTreeMap<Voxel, u32>;
+pub type Corridor = FxHashMap<Voxel, u32>;
 
 /// Algorithm 2: the path voxels and their candidates under `h`, each
 /// labelled [`MAX_LABEL`].
-pub fn extend(h: &Heuristic, path: &[Voxel], mut is_empty: impl FnMut(Voxel) -> bool) -> Corridor {
-    let mut corridor = Corridor::new();
+pub fn extend(h: &Heuristic, path: &[Voxel], is_empty: impl FnMut(Voxel) -> bool) -> Corridor {
+    extend_in(path, &mut Fresh { h, is_empty })
+}
+
+fn extend_in(path: &[Voxel], ask: &mut impl Ask) -> Corridor {
+    let mut corridor = Corridor::default();
     for &v in path {
         corridor.insert(v, MAX_LABEL);
-        for c in candidates(h, v, &mut is_empty) {
+        for c in ask.candidates(v) {
             corridor.insert(c, MAX_LABEL);
         }
     }
@@ -233,15 +293,19 @@ pub fn label(
     h: &Heuristic,
     corridor: &mut Corridor,
     start: Voxel,
-    mut is_empty: impl FnMut(Voxel) -> bool,
+    is_empty: impl FnMut(Voxel) -> bool,
 ) {
+    label_in(corridor, start, &mut Fresh { h, is_empty });
+}
+
+fn label_in(corridor: &mut Corridor, start: Voxel, ask: &mut impl Ask) {
     let Some(l) = corridor.get_mut(&start) else {
         return;
     };
     *l = 0;
     let mut queue = VecDeque::from([(start, 0)]);
     while let Some((u, d)) = queue.pop_front() {
-        for w in candidates(h, u, &mut is_empty) {
+        for w in ask.candidates(u) {
             if let Some(l) = corridor.get_mut(&w) {
                 if *l == MAX_LABEL {
                     *l = d + 1;
@@ -261,7 +325,16 @@ pub fn shortest(
     h: &Heuristic,
     corridor: &Corridor,
     end: Voxel,
-    mut is_empty: impl FnMut(Voxel) -> bool,
+    is_empty: impl FnMut(Voxel) -> bool,
+) -> Option<Vec<Voxel>> {
+    shortest_in(h, corridor, end, &mut Fresh { h, is_empty })
+}
+
+fn shortest_in(
+    h: &Heuristic,
+    corridor: &Corridor,
+    end: Voxel,
+    ask: &mut impl Ask,
 ) -> Option<Vec<Voxel>> {
     let mut x = end;
     let mut lx = *corridor.get(&end).filter(|&&l| l != MAX_LABEL)?;
@@ -273,8 +346,7 @@ pub fn shortest(
         // are asked for their candidates. None would be a broken corridor.
         let y = h.tested.iter().find_map(|&(n, _)| {
             let y = offset(x, h.numbering[usize::from(n) - 1].map(|c| -c))?;
-            (corridor.get(&y) == Some(&(lx - 1)) && candidates(h, y, &mut is_empty).contains(&x))
-                .then_some(y)
+            (corridor.get(&y) == Some(&(lx - 1)) && ask.candidates(y).contains(&x)).then_some(y)
         })?;
         path.push(y);
         (x, lx) = (y, lx - 1);
@@ -311,14 +383,18 @@ pub fn plan_voxels(
     h: &Heuristic,
     start: Voxel,
     end: Voxel,
-    mut is_empty: impl FnMut(Voxel) -> bool,
+    is_empty: impl FnMut(Voxel) -> bool,
     max_visited: usize,
 ) -> Option<Planned> {
+    let mut ask = Memo {
+        fresh: Fresh { h, is_empty },
+        lists: FxHashMap::default(),
+    };
     let mut e = Explorer::new(h, start, end);
-    run(&mut e, &mut is_empty, max_visited)?;
-    let mut corridor = extend(h, e.path(), &mut is_empty);
-    label(h, &mut corridor, start, &mut is_empty);
-    let path = shortest(h, &corridor, end, &mut is_empty)?;
+    run(&mut e, &mut ask, max_visited)?;
+    let mut corridor = extend_in(e.path(), &mut ask);
+    label_in(&mut corridor, start, &mut ask);
+    let path = shortest_in(h, &corridor, end, &mut ask)?;
     Some(Planned {
         visited: e.visited(),
         searched: e.path,
