@@ -14,11 +14,8 @@ use std::path::PathBuf;
 use glam::DVec3;
 
 use crate::actors::live::Living;
-use crate::lsys::automata::Automata;
-
-/// The `turtle` mapping that shows the planned path (6.3.4).
-const SHOW_PATH: i64 = 3;
 use crate::error::Error;
+use crate::lsys::automata::Automata;
 use crate::lsys::{Sensors, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::sound::air::{self, Air, AMBIENT_SOURCE};
@@ -26,6 +23,11 @@ use crate::source::FileRef;
 use crate::turtle::{ActorMapping, ParticleMapping, SoundRequest, TurtleWorld};
 
 use super::tracks::Tracks;
+
+/// The `turtle` mapping that shows the planned path (6.3.4).
+const SHOW_PATH: i64 = 3;
+/// `turtle` 4: the interactive racket (6.3.4).
+const INTERACTIVE_RACKET: i64 = 4;
 
 /// A `command_file` declaration: number, script, two text arguments.
 pub(super) type Script = (i64, FileRef, String, String);
@@ -273,8 +275,12 @@ impl TurtleWorld for Window<'_> {
         let v = DVec3::as_vec3;
         match mapping {
             ActorMapping::ToTurtle { at, h } => {
-                let to = if a.automata == Some(Automata::FollowTurtle) {
-                    // It follows the turtle rather than lead it.
+                // It follows the turtle rather than lead it: by its
+                // automata, or as the interactive racket, which a user's
+                // motion drives (offline: what the turtle follows, such
+                // as an imported trajectory; 6.3.4).
+                let driven = a.turtle == INTERACTIVE_RACKET;
+                let to = if driven || a.automata == Some(Automata::FollowTurtle) {
                     (a.eye, a.look_at) = (v(&at), v(&(at + h)));
                     None
                 } else {

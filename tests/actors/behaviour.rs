@@ -247,6 +247,31 @@ fn follow_turtle_goes_where_the_turtle_is() {
 }
 
 #[test]
+fn the_interactive_racket_is_driven_by_the_turtle() {
+    // turtle 4 (6.3.4), offline: whatever drives the turtle (here the
+    // time; in a film an imported trajectory) drives the actor.
+    let options = "NBR_actors 1\nactorNbr_automata 0 watch turtle 4 obs 5 5 5";
+    let axiom = "[ f () () () (2) (T 2 *) (1) (0) M () (7) () (0) ]";
+    let mut f = film(&scene(1.0, options, axiom, ""));
+    f.seek(10, |_, _| {}).unwrap();
+    let a = &f.living()[0];
+    assert!(
+        (a.eye - glam::Vec3::new(0.8, 1.0, 0.0)).length() < 1e-5,
+        "{}",
+        a.eye
+    );
+    // With turtle 0 the actor leads: it stays where it was.
+    let mut f = film(&scene(
+        1.0,
+        &options.replace("turtle 4", "turtle 0"),
+        axiom,
+        "",
+    ));
+    f.seek(10, |_, _| {}).unwrap();
+    assert_eq!(f.living()[0].eye, glam::Vec3::new(5.0, 5.0, 5.0));
+}
+
+#[test]
 fn the_navigating_actor_plans_around_the_wall_to_its_goal() {
     // scenes/actors/navigate.lm: from (0 1 −6) to (0 1 6) around a wall
     // x ∈ [−6, 6], z ∈ [−0.2, 0.2], through a room it has not seen.
