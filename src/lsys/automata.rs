@@ -603,7 +603,11 @@ pub fn parse_commands(s: &mut Scanner) -> Result<Vec<CommandAt>, Diagnostic> {
             };
             return Err(s.error(
                 at,
-                format!("`{name}` takes {counts} numbers, found {}", numbers.len()),
+                format!(
+                    "`{name}` takes {counts} number{}, found {}",
+                    if max == 1 { "" } else { "s" },
+                    numbers.len()
+                ),
             ));
         }
         let file = if takes_word {

@@ -117,7 +117,11 @@ fn commands(s: &mut Scanner, specs: &[Spec]) -> Result<Vec<Command>, Diagnostic>
         if numbers.len() < min {
             return Err(s.error(
                 at,
-                format!("`{name}` takes {min} numbers, found {}", numbers.len()),
+                format!(
+                    "`{name}` takes {min} number{}, found {}",
+                    if min == 1 { "" } else { "s" },
+                    numbers.len()
+                ),
             ));
         }
         let word = if word {
