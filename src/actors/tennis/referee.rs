@@ -194,3 +194,24 @@ fn script(automata: Automata) -> Script {
         commands: Vec::new(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bounce is placed on the ball's path between its last two
+    /// sightings, at the moment its sound began; outside them, at the
+    /// nearest; with one sighting, there; with none, nowhere.
+    #[test]
+    fn the_bounce_is_placed_between_the_last_two_sightings() {
+        let mut u = Umpire::new(Match::default());
+        assert_eq!(u.ball_at(1.0), None);
+        u.seen = [None, Some((1.0, Vec3::new(4.0, 0.2, 0.0)))];
+        assert_eq!(u.ball_at(0.5), Some(Vec3::new(4.0, 0.2, 0.0)));
+        u.seen = [u.seen[1], Some((1.04, Vec3::new(5.0, 0.6, 1.0)))];
+        let at = u.ball_at(1.01).unwrap();
+        assert!((at - Vec3::new(4.25, 0.3, 0.25)).length() < 1e-5, "{at}");
+        assert_eq!(u.ball_at(2.0), Some(Vec3::new(5.0, 0.6, 1.0)));
+        assert_eq!(u.ball_at(0.0), Some(Vec3::new(4.0, 0.2, 0.0)));
+    }
+}
