@@ -4,7 +4,7 @@
 
 use lmfilm::sound::events::Event;
 
-use super::support::{film, trace};
+use super::support::{film, trace, trace_bytes};
 
 const SCENE: &str = "scenes/tennis/referee.lm";
 
@@ -86,4 +86,12 @@ fn the_ball_is_heard_from_where_it_flies() {
         let (dt, d) = (w[1].0 - w[0].0, w[1].1.distance(w[0].1));
         assert!(dt < 0.041 && d / dt < 60.0, "{w:?}");
     }
+}
+
+#[test]
+fn the_referee_is_the_same_for_one_and_two_threads() {
+    let run = |threads| trace_bytes(SCENE, &[], Some(threads));
+    let one = run("1");
+    assert!(String::from_utf8_lossy(&one).contains("tennis_error_detection"));
+    assert_eq!(one, run("2"));
 }
