@@ -11,6 +11,7 @@ use std::f32::consts::TAU;
 
 use glam::Vec3;
 
+use super::live::state::{ALIGN, LISTEN_WORDS, LOOK_AROUND, STOP, TALK, WALK};
 use super::live::Living;
 use crate::lsys::automata::{Automata, AutomataCommand};
 use crate::sound::air::Ongoing;
@@ -21,20 +22,22 @@ pub const ACTOR_SOURCE: u32 = 2000;
 /// How fast an actor turns (walk_local, auto_align), in radians a second.
 const TURN_SPEED: f32 = std::f32::consts::FRAC_PI_2;
 
-/// `state` values of table B6 the automata set.
-const LOOK_AROUND: i64 = 6;
-const ALIGN: i64 = 8;
-const WALK: i64 = 10;
-const STOP: i64 = 12;
-const LISTEN_WORDS: i64 = 23;
-const TALK: i64 = 25;
-
 /// One command string of a behaviour stack: an automata and the
 /// commands that set the actor's state when it is popped.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Script {
     pub automata: Automata,
     pub commands: Vec<AutomataCommand>,
+}
+
+impl Script {
+    /// A command string that only names its automata.
+    pub fn of(automata: Automata) -> Self {
+        Script {
+            automata,
+            commands: Vec::new(),
+        }
+    }
 }
 
 /// What an actor perceives of the world beyond its window this frame.
@@ -146,18 +149,21 @@ impl Living {
             return self.pop();
         }
         self.state = LOOK_AROUND;
-        let step = (self.fov as f32 / 20.0)
-            .to_radians()
-            .min(TAU - self.progress.turned);
-        let d = self.look_at - self.eye;
-        self.look_at = self.eye + turn(d, step);
+        let step = self.half_view().min(TAU - self.progress.turned);
+        self.turn_eyes(step);
         self.progress.turned += step;
     }
 
-    /// The eyes turn half a view angle to the left (the look_around state).
-    pub(super) fn turn_eyes(&mut self) {
+    /// Half the view angle, radians: how far the eyes turn a frame when
+    /// looking around, so that consecutive windows overlap.
+    pub(super) fn half_view(&self) -> f32 {
+        (self.fov as f32 / 20.0).to_radians()
+    }
+
+    /// The eyes turn by `a` radians to the left.
+    pub(super) fn turn_eyes(&mut self, a: f32) {
         let d = self.look_at - self.eye;
-        self.look_at = self.eye + turn(d, (self.fov as f32 / 20.0).to_radians());
+        self.look_at = self.eye + turn(d, a);
     }
 
     /// Turns the heading toward `dir` by at most `max` radians; returns

@@ -56,6 +56,19 @@ macro_rules! plane {
 }
 
 const CROSS: [[i32; 3]; 4] = [[1, 0, 0], [0, 0, -1], [-1, 0, 0], [0, 0, 1]];
+/// Heuristics 5 and 8: the cross, the four voxels under it (their
+/// supports, 5–8), then the path voxel itself (9, heuristic 8's test).
+const CROSS_ON_SUPPORT: [[i32; 3]; 9] = [
+    CROSS[0],
+    CROSS[1],
+    CROSS[2],
+    CROSS[3],
+    [1, -1, 0],
+    [0, -1, -1],
+    [-1, -1, 0],
+    [0, -1, 1],
+    [0, 0, 0],
+];
 const PLANE: [[i32; 3]; 12] = plane!(0);
 const PLANE_BELOW: [[i32; 3]; 24] = {
     let (a, b) = (plane!(0), plane!(-1));
@@ -206,16 +219,7 @@ pub const HEURISTICS: &[Heuristic] = &[
     Heuristic {
         number: 5,
         kind: Kind::Search,
-        numbering: &[
-            CROSS[0],
-            CROSS[1],
-            CROSS[2],
-            CROSS[3],
-            [1, -1, 0],
-            [0, -1, -1],
-            [-1, -1, 0],
-            [0, -1, 1],
-        ],
+        numbering: CROSS_ON_SUPPORT.split_at(8).0,
         tested: &[(1, "1*!5"), (2, "2*!6"), (3, "3*!7"), (4, "4*!8")],
     },
     Heuristic {
@@ -238,17 +242,7 @@ pub const HEURISTICS: &[Heuristic] = &[
     Heuristic {
         number: 8,
         kind: Kind::Test,
-        numbering: &[
-            CROSS[0],
-            CROSS[1],
-            CROSS[2],
-            CROSS[3],
-            [1, -1, 0],
-            [0, -1, -1],
-            [-1, -1, 0],
-            [0, -1, 1],
-            [0, 0, 0],
-        ],
+        numbering: &CROSS_ON_SUPPORT,
         tested: &[(9, "9*1*2*3*4*!5*!6*!7*!8")],
     },
     Heuristic {

@@ -16,6 +16,7 @@ use glam::Vec3;
 
 use super::behaviour::Script;
 use super::heuristics::{self, collision_free, Heuristic};
+use super::live::state::{EXPLORE, SEARCH_NEW_PATH, WALK};
 use super::live::Living;
 use super::memory::DepthView;
 use super::octree::Voxel;
@@ -23,11 +24,6 @@ use super::path::{self, Explorer, SearchGrid, Step};
 use super::spline::{self, Piece};
 use super::vision::{Pixel, Window};
 use crate::lsys::automata::Automata;
-
-/// `state` values of table B6.
-const SEARCH_NEW_PATH: i64 = 7;
-const WALK: i64 = 10;
-const EXPLORE: i64 = 11;
 
 /// Most voxels one search may add to its path (Algorithm 1's bound).
 const MAX_VISITED: usize = 1 << 20;
@@ -206,14 +202,8 @@ impl Living {
 
     /// Pushes itself and runs `observe`, which pops it back.
     fn look_around(&mut self) {
-        self.push(Script {
-            automata: Automata::WalkContinuously,
-            commands: Vec::new(),
-        });
-        self.activate(Script {
-            automata: Automata::Observe,
-            commands: Vec::new(),
-        });
+        self.push(Script::of(Automata::WalkContinuously));
+        self.activate(Script::of(Automata::Observe));
     }
 
     /// Where the actor's eye goes in search voxel `v`: its centre, at the

@@ -17,6 +17,7 @@ use super::court::side_of;
 use super::judge::{Heard, Judge, Verdict};
 use super::score::Match;
 use crate::actors::behaviour::{Script, Senses};
+use crate::actors::live::state::{FIX_THING, INIT_TENNIS_GAME, LOOK_AROUND, UPDATE_TENNIS_GAME};
 use crate::actors::live::Living;
 use crate::lsys::automata::Automata;
 
@@ -24,12 +25,6 @@ use crate::lsys::automata::Automata;
 const BALL_RACKET: u32 = 0;
 const BALL_GROUND: u32 = 1;
 const BALL_NET: u32 = 9;
-
-/// `state` values of table B6.
-const LOOK_AROUND: i64 = 6;
-const FIX_THING: i64 = 16;
-const INIT_TENNIS_GAME: i64 = 19;
-const UPDATE_TENNIS_GAME: i64 = 20;
 
 /// `interest` number of the ball (material 10).
 const BALL: i64 = 0;
@@ -103,7 +98,7 @@ impl Living {
                 self.state = UPDATE_TENNIS_GAME;
                 let Some(verdict) = u.verdict.take() else {
                     // Nothing to call: watch the play.
-                    return self.activate(script(Automata::TennisErrorDetection));
+                    return self.activate(Script::of(Automata::TennisErrorDetection));
                 };
                 let words = call::update(&mut u.game, verdict);
                 u.judge = Judge::new(u.game.server(), u.game.half());
@@ -112,11 +107,11 @@ impl Living {
         };
         let finished = self.umpire.as_ref().is_some_and(|u| u.game.finished());
         if !finished {
-            self.push(script(Automata::Referee));
-            self.push(script(Automata::TennisErrorDetection));
+            self.push(Script::of(Automata::Referee));
+            self.push(Script::of(Automata::TennisErrorDetection));
         }
         self.words = words;
-        self.activate(script(Automata::Talk));
+        self.activate(Script::of(Automata::Talk));
     }
 
     /// `tennis_error_detection` (5.7): follows the ball with its eyes and
@@ -128,7 +123,7 @@ impl Living {
         let Some(u) = self.umpire.as_mut() else {
             // Without a match there is nothing to judge: the referee
             // automata starts one.
-            return self.activate(script(Automata::Referee));
+            return self.activate(Script::of(Automata::Referee));
         };
         let since = *self.progress.since.get_or_insert(senses.time);
         let mut heard: Vec<(f64, u32, [f64; 2])> = senses
@@ -178,20 +173,12 @@ impl Living {
                     u.seen = [u.seen[1], Some((time, ball.position))];
                 }
             }
-            None if self.state == LOOK_AROUND => self.turn_eyes(),
+            None if self.state == LOOK_AROUND => self.turn_eyes(self.half_view()),
             None => {
                 self.state = LOOK_AROUND;
                 self.fov = SEARCH_FOV;
             }
         }
-    }
-}
-
-/// A command string that only names its automata.
-fn script(automata: Automata) -> Script {
-    Script {
-        automata,
-        commands: Vec::new(),
     }
 }
 
