@@ -9,7 +9,7 @@ use lmfilm::lsys::Source;
 use lmfilm::sound::events::Event;
 use lmfilm::turtle::Options;
 
-use super::support::{film, scene, trace, trace_bytes};
+use super::support::{film, same_for_one_and_two_threads, scene, trace};
 
 /// A closed room 20 × 4 × 20 around the origin, floor at y = 0.
 const ROOM: &str = "[ f () () () (2) (10_) (2) (10) c () () () () (20) (4) (0.4) ] \
@@ -353,13 +353,11 @@ fn without_a_path_the_actor_explores_to_its_goal() {
 
 #[test]
 fn navigation_is_the_same_for_one_and_two_threads() {
-    let run = |threads| {
-        let args = ["--frames", "0..80"];
-        trace_bytes("scenes/bench/maze_20_actors.lm", &args, Some(threads))
-    };
-    let one = run("1");
-    assert!(String::from_utf8_lossy(&one).contains("walk_continuously"));
-    assert_eq!(one, run("2"));
+    same_for_one_and_two_threads(
+        "scenes/bench/maze_20_actors.lm",
+        &["--frames", "0..80"],
+        "walk_continuously",
+    );
 }
 
 /// The positions of actor 0 in each frame of `text`, derived in-process.

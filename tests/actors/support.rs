@@ -39,6 +39,14 @@ pub fn trace_bytes(scene: &str, args: &[&str], threads: Option<&str>) -> Vec<u8>
     out.stdout
 }
 
+/// `lmfilm trace SCENE ARGS…` prints the same bytes with 1 and 2 rayon
+/// threads, and what it prints holds `marker` (it traced what it should).
+pub fn same_for_one_and_two_threads(scene: &str, args: &[&str], marker: &str) {
+    let one = trace_bytes(scene, args, Some("1"));
+    assert!(String::from_utf8_lossy(&one).contains(marker), "{scene}");
+    assert_eq!(one, trace_bytes(scene, args, Some("2")), "{scene}");
+}
+
 /// The JSON lines `lmfilm trace` writes for a scene of the repository.
 pub fn trace(scene: &str) -> Vec<serde_json::Value> {
     String::from_utf8(trace_bytes(scene, &[], None))

@@ -10,7 +10,7 @@ use lmfilm::lsys::print::Format;
 use lmfilm::lsys::Source;
 use lmfilm::turtle::Options;
 
-use super::support::{film, scene, trace_bytes};
+use super::support::{film, same_for_one_and_two_threads, scene, trace_bytes};
 
 /// A wall 20 × 20 whose face toward −z is the plane z = 9.5.
 const WALL: &str = "[ f () () () (2) (10_) (0) (10) c () () () () (20) (20) (1) ]";
@@ -229,13 +229,11 @@ fn rgb_interest_sets_local_goal_1() {
 
 #[test]
 fn trace_is_the_same_for_one_and_two_threads() {
-    let trace = |threads| {
-        let args = ["--frames", "0..12"];
-        trace_bytes("scenes/actors/flower_room.lm", &args, Some(threads))
-    };
-    let one = trace("1");
-    assert!(String::from_utf8_lossy(&one).contains("\"memory_voxels\": "));
-    assert_eq!(one, trace("2"));
+    same_for_one_and_two_threads(
+        "scenes/actors/flower_room.lm",
+        &["--frames", "0..12"],
+        "\"memory_voxels\": ",
+    );
 }
 
 #[test]

@@ -4,7 +4,7 @@
 
 use lmfilm::sound::events::Event;
 
-use super::support::{film, trace, trace_bytes};
+use super::support::{film, same_for_one_and_two_threads, trace};
 
 const SCENE: &str = "scenes/tennis/referee.lm";
 
@@ -90,8 +90,5 @@ fn the_ball_is_heard_from_where_it_flies() {
 
 #[test]
 fn the_referee_is_the_same_for_one_and_two_threads() {
-    let run = |threads| trace_bytes(SCENE, &[], Some(threads));
-    let one = run("1");
-    assert!(String::from_utf8_lossy(&one).contains("tennis_error_detection"));
-    assert_eq!(one, run("2"));
+    same_for_one_and_two_threads(SCENE, &[], "tennis_error_detection");
 }
