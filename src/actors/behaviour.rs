@@ -54,6 +54,9 @@ pub enum Deed {
     /// Says sound `sound` with its voice (source [`ACTOR_SOURCE`] + its
     /// number) at `at`.
     Say { sound: u32, source: u32, at: Vec3 },
+    /// A tennis server tosses the ball (5.6): the ball, the first
+    /// particle `C` par1 = 0 started, is at `at` with `velocity`.
+    Toss { at: Vec3, velocity: Vec3 },
 }
 
 /// Where the running automata is in its work.
@@ -120,6 +123,7 @@ impl Living {
             Some(Automata::WalkContinuously) => self.walk_continuously(senses.dt as f32),
             Some(Automata::Referee) => self.referee(),
             Some(Automata::TennisErrorDetection) => self.tennis_error_detection(senses),
+            Some(Automata::PlayTennis) => self.play_tennis(senses, deeds),
             // watch: vision and memory only; L-system: the productions
             // act (5.10); follow_turtle: `M` moves it (the window).
             _ => {}

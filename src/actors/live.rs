@@ -13,6 +13,7 @@ use super::behaviour::{Deed, Progress, Script, Senses};
 use super::memory::{Forgetting, VisualMemory};
 use super::navigate::Navigation;
 use super::octree::Cube;
+use super::tennis::player::Player;
 use super::tennis::referee::Umpire;
 use super::vision::{self, Body, Interest, Percepts, View, Window, THESIS_THRESHOLD};
 use super::{Actor, Table};
@@ -129,6 +130,8 @@ pub struct Living {
     pub navigation: Navigation,
     /// The referee's match and judge (`referee`, 5.7), once it runs.
     pub umpire: Option<Umpire>,
+    /// A player's game (`play_tennis`, 5.6), once it plays.
+    pub player: Option<Player>,
     /// `heuristic`, `coll_test_func` (table G.1), `rel_search_level`
     /// (search voxels of 2^level memory voxels a side), `ahead` (key
     /// points tested) and `inertia` of the navigation.
@@ -191,6 +194,7 @@ impl Living {
             path: Vec::new(),
             navigation: Navigation::default(),
             umpire: None,
+            player: None,
             heuristic: 1,
             coll_test_func: 3,
             rel_search_level: 1,

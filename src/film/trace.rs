@@ -28,7 +28,7 @@ pub struct ParticleRecord {
 }
 
 /// An actor of the film's actor table: its number, the automata it runs
-/// (none when its stack is empty), its `state`, where its eye is and
+/// (none when its stack is empty), its `state` and `tennis_state`, where its eye is and
 /// looks, the goal it heads for, how many voxels its visual memory holds,
 /// and its thing of interest (`interest`, else `rgb_interest`) as the
 /// last sense step found it: whether, on how many pixels, and where
@@ -38,6 +38,7 @@ pub struct ActorRecord {
     pub id: usize,
     pub automata: Option<&'static str>,
     pub state: i64,
+    pub tennis_state: i64,
     pub pos: [f32; 3],
     pub look_at: [f32; 3],
     pub goal: Option<[f32; 3]>,
@@ -57,6 +58,7 @@ impl ActorRecord {
             id: l.id,
             automata: l.automata.map(|a| a.name()),
             state: l.state,
+            tennis_state: l.tennis_state,
             pos: l.eye.to_array(),
             look_at: l.look_at.to_array(),
             goal: l.actual_goal().map(|g| g.to_array()),

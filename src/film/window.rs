@@ -26,6 +26,8 @@ use super::tracks::Tracks;
 
 /// The `turtle` mapping that shows the planned path (6.3.4).
 const SHOW_PATH: i64 = 3;
+/// `turtle` 2: the tennis racket, facing along its stroke (6.3.4).
+const RACKET: i64 = 2;
 /// `turtle` 4: the interactive racket (6.3.4).
 const INTERACTIVE_RACKET: i64 = 4;
 
@@ -270,6 +272,7 @@ impl TurtleWorld for Window<'_> {
     }
 
     fn map_actor(&mut self, actor: Option<u32>, mapping: ActorMapping) -> Option<(DVec3, DVec3)> {
+        let time = self.physics.time();
         let a = self.actor_of(actor)?;
         let id = a.id as u32;
         let v = DVec3::as_vec3;
@@ -280,9 +283,15 @@ impl TurtleWorld for Window<'_> {
                 // motion drives (offline: what the turtle follows, such
                 // as an imported trajectory; 6.3.4).
                 let driven = a.turtle == INTERACTIVE_RACKET;
+                let stroke = (a.turtle == RACKET)
+                    .then(|| a.racket_normal(time))
+                    .flatten();
                 let to = if driven || a.automata == Some(Automata::FollowTurtle) {
                     (a.eye, a.look_at) = (v(&at), v(&(at + h)));
                     None
+                } else if let Some(n) = stroke {
+                    // The racket faces its motion along its planned path.
+                    Some((a.eye.as_dvec3(), (a.eye + n).as_dvec3()))
                 } else {
                     Some((a.eye.as_dvec3(), a.look_at.as_dvec3()))
                 };

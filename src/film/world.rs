@@ -412,10 +412,15 @@ impl Film {
             dt: self.anim.camera.dt,
         };
         for deed in live::act(&mut self.living, &senses) {
-            let Deed::Say { sound, source, at } = deed;
-            self.air
-                .play(sound, source, at.as_dvec3())
-                .map_err(Error::input)?;
+            match deed {
+                Deed::Say { sound, source, at } => self
+                    .air
+                    .play(sound, source, at.as_dvec3())
+                    .map_err(Error::input)?,
+                Deed::Toss { at, velocity } => {
+                    self.physics.toss(at.as_dvec3(), velocity.as_dvec3());
+                }
+            }
         }
         // Step 5. The camera may have moved (`l`): microphone 0 follows it.
         self.air.end_frame(eye).map_err(Error::input)?;

@@ -210,6 +210,23 @@ impl Physics {
         true
     }
 
+    /// A tennis server's toss (5.6): the ball — the first particle in
+    /// table order that `C` par1 = 0 started — is at `at` with velocity
+    /// `vel` from now on. False when the film has no such particle.
+    pub fn toss(&mut self, at: DVec3, vel: DVec3) -> bool {
+        let Some(ball) = self
+            .particles
+            .iter_mut()
+            .find(|p| p.mode == Mode::Integrated)
+        else {
+            return false;
+        };
+        ball.pos = at;
+        ball.vel = vel;
+        ball.placed = self.time;
+        true
+    }
+
     /// `C` par1 = 1 (`mode` [`Mode::Placed`]), 5 ([`Mode::Racket`]) or 6
     /// ([`Mode::Turtle`]):
     /// the particle is at `at`; its velocity comes from its previous

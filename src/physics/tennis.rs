@@ -70,8 +70,16 @@ pub fn racket(at: [f64; 3], field: [f64; 7], c: &[f64; 8]) -> Felt {
 
 /// `?19`: the net of eq. 7.1.3 with f = 1, ((x−a) − u·e) / (((x−a)/b)^c + d)
 /// with a…e = c0..c4; its level is d over the shape, 1 in the net's plane.
+/// The thesis's bounds test: with c5 > 0 the net acts only for
+/// 0 ≤ y ≤ c5 (its height), and with c6 > 0 only for |z| ≤ c6 (half its
+/// length); a ball passing over or beside it feels nothing.
 pub fn net(at: [f64; 3], field: [f64; 7], c: &[f64; 8]) -> Felt {
-    let x = at[0];
+    let [x, y, z] = at;
+    let below = c[5] <= 0.0 || (0.0..=c[5]).contains(&y);
+    let beside = c[6] > 0.0 && z.abs() > c[6];
+    if !below || beside {
+        return Felt::default();
+    }
     let u = field[3];
     let (a, b, cc, d, e) = (c[0], c[1], c[2], c[3], c[4]);
     let shape = ((x - a) / b).powf(cc) + d;

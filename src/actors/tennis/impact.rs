@@ -67,10 +67,28 @@ pub fn corrected_distance(d: f64, x: f64) -> f64 {
     d * (d2 + O) / (x * d2 + O)
 }
 
+/// The earlier root of eq. 5.6.2: how long until a ball below `h`
+/// rising at `vy` gets up to `h`. None when it is not below h and rising,
+/// or does not rise that high.
+pub fn rising_delay(height: f64, vy: f64, h: f64, g: f64) -> Option<f64> {
+    let disc = vy * vy + 2.0 * g * (height - h);
+    (height < h && vy > 0.0 && disc >= 0.0).then(|| (vy - disc.sqrt()) / g)
+}
+
 /// Eq. 5.6.2–5.6.5: the impact point at height `h` of a ball seen at
 /// `p` with velocity `v` at time `now`, with the learned factor `x`.
 pub fn estimate_impact(p: DVec3, v: DVec3, now: f64, h: f64, g: f64, x: f64) -> Option<Impact> {
-    let delay = impact_delay(p.y, v.y, h, g)?;
+    extrapolate(p, v, now, impact_delay(p.y, v.y, h, g)?, h, x)
+}
+
+/// The impact on the rise: as [`estimate_impact`] with the earlier root,
+/// for a ball that bounced and climbs to `h`.
+pub fn rising_impact(p: DVec3, v: DVec3, now: f64, h: f64, g: f64, x: f64) -> Option<Impact> {
+    extrapolate(p, v, now, rising_delay(p.y, v.y, h, g)?, h, x)
+}
+
+/// Eq. 5.6.4–5.6.5: the ball's horizontal run over `delay`, corrected.
+fn extrapolate(p: DVec3, v: DVec3, now: f64, delay: f64, h: f64, x: f64) -> Option<Impact> {
     let run = horizontal(v);
     let dist = corrected_distance(run.length() * delay, x);
     let point = horizontal(p) + run.normalize_or_zero() * dist + DVec3::Y * h;

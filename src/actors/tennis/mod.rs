@@ -5,9 +5,12 @@
 
 pub mod call;
 pub mod court;
+pub mod ears;
+pub mod eyes;
 pub mod hit;
 pub mod impact;
 pub mod judge;
+pub mod player;
 pub mod racket_path;
 pub mod referee;
 pub mod score;

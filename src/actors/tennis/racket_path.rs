@@ -25,8 +25,8 @@ pub const MAX_HIT_DURATION: f64 = 0.1;
 pub const MIN_RACKET_SPEED: f64 = 0.1;
 /// How far the last key point lies towards the opponent's start point.
 const FACING: f64 = 0.05;
-/// The fewest key points before the impact: P₀, P₁, P_{m−1}.
-const MIN_MIDDLE: usize = 3;
+/// The fewest key points before the impact: P₀, P₁, P_{m−2}, P_{m−1}.
+const MIN_MIDDLE: usize = 4;
 
 /// What a racket path is planned from.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,27 +77,35 @@ impl RacketPath {
         let duration = (p.hit_length / speed).min(MAX_HIT_DURATION);
         let length = speed * duration;
         let (t_i, impact) = (p.impact.time, p.impact.point);
-        let approach = (t_i - duration - p.now) / (m - 1) as f64;
+        // The stroke: five collinear keys evenly timed, so that the racket
+        // moves straight at c for `duration` on both sides of the impact.
+        let stroke: Vec<(f64, DVec3)> = (-2..=2)
+            .map(|k| {
+                let k = f64::from(k);
+                (t_i + k * duration, impact + dir * (k * length))
+            })
+            .collect();
+        let (lead_time, lead) = stroke[0];
+        let approach = (lead_time - p.now) / (m - 2) as f64;
         if !(approach > 0.0 && duration > 0.0 && p.return_time > 0.0) {
             return None;
         }
         let mut times = vec![p.now];
         let mut points = vec![p.position];
         let first = p.position + p.velocity * approach;
-        let stroke_start = impact - dir * length;
-        for k in 1..m - 1 {
+        for k in 1..=m - 3 {
             times.push(p.now + k as f64 * approach);
-            points.push(first.lerp(stroke_start, (k - 1) as f64 / (m - 2) as f64));
+            points.push(first.lerp(lead, (k - 1) as f64 / (m - 3) as f64));
         }
-        let stroke_end = impact + dir * length;
-        times.extend([t_i - duration, t_i, t_i + duration]);
-        points.extend([stroke_start, impact, stroke_end]);
-        let back = p.return_time / (m - 2) as f64;
-        for k in 1..=m - 2 {
-            times.push(t_i + duration + k as f64 * back);
-            points.push(stroke_end.lerp(p.start, k as f64 / (m - 2) as f64));
+        times.extend(stroke.iter().map(|s| s.0));
+        points.extend(stroke.iter().map(|s| s.1));
+        let (end_time, end) = stroke[4];
+        let back = p.return_time / (m - 3) as f64;
+        for k in 1..=m - 3 {
+            times.push(end_time + k as f64 * back);
+            points.push(end.lerp(p.start, k as f64 / (m - 3) as f64));
         }
-        times.push(t_i + duration + p.return_time + back);
+        times.push(end_time + p.return_time + back);
         points.push(p.start + FACING * (p.opponent_start - p.start));
         let curve = Trajectory::new(&times, &points);
         Some(RacketPath {
@@ -239,12 +247,30 @@ mod tests {
         let p = plan();
         let path = RacketPath::plan(&p).unwrap();
         let (times, _) = path.keys();
-        let back = times[6] + p.return_time;
+        let back = times[7] + p.return_time;
         assert!((path.at(back).0 - p.start).length() < 1e-12);
         let face = p.start + 0.05 * (p.opponent_start - p.start);
         assert_eq!(path.at(path.end() + 3.0), (face, DVec3::ZERO));
         let towards = (p.opponent_start - p.start).normalize();
         assert!((path.normal(path.end() + 3.0) - towards).length() < 1e-9);
+    }
+
+    /// On both sides of the impact, for the stroke's duration, the racket
+    /// moves straight at c: a ball early or late meets the same face.
+    #[test]
+    fn the_stroke_is_straight_at_c_around_the_impact() {
+        let p = plan();
+        let path = RacketPath::plan(&p).unwrap();
+        let (times, _) = path.keys();
+        let duration = times[6] - times[5];
+        let c = p.hit.velocity();
+        for f in [-1.0, -0.6, -0.2, 0.3, 0.7, 1.0] {
+            let t = p.impact.time + f * duration;
+            let (pos, vel) = path.at(t);
+            assert!((vel - c).length() < 1e-9 * c.length(), "{f}: {vel} vs {c}");
+            let on_line = p.impact.point + c * (t - p.impact.time);
+            assert!((pos - on_line).length() < 1e-9, "{f}: {pos}");
+        }
     }
 
     #[test]
@@ -261,11 +287,11 @@ mod tests {
     }
 
     #[test]
-    fn the_smallest_path_has_seven_keys() {
+    fn the_smallest_path_has_nine_keys() {
         let mut p = plan();
         p.middle = 0;
         let path = RacketPath::plan(&p).unwrap();
-        assert_eq!(path.keys().0.len(), 7);
+        assert_eq!(path.keys().0.len(), 9);
         assert!((path.at(p.impact.time).0 - p.impact.point).length() < 1e-12);
     }
 }
