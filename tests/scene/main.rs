@@ -10,4 +10,5 @@ mod common;
 mod mesh;
 mod obj;
 mod snapshot;
+mod tennis_set;
 mod turtle;
