@@ -95,11 +95,11 @@ const PARTNER_NEAR: f64 = 2.5;
 const BALL_SIZE: f64 = 0.2;
 const SEARCH_PIXELS: f64 = 3.0;
 /// How far from its start a player goes for the ball (horizontally).
-const REACH: f64 = 4.0;
+const REACH: f64 = 8.0;
 /// Below this height the ball is about to bounce (bounce_begin).
 const BOUNCE_BEGINS: f64 = 0.5;
 /// A ball landing this far outside the player's court is let go.
-const LET_GO: f64 = 0.5;
+const LET_GO: f64 = 1.0;
 
 /// What vision is busy with (figure 5.6.3): the ball, or a glance at the
 /// partner.
@@ -595,10 +595,12 @@ impl Living {
                     return;
                 }
                 p.first_sight = Some((at, v, t));
+                p.stroke = None;
                 // The receiver lets a service bounce (a volley would lose
                 // the point).
                 let receiving = !p.is_server() && p.strokes == 0 && p.bounced.is_none();
-                let second = after_bounce(&first, v, h);
+                // Eq. 5.6.7 with the ball's velocity as it falls through h.
+                let second = after_bounce(&first, velocity_at(v, t, &first), h);
                 let choice = if serving {
                     choose_impact(p.start, first, None)
                 } else if receiving {
@@ -633,9 +635,13 @@ impl Living {
                     .is_none_or(|s| at.distance(s.impact.point) > STOP_ESTIMATING);
                 if let (true, Some(v)) = (far && p.frames % ESTIMATE_EVERY == 0, p.velocity) {
                     let first = estimate_impact(at, v, t, HIT_HEIGHT, G, p.learner.x());
-                    if let Some(second) = first.and_then(|f| after_bounce(&f, v, HIT_HEIGHT)) {
+                    let second = first.and_then(|f| {
+                        let fall = velocity_at(v, t, &f);
+                        Some((after_bounce(&f, fall, HIT_HEIGHT)?, fall))
+                    });
+                    if let Some((second, fall)) = second {
                         let eye = self.eye.as_dvec3();
-                        let rebound = DVec3::new(v.x, v.y.abs(), v.z);
+                        let rebound = DVec3::new(fall.x, fall.y.abs(), fall.z);
                         p.plan(eye, t, second, rebound, false);
                     }
                 }
@@ -753,7 +759,7 @@ impl Player {
     /// Whether a ball seen at `at` with velocity `v` at `t` lands in
     /// the player's court (a margin outside counts in).
     fn side_ok(&self, at: DVec3, v: DVec3, t: f64) -> bool {
-        let Some(landing) = estimate_impact(at, v, t, 0.0, G, self.learner.x()) else {
+        let Some(landing) = estimate_impact(at, v, t, 0.0, G, 1.0) else {
             return true;
         };
         let c = court(self.side);
