@@ -11,5 +11,6 @@ mod path;
 mod support;
 mod symbols;
 mod tennis;
+mod tennis_match;
 mod terrain;
 mod vision;

@@ -42,6 +42,9 @@ pub struct Umpire {
     ears: Ears,
     /// What ended the last `tennis_error_detection`, for `referee`.
     verdict: Option<Verdict>,
+    /// Every verdict given, with the time it was given: the match's
+    /// record (what the calls said, in order).
+    pub verdicts: Vec<(f64, Verdict)>,
 }
 
 impl Umpire {
@@ -53,6 +56,7 @@ impl Umpire {
             seen: Sightings::default(),
             ears: Ears::default(),
             verdict: None,
+            verdicts: Vec::new(),
         }
     }
 }
@@ -132,6 +136,7 @@ impl Living {
             };
             if let Some(v) = u.judge.hear(event) {
                 u.verdict = Some(v);
+                u.verdicts.push((senses.time, v));
                 return self.pop();
             }
         }
