@@ -629,10 +629,10 @@ impl Living {
                     p.learn_x(at, t);
                     return;
                 }
-                let far = p
+                let far = !p
                     .stroke
                     .as_ref()
-                    .is_none_or(|s| at.distance(s.impact.point) > STOP_ESTIMATING);
+                    .is_some_and(|s| at.distance(s.impact.point) <= STOP_ESTIMATING);
                 if let (true, Some(v)) = (far && p.frames % ESTIMATE_EVERY == 0, p.velocity) {
                     let first = estimate_impact(at, v, t, HIT_HEIGHT, G, p.learner.x());
                     let second = first.and_then(|f| {
