@@ -89,13 +89,14 @@ fn true_bounce(path: &[(f64, DVec3, DVec3)], t: f64) -> [f64; 2] {
 /// The verdict of each point from the physics: the collisions the
 /// physics heard, each placed where the ball truly was, given to a judge
 /// of the same service as the referee's.
-fn true_verdicts(m: &Played) -> Vec<(Option<Verdict>, Verdict, f64)> {
+fn true_verdicts(m: &Played) -> Vec<(Option<Verdict>, Verdict, f64, Vec<Heard>)> {
     let mut game = Match::default();
     let mut from = f64::NEG_INFINITY;
     let mut out = Vec::new();
     for &(t, said) in &m.verdicts {
         let mut judge = Judge::new(game.server(), game.half());
         let mut truth = None;
+        let mut events = Vec::new();
         for (time, file) in m.collisions.iter().filter(|c| c.0 > from && c.0 <= t) {
             let at = |t: f64| {
                 let p = m.path.iter().find(|p| p.0 >= t - 1e-9).unwrap().1;
@@ -112,10 +113,11 @@ fn true_verdicts(m: &Played) -> Vec<(Option<Verdict>, Verdict, f64)> {
                 _ => continue,
             };
             if truth.is_none() {
+                events.push(heard);
                 truth = judge.hear(heard);
             }
         }
-        out.push((truth, said, t));
+        out.push((truth, said, t, events));
         call::update(&mut game, said);
         from = t;
     }
@@ -140,17 +142,17 @@ fn rallies(m: &Played) -> Vec<usize> {
 
 #[test]
 fn the_referee_calls_what_the_physics_says_and_the_players_rally() {
-    let m = play(150);
+    let m = play(200);
     let verdicts = true_verdicts(&m);
-    assert!(verdicts.len() >= 14, "only {} points", verdicts.len());
+    assert!(verdicts.len() >= 20, "only {} points", verdicts.len());
     let wrong: Vec<_> = verdicts.iter().filter(|v| v.0 != Some(v.1)).collect();
     println!(
         "{} points, {} calls disagree with the physics:",
         verdicts.len(),
         wrong.len()
     );
-    for (truth, said, t) in &wrong {
-        println!("  T = {t:.2}: the referee said {said:?}, the physics {truth:?}");
+    for (truth, said, t, events) in &wrong {
+        println!("  T = {t:.2}: the referee said {said:?}, the physics {truth:?} from {events:?}");
     }
     let agree = 1.0 - wrong.len() as f64 / verdicts.len() as f64;
     assert!(agree >= 0.95, "{:.0} % of the calls agree", 100.0 * agree);

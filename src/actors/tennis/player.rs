@@ -76,7 +76,7 @@ const BEHIND: f64 = 1.0;
 const SERVER_FROM_CENTRE: f64 = 0.8;
 /// The aim's margin inside the lines, and the service's aim, this far in
 /// front of the service line.
-const AIM_MARGIN: f64 = 1.0;
+const AIM_MARGIN: f64 = 2.0;
 const SERVE_SHORT: f64 = 1.2;
 /// The toss: from in front of the server, straight up.
 const TOSS_AHEAD: f64 = 1.0;
@@ -316,8 +316,14 @@ impl Living {
             }
             let voice = e.source >= ACTOR_SOURCE;
             match e.sound {
-                // The point is over; the next service says where to go.
-                FAULT | LET if voice => p.end_point(),
+                // The point is over: the ball is dead, and the next
+                // service says where to go.
+                FAULT | LET if voice => {
+                    p.end_point();
+                    if self.tennis_state > FOLLOW_BALL {
+                        self.tennis_state = FOLLOW_BALL;
+                    }
+                }
                 SERVICE if voice => {
                     p.end_point();
                     p.interpret = true;
