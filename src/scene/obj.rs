@@ -111,12 +111,12 @@ pub const BUILT_IN_MESHES: [(&str, &[u8]); 2] = [
     ),
 ];
 
+/// An imported mesh: its triangles and materials, as [`read_obj`] gives.
+pub type ObjMesh = (Vec<Triangle>, Vec<Material>);
+
 /// [`read_obj`] on a file of [`BUILT_IN_MESHES`], its MTL libraries
 /// looked up there next to it; `None` when `name` is not one of them.
-pub fn read_built_in_obj(
-    name: &str,
-    material_base: u32,
-) -> Option<Result<(Vec<Triangle>, Vec<Material>), MeshError>> {
+pub fn read_built_in_obj(name: &str, material_base: u32) -> Option<Result<ObjMesh, MeshError>> {
     let find = |n: &str| {
         BUILT_IN_MESHES
             .iter()
