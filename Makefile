@@ -4,7 +4,7 @@ CARGO ?= cargo
 .PHONY: film test check lint bench bench-render clean help
 
 help:
-	@echo "make film   the built-in film: frames, soundtrack and manifest in renders/lmfilm/ (an MP4 too with ffmpeg)"
+	@echo "make film   the built-in film (14 s of the tennis match on its set): frames, soundtrack and manifest in renders/lmfilm/ (an MP4 too with ffmpeg)"
 	@echo "make test   build and run the whole test suite"
 	@echo "make lint   cargo fmt --check and cargo clippy --all-targets"
 	@echo "make bench  criterion benchmarks of the step function and the turtle"

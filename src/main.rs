@@ -93,14 +93,20 @@ enum Command {
     /// Make a whole film: derive, render every frame, the soundtrack, the
     /// manifest, and an MP4 when ffmpeg is installed.
     ///
-    /// With no scene, the built-in film (a tree growing in the wind, a
-    /// field of flowers, an aeroplane with its Doppler sound) goes to
-    /// renders/lmfilm/. A re-run redoes exactly the outputs whose inputs
-    /// (scenes, the files they name, settings) changed or whose bytes were
-    /// damaged; a folder of another film is refused (`--clean` empties
-    /// it). Examples:
+    /// With no scene, the built-in film goes to renders/lmfilm/: 14 s of
+    /// the tennis match (two players, the ball, the referee calling the
+    /// score) on its set, the camera circling down from over the trees to
+    /// behind the referee, rendered at the final preset with 3 samples
+    /// per pixel unless --preset or --spp is given. The former built-in
+    /// film (a tree growing in the wind, a field of flowers, an aeroplane
+    /// with its Doppler sound) is the second example. A re-run redoes
+    /// exactly the outputs whose inputs (scenes, the files they name,
+    /// settings) changed or whose bytes were damaged; a folder of another
+    /// film is refused (`--clean` empties it). Examples:
     ///
     ///     lmfilm run
+    ///
+    ///     lmfilm run scenes/film/tree.lm scenes/film/flowers.lm scenes/film/airplane.lm
     ///
     ///     lmfilm run scenes/examples/airplane.lm -o renders/plane --preset preview
     Run {

@@ -234,9 +234,12 @@ pub struct RenderArgs {
     /// (or the scene's `rs_switch` ranges).
     #[arg(long, value_name = "A..B")]
     pub frames: Option<FrameRange>,
-    /// `final`: 16 samples, shadows, reflections; `preview`: 1 sample.
-    #[arg(long, value_enum, default_value_t = PresetArg::Final)]
-    pub preset: PresetArg,
+    /// `final` (the default): 16 samples, shadows, reflections;
+    /// `preview`: 1 sample. `run` with no scene (the built-in film)
+    /// renders at `final` with 3 samples per pixel unless --preset or
+    /// --spp is given.
+    #[arg(long, value_enum, value_name = "PRESET")]
+    pub preset: Option<PresetArg>,
     /// Image width (default: the scene camera's `prefpos`).
     #[arg(long, value_parser = side)]
     pub width: Option<u32>,
@@ -261,13 +264,20 @@ pub struct RenderArgs {
 
 impl RenderArgs {
     /// The render settings (0 × 0: each snapshot camera's size) and the
-    /// formats; a given size must fit `max_pixels`.
-    pub fn settings(&self, max_pixels: u64) -> crate::error::Result<(Settings, Formats)> {
+    /// formats; a given size must fit `max_pixels`. `default_spp`: the
+    /// samples per pixel when neither --preset nor --spp is given (the
+    /// built-in film's), else the preset's.
+    pub fn settings(
+        &self,
+        max_pixels: u64,
+        default_spp: Option<u32>,
+    ) -> crate::error::Result<(Settings, Formats)> {
         if let (Some(w), Some(h)) = (self.width, self.height) {
             Limits::check_pixels(w, h, max_pixels).map_err(crate::error::Error::input)?;
         }
         let (w, h) = (self.width.unwrap_or(0), self.height.unwrap_or(0));
-        let s = quality(self.preset, w, h, self.spp);
+        let spp = self.spp.or(default_spp.filter(|_| self.preset.is_none()));
+        let s = quality(self.preset.unwrap_or(PresetArg::Final), w, h, spp);
         let f = match self.format {
             FormatArg::Png => Formats::Png,
             FormatArg::Exr => Formats::Exr,

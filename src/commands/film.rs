@@ -44,9 +44,16 @@ fn derive_into(loaded: &mut Loaded, dir: &Path, clean: bool, allow: bool) -> Res
 }
 
 /// Renders the frames of `dir` that `--frames` (else the film's own
-/// selection) and `shard` name; returns (rendered now, selected).
-fn render_into(dir: &Path, args: &RenderArgs, shard: Shard, max_pixels: u64) -> Result<(u64, u64)> {
-    let (settings, formats) = args.settings(max_pixels)?;
+/// selection) and `shard` name, at `default_spp` samples per pixel when
+/// neither --preset nor --spp is given; returns (rendered now, selected).
+fn render_into(
+    dir: &Path,
+    args: &RenderArgs,
+    shard: Shard,
+    max_pixels: u64,
+    default_spp: Option<u32>,
+) -> Result<(u64, u64)> {
+    let (settings, formats) = args.settings(max_pixels, default_spp)?;
     let rec = job::open(dir)?;
     let selection = match args.frames {
         Some(range) => FrameSelection::range(range),
@@ -116,12 +123,15 @@ pub fn run(
     sound_args: &SoundArgs,
 ) -> Result<()> {
     args.threads();
-    args.settings(film.limits.pixels)?;
+    // The built-in film's own sampling (docs/film.md, "The built-in film").
+    let default_spp = film.scenes.is_empty().then_some(scenes::BUILT_IN_SPP);
+    args.settings(film.limits.pixels, default_spp)?;
     let sound_settings = sound_args.settings();
     let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
     let dir = scenes::output_dir(out, &loaded.film, &loaded.name);
     let derived = derive_into(&mut loaded, &dir, film.clean, film.allow_commands)?;
-    let (rendered, selected) = render_into(&dir, args, Shard::all(), film.limits.pixels)?;
+    let (rendered, selected) =
+        render_into(&dir, args, Shard::all(), film.limits.pixels, default_spp)?;
     let sounded = soundtrack(&dir, &sound_settings)?;
     let complete = job::all_rendered(&dir)?;
     let mp4 = if complete && mux::ffmpeg_available() {
@@ -179,7 +189,7 @@ pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
 /// never write one file; a whole render writes it.
 pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>, max_pixels: u64) -> Result<()> {
     args.threads();
-    let (n, selected) = render_into(dir, args, shard.unwrap_or(Shard::all()), max_pixels)?;
+    let (n, selected) = render_into(dir, args, shard.unwrap_or(Shard::all()), max_pixels, None)?;
     println!(
         "{}: {n} of {selected} frames rendered now (the others up to date) in {}",
         dir.display(),

@@ -182,6 +182,10 @@ impl Film {
     pub fn referenced_files(&self) -> Vec<(String, PathBuf)> {
         let mut files = Vec::new();
         for ls in &self.anim.systems {
+            // The built-in film's surfaces are part of the program.
+            if ls.def.name.starts_with(crate::scene::obj::BUILT_IN_PREFIX) {
+                continue;
+            }
             let dir = Path::new(&ls.def.name).parent().unwrap_or(Path::new("."));
             for (_, file) in &ls.def.surfaces {
                 let obj = dir.join(&file.name);

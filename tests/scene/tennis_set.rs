@@ -1,13 +1,25 @@
-//! The set of the tennis match (`scenes/tennis/stadium.lm`) and the
+//! The set of the tennis match (`scenes/tennis/match.lm`'s court, chair
+//! and sky, `scenes/tennis/landscape.lm`'s plants and camera), the
 //! referee's head it imports (`scenes/meshes/head.obj`, written by
-//! `scripts/head_mesh.py`).
+//! `scripts/head_mesh.py`), and the built-in film that shows them
+//! (`scenes/tennis/showcase.lm` first).
 
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
+use lmfilm::commands::scenes;
 use lmfilm::film::Film;
+use lmfilm::lsys::automata::Automata;
+use lmfilm::lsys::Limits;
 use lmfilm::scene::obj::read_obj;
 use lmfilm::turtle::Options;
+
+/// The built-in film's files, in order.
+const SHOWCASE: [&str; 3] = [
+    "scenes/tennis/showcase.lm",
+    "scenes/tennis/match.lm",
+    "scenes/tennis/landscape.lm",
+];
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
@@ -56,18 +68,14 @@ fn the_head_mesh_imports_with_its_own_colours() {
 }
 
 #[test]
-fn the_stadium_derives_every_frame_without_warnings() {
-    let mut film = Film::load(&[repo("scenes/tennis/stadium.lm")], Options::default()).unwrap();
-    assert_eq!(film.frame_count(), 301, "12 s at 25 frames per second");
-    while let Some(frame) = film.next_frame().unwrap() {
-        assert!(
-            frame.warnings().is_empty(),
-            "frame {}: {:?}",
-            frame.number(),
-            frame.warnings()
-        );
-        // The set leaves the players' colours alone: no material of the
-        // set is the ball's or a player's (table entries 10, 11, 12).
+fn the_landscape_leaves_the_players_colours_alone() {
+    // No material of the landscape is the ball's or a player's (table
+    // entries 10, 11, 12); alone it has no camera section, so it is
+    // derived after a file that has one.
+    let mut film = Film::load(&[repo(SHOWCASE[0]), repo(SHOWCASE[2])], Options::default()).unwrap();
+    for _ in 0..=100 {
+        let frame = film.next_frame().unwrap().unwrap();
+        assert!(frame.warnings().is_empty(), "{:?}", frame.warnings());
         if frame.number() % 50 == 0 {
             let scene = frame.scene();
             for i in scene
@@ -79,6 +87,21 @@ fn the_stadium_derives_every_frame_without_warnings() {
                 assert!(!["actor1", "actor2", "ball"].contains(&name), "{name}");
             }
         }
+    }
+}
+
+#[test]
+fn the_showcase_derives_every_frame_without_warnings() {
+    let files: Vec<PathBuf> = SHOWCASE.iter().map(|f| repo(f)).collect();
+    let mut film = Film::load(&files, Options::default()).unwrap();
+    assert_eq!(film.frame_count(), 351, "14 s at 25 frames per second");
+    while let Some(frame) = film.next_frame().unwrap() {
+        assert!(
+            frame.warnings().is_empty(),
+            "frame {}: {:?}",
+            frame.number(),
+            frame.warnings()
+        );
     }
     let frame = film.frame().unwrap();
     let scene = frame.scene();
@@ -116,4 +139,55 @@ fn the_stadium_derives_every_frame_without_warnings() {
         }
     }
     assert!(plants > 100, "{plants} plants");
+}
+
+#[test]
+fn the_built_in_film_is_the_tennis_showcase() {
+    let mut loaded = scenes::load(&[], false, Limits::default()).unwrap();
+    assert_eq!(loaded.name, "lmfilm");
+    let names: Vec<&str> = loaded.texts.iter().map(|t| t.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "built-in:showcase.lm",
+            "built-in:match.lm",
+            "built-in:landscape.lm"
+        ]
+    );
+    // The texts built into the program are the scene files.
+    for (text, file) in loaded.texts.iter().zip(SHOWCASE) {
+        assert_eq!(text.bytes, std::fs::read(repo(file)).unwrap(), "{file}");
+    }
+    let film = &mut loaded.film;
+    assert_eq!(film.frame_count(), 351, "14 s at 25 frames per second");
+    // The two players and the referee.
+    let automata: Vec<_> = film.living().iter().map(|l| l.automata).collect();
+    assert_eq!(
+        automata,
+        [
+            Some(Automata::PlayTennis),
+            Some(Automata::PlayTennis),
+            Some(Automata::Referee)
+        ]
+    );
+    for _ in 0..5 {
+        let frame = film.next_frame().unwrap().unwrap();
+        assert!(
+            frame.warnings().is_empty(),
+            "frame {}: {:?}",
+            frame.number(),
+            frame.warnings()
+        );
+    }
+    // The head is the built-in copy of head.obj, with its colours,
+    // whatever the current folder holds.
+    let frame = film.frame().unwrap();
+    let scene = frame.scene();
+    assert!(scene.geometries.iter().any(|g| g.triangles.len() > 1000));
+    assert!(scene.materials.iter().any(|m| m.name == "head_skin"));
+    assert!(
+        film.referenced_files().is_empty(),
+        "{:?}",
+        film.referenced_files()
+    );
 }
