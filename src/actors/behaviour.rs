@@ -19,6 +19,11 @@ use crate::sound::air::Ongoing;
 /// Sound source of actor n's voice: `ACTOR_SOURCE + n`.
 pub const ACTOR_SOURCE: u32 = 2000;
 
+/// Whether sound source `source` is an actor's voice.
+pub fn is_voice(source: u32) -> bool {
+    (ACTOR_SOURCE..ACTOR_SOURCE.saturating_add(super::MAX_ACTORS as u32)).contains(&source)
+}
+
 /// How fast an actor turns (walk_local, auto_align), in radians a second.
 const TURN_SPEED: f32 = std::f32::consts::FRAC_PI_2;
 

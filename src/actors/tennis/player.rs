@@ -23,7 +23,7 @@ use super::impact::{
     velocity_now, Impact, Learner,
 };
 use super::racket_path::{RacketPath, StrokePlan};
-use crate::actors::behaviour::{Deed, Script, Senses, ACTOR_SOURCE};
+use crate::actors::behaviour::{is_voice, Deed, Script, Senses};
 use crate::actors::live::Living;
 use crate::lsys::automata::{Automata, AutomataCommand};
 
@@ -314,7 +314,7 @@ impl Living {
             if e.source == me {
                 continue;
             }
-            let voice = e.source >= ACTOR_SOURCE;
+            let voice = is_voice(e.source);
             match e.sound {
                 // The point is over: the ball is dead, and the next
                 // service says where to go.
