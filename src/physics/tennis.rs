@@ -113,3 +113,26 @@ fn ramp(arg: f64, c: &[f64; 8]) -> Felt {
         level: hermite(arg, c[0], 0.0, 1.0),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// With a height and a half length (c5, c6), the net acts below and
+    /// beside nothing else: a ball over it or past its post feels nothing
+    /// and is not heard; without them it acts everywhere.
+    #[test]
+    fn the_net_acts_only_within_its_bounds() {
+        let bounded = [0.0, 0.1, 4.0, 1.0, 1.0, 0.95, 6.4, 0.0];
+        let field = [0.0, 0.0, 0.0, -20.0, 0.0, 0.0, 0.0];
+        let at = |y: f64, z: f64| net([0.02, y, z], field, &bounded);
+        assert!(at(0.5, 2.0).field.value > 1.0);
+        assert!(at(0.5, 2.0).level > 0.5);
+        assert_eq!(at(1.2, 2.0), Felt::default());
+        assert_eq!(at(0.5, 7.0), Felt::default());
+        assert_eq!(at(-0.1, 0.0), Felt::default());
+        let mut unbounded = bounded;
+        unbounded[5..7].copy_from_slice(&[0.0, 0.0]);
+        assert!(net([0.02, 30.0, 50.0], field, &unbounded).level > 0.5);
+    }
+}
