@@ -27,9 +27,10 @@ use crate::lsys::automata::Automata;
 const BALL_RACKET: u32 = 0;
 const BALL_GROUND: u32 = 1;
 const BALL_NET: u32 = 9;
-/// The height of the ball's centre as it touches the ground, as the
-/// referee sees it (the scenes' ball has a radius of 0.1).
-const BALL_LOW: f64 = 0.1;
+/// The height of the ball's centre at the bottom of a bounce, as the
+/// referee knows it: the scenes' ball has a radius of 0.1 and the
+/// ground's field stops its centre about 0.14 up.
+const BALL_LOW: f64 = 0.14;
 
 /// What the referee keeps between frames.
 #[derive(Debug, Clone, PartialEq)]
