@@ -78,13 +78,15 @@ pub fn table() -> Vec<Material> {
         plain("white", grey(0.9), 0.3, 20.0),
         plain("earth", Vec3::new(0.40, 0.30, 0.18), 0.0, 1.0),
         plain("green2", Vec3::new(0.3, 0.6, 0.2), 0.1, 5.0),
-        plain("actor1", Vec3::new(0.1, 0.8, 0.2), 0.3, 30.0),
-        plain("actor2", Vec3::new(0.1, 0.3, 0.9), 0.3, 30.0),
+        // 10, 11, 12: the ball and the two players, in the order of the
+        // `interest` codes (C.6, docs/symbols.md §5 reading 8).
         Material {
             // The thesis's own tennis ball (3.1.2): ambient is half the diffuse.
             ambient: Vec3::new(0.4, 0.2, 0.1),
             ..plain("ball", Vec3::new(0.8, 0.4, 0.2), 0.0, 1.0)
         },
+        plain("actor1", Vec3::new(0.1, 0.8, 0.2), 0.3, 30.0),
+        plain("actor2", Vec3::new(0.1, 0.3, 0.9), 0.3, 30.0),
         Material {
             reflect: 0.9,
             ..plain("mirror", grey(0.05), 0.9, 200.0)
@@ -239,9 +241,9 @@ mod tests {
         "white",
         "earth",
         "green2",
+        "ball",
         "actor1",
         "actor2",
-        "ball",
         "mirror",
         "skin",
         "grey0",

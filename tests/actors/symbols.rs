@@ -212,10 +212,10 @@ fn the_thing_of_interest_is_found_and_located() {
 
 #[test]
 fn rgb_interest_sets_local_goal_1() {
-    // Material 10 is `actor1`, diffuse (0.1, 0.8, 0.2): its shaded pixels
+    // Material 10 is the ball, diffuse (0.8, 0.4, 0.2): its shaded pixels
     // have that hue.
     let options = "NBR_actors 1\niVisionWinSize 0 32 16\n\
-        actorNbr_automata 0 watch obs 0 1 0 lat 0 1 8 fov 300 rgb_interest 25 204 51 1";
+        actorNbr_automata 0 watch obs 0 1 0 lat 0 1 8 fov 300 rgb_interest 204 102 51 1";
     let prods = "x (0) [(?38)>]\n1.0 X EndProb\nEnd\n";
     let mut f = film(&scene(0.08, options, &format!("{BALL} x"), prods));
     f.seek(1, |_, _| {}).unwrap();
