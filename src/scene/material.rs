@@ -328,7 +328,7 @@ mod tests {
 
     #[test]
     fn ball_matches_thesis() {
-        let m = &table()[12];
+        let m = &table()[10];
         assert_eq!(m.ambient, Vec3::new(0.4, 0.2, 0.1));
         assert_eq!(m.diffuse, Vec3::new(0.8, 0.4, 0.2));
         assert_eq!(m.specular, Vec3::ZERO);
