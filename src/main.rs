@@ -197,6 +197,9 @@ enum Command {
         #[arg(value_name = "DIR")]
         dir: PathBuf,
     },
+    /// A film on a render farm: a Slurm job chain (docs/farm.md).
+    #[command(subcommand)]
+    Farm(FarmCommand),
     /// JSON Lines on stdout, one object per frame.
     ///
     /// Each object holds the frame, its time, the particles (id, pos, vel,
@@ -275,6 +278,61 @@ fn keep_freed_memory() {
 #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
 fn keep_freed_memory() {}
 
+/// The render-farm commands.
+#[derive(Subcommand)]
+enum FarmCommand {
+    /// Write the film's Slurm job chain into DIR/farm/ and submit it.
+    ///
+    /// One derive job, an array of N render tasks (task i renders shard
+    /// i/N, retried on failure), one finishing job (soundtrack, manifest,
+    /// MP4 when ffmpeg exists, verify), each after the one before
+    /// succeeded. DIR must be a folder every node shares; the jobs run
+    /// this lmfilm by its absolute path. Submitting again resumes: only
+    /// what is missing is redone. Example:
+    ///
+    ///     lmfilm farm slurm scenes/tennis/match.lm -o /shared/match --shards 8 --dry-run
+    Slurm {
+        /// Definition files derived together as one animation.
+        #[arg(required = true, value_name = "SCENE.lm")]
+        scenes: Vec<PathBuf>,
+        /// The film folder, on storage every node shares.
+        #[arg(short, long, value_name = "DIR")]
+        output: PathBuf,
+        /// Render tasks in the array.
+        #[arg(long, value_name = "N")]
+        shards: u32,
+        /// Slurm partition of every job.
+        #[arg(long, value_name = "P")]
+        partition: Option<String>,
+        /// Wall-time limit of every job (`HH:MM:SS`, `MM`, `D-HH`…).
+        #[arg(long, value_name = "T")]
+        time: Option<String>,
+        /// Memory of every job (`4G`, `500M`).
+        #[arg(long, value_name = "M")]
+        mem: Option<String>,
+        /// CPUs of every job (`--cpus-per-task`).
+        #[arg(long, value_name = "C")]
+        cpus: Option<u32>,
+        /// Slurm account charged.
+        #[arg(long, value_name = "A")]
+        account: Option<String>,
+        /// The lmfilm binary the jobs run (default: this one).
+        #[arg(long, value_name = "PATH")]
+        lmfilm: Option<PathBuf>,
+        /// Write and print the scripts; submit nothing.
+        #[arg(long)]
+        dry_run: bool,
+    },
+    /// The chain's jobs as Slurm accounts for them, and the frames done.
+    ///
+    ///     lmfilm farm status /shared/match
+    Status {
+        /// A film folder a chain was submitted into.
+        #[arg(value_name = "DIR")]
+        dir: PathBuf,
+    },
+}
+
 fn main() -> ExitCode {
     keep_freed_memory();
     let cli = Cli::parse();
@@ -338,6 +396,40 @@ fn main() -> ExitCode {
             };
             commands::film::derive(&film, &output)
         }
+        Command::Farm(FarmCommand::Slurm {
+            scenes,
+            output,
+            shards,
+            partition,
+            time,
+            mem,
+            cpus,
+            account,
+            lmfilm,
+            dry_run,
+        }) => {
+            let lmfilm = match lmfilm {
+                Some(p) => Ok(p),
+                None => std::env::current_exe().map_err(|e| {
+                    lmfilm::error::Error::input(format!(
+                        "this lmfilm's path: {e}; give --lmfilm PATH"
+                    ))
+                }),
+            };
+            lmfilm.and_then(|lmfilm| {
+                let slurm = commands::farm::Slurm {
+                    shards,
+                    partition,
+                    time,
+                    mem,
+                    cpus,
+                    account,
+                    lmfilm,
+                };
+                commands::farm::slurm(&scenes, &output, slurm, dry_run)
+            })
+        }
+        Command::Farm(FarmCommand::Status { dir }) => commands::farm::status(&dir),
         Command::Render {
             dir,
             render,

@@ -10,6 +10,7 @@ mod common;
 mod actor_images;
 mod cli;
 mod determinism;
+mod farm;
 mod film;
 mod frame_loop;
 mod limits;

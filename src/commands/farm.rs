@@ -1,0 +1,334 @@
+//! `lmfilm farm slurm`: a film as a Slurm job chain over one shared
+//! folder — one derive job, an array of render tasks (task i renders
+//! shard i of N), one finishing job (soundtrack and manifest, MP4 when
+//! ffmpeg exists, `verify`) — each starting only when the one before
+//! succeeded (`afterok`). The jobs run the same commands a user runs by
+//! hand (DESIGN §5), so a chain submitted again resumes: each stage
+//! redoes only what is missing or invalid. `lmfilm farm status` reads
+//! the chain back from Slurm and counts the frames done.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use crate::error::{Error, Result};
+
+/// The chain's folder inside the film folder, and its logs.
+pub const FARM_DIR: &str = "farm";
+pub const LOGS_DIR: &str = "logs";
+/// The job ids of the last submission, one per line: derive, render,
+/// finish.
+const JOBS_FILE: &str = "jobs.txt";
+
+/// How often a render task runs its shard again after a failure before
+/// it gives up (the shard is resumable: a retry renders only what is
+/// missing).
+pub const RENDER_ATTEMPTS: u32 = 3;
+
+/// What the jobs ask Slurm for, and the binary they run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Slurm {
+    pub shards: u32,
+    pub partition: Option<String>,
+    /// Wall-time limit per job, in Slurm's notation (`HH:MM:SS`, `MM`…).
+    pub time: Option<String>,
+    /// Memory per job, in Slurm's notation (`4G`, `500M`).
+    pub mem: Option<String>,
+    pub cpus: Option<u32>,
+    pub account: Option<String>,
+    /// The lmfilm binary the jobs run: an absolute path.
+    pub lmfilm: PathBuf,
+}
+
+/// The three job scripts of a chain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chain {
+    pub derive: String,
+    pub render: String,
+    pub finish: String,
+}
+
+/// `s` quoted for a POSIX shell.
+fn quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', r"'\''"))
+}
+
+fn quote_path(p: &Path) -> String {
+    quote(&p.to_string_lossy())
+}
+
+impl Slurm {
+    /// The `#SBATCH` lines every job shares, and its name and log.
+    fn header(&self, name: &str, log: &Path, array: Option<u32>) -> String {
+        let mut h = String::from("#!/bin/bash\n");
+        let mut line = |k: &str, v: &str| {
+            let _ = writeln!(h, "#SBATCH --{k}={v}");
+        };
+        line("job-name", &format!("lmfilm-{name}"));
+        line("output", &log.to_string_lossy());
+        if let Some(n) = array {
+            line("array", &format!("1-{n}"));
+        }
+        if let Some(p) = &self.partition {
+            line("partition", p);
+        }
+        if let Some(t) = &self.time {
+            line("time", t);
+        }
+        if let Some(m) = &self.mem {
+            line("mem", m);
+        }
+        if let Some(c) = self.cpus {
+            line("cpus-per-task", &c.to_string());
+        }
+        if let Some(a) = &self.account {
+            line("account", a);
+        }
+        h.push_str("set -euo pipefail\n");
+        h
+    }
+
+    /// The chain's scripts for the scenes `scenes` into the film folder
+    /// `dir` (both absolute: the jobs run on other machines, in other
+    /// folders).
+    pub fn chain(&self, scenes: &[PathBuf], dir: &Path) -> Chain {
+        let logs = dir.join(FARM_DIR).join(LOGS_DIR);
+        let bin = quote_path(&self.lmfilm);
+        let folder = quote_path(dir);
+        let scene_list: Vec<String> = scenes.iter().map(|s| quote_path(s)).collect();
+        let derive = format!(
+            "{}exec {bin} derive {} -o {folder}\n",
+            self.header("derive", &logs.join("derive-%j.out"), None),
+            scene_list.join(" ")
+        );
+        let n = self.shards;
+        let render = format!(
+            "{}# Task i renders shard i/{n}; a failed attempt is retried, and a\n\
+             # retry renders only the frames still missing.\n\
+             for attempt in $(seq 1 {RENDER_ATTEMPTS}); do\n\
+             \x20 if {bin} render {folder} --shard \"$SLURM_ARRAY_TASK_ID/{n}\"; then exit 0; fi\n\
+             \x20 echo \"shard $SLURM_ARRAY_TASK_ID/{n}: attempt $attempt failed\" >&2\n\
+             done\n\
+             exit 1\n",
+            self.header("render", &logs.join("render-%A_%a.out"), Some(n)),
+        );
+        let finish = format!(
+            "{}{bin} sound {folder}\n\
+             if command -v ffmpeg >/dev/null 2>&1; then {bin} mux {folder}; fi\n\
+             exec {bin} verify {folder}\n",
+            self.header("finish", &logs.join("finish-%j.out"), None),
+        );
+        Chain {
+            derive,
+            render,
+            finish,
+        }
+    }
+}
+
+/// The scripts' paths in `dir`'s farm folder.
+pub fn script_paths(dir: &Path) -> [PathBuf; 3] {
+    let farm = dir.join(FARM_DIR);
+    ["derive.sh", "render.sh", "finish.sh"].map(|f| farm.join(f))
+}
+
+/// Writes the chain's scripts (and makes the logs folder); returns their
+/// paths.
+pub fn write(dir: &Path, chain: &Chain) -> Result<[PathBuf; 3]> {
+    let logs = dir.join(FARM_DIR).join(LOGS_DIR);
+    std::fs::create_dir_all(&logs).map_err(|e| Error::io(&logs, e))?;
+    let paths = script_paths(dir);
+    for (path, text) in paths
+        .iter()
+        .zip([&chain.derive, &chain.render, &chain.finish])
+    {
+        std::fs::write(path, text).map_err(|e| Error::io(path, e))?;
+    }
+    Ok(paths)
+}
+
+/// Submits the three scripts with `sbatch`, each after the one before
+/// succeeded; returns the job ids, also kept in the farm folder.
+pub fn submit(dir: &Path, scripts: &[PathBuf; 3]) -> Result<[String; 3]> {
+    let mut ids: Vec<String> = Vec::new();
+    for script in scripts {
+        let mut cmd = Command::new("sbatch");
+        cmd.arg("--parsable");
+        if let Some(before) = ids.last() {
+            cmd.arg(format!("--dependency=afterok:{before}"));
+        }
+        let out = cmd.arg(script).output().map_err(|e| {
+            Error::input(format!(
+                "sbatch could not run ({e}): is Slurm installed here? `--dry-run` writes the scripts without submitting"
+            ))
+        })?;
+        if !out.status.success() {
+            return Err(Error::input(format!(
+                "sbatch refused {}: {}",
+                script.display(),
+                String::from_utf8_lossy(&out.stderr).trim()
+            )));
+        }
+        let text = String::from_utf8_lossy(&out.stdout);
+        // `--parsable` prints "id" or "id;cluster".
+        let id = text.trim().split(';').next().unwrap_or("").to_string();
+        if id.is_empty() {
+            return Err(Error::input(format!(
+                "sbatch gave no job id for {}",
+                script.display()
+            )));
+        }
+        ids.push(id);
+    }
+    let jobs = dir.join(FARM_DIR).join(JOBS_FILE);
+    std::fs::write(&jobs, ids.join("\n") + "\n").map_err(|e| Error::io(&jobs, e))?;
+    Ok([ids[0].clone(), ids[1].clone(), ids[2].clone()])
+}
+
+/// The job ids of the last submission into `dir`.
+pub fn jobs(dir: &Path) -> Result<Vec<String>> {
+    let path = dir.join(FARM_DIR).join(JOBS_FILE);
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        Error::input(format!(
+            "{}: {e}; no chain was submitted into this folder (`lmfilm farm slurm … -o {}`)",
+            path.display(),
+            dir.display()
+        ))
+    })?;
+    Ok(text.lines().map(str::to_string).collect())
+}
+
+/// An absolute path for `p`, relative to the current folder.
+fn absolute(p: &Path) -> Result<PathBuf> {
+    std::path::absolute(p).map_err(|e| Error::io(p, e))
+}
+
+/// `lmfilm farm slurm`: writes the chain's scripts into `out`/farm and
+/// submits them (or, with `dry_run`, prints them).
+pub fn slurm(scenes: &[PathBuf], out: &Path, mut slurm: Slurm, dry_run: bool) -> Result<()> {
+    if slurm.shards == 0 {
+        return Err(Error::input("--shards must be at least 1"));
+    }
+    let mut absolute_scenes = Vec::new();
+    for s in scenes {
+        if !s.is_file() {
+            return Err(Error::input(format!("{}: no such scene file", s.display())));
+        }
+        absolute_scenes.push(absolute(s)?);
+    }
+    let dir = absolute(out)?;
+    slurm.lmfilm = absolute(&slurm.lmfilm)?;
+    let chain = slurm.chain(&absolute_scenes, &dir);
+    let scripts = write(&dir, &chain)?;
+    let logs = dir.join(FARM_DIR).join(LOGS_DIR);
+    if dry_run {
+        for (path, text) in scripts
+            .iter()
+            .zip([&chain.derive, &chain.render, &chain.finish])
+        {
+            println!("# {}\n{text}", path.display());
+        }
+        println!(
+            "wrote {} scripts (not submitted: --dry-run); submit with `lmfilm farm slurm` again without it",
+            scripts.len()
+        );
+        return Ok(());
+    }
+    let [derive, render, finish] = submit(&dir, &scripts)?;
+    println!("derive: job {derive}");
+    println!("render: job {render} (array of {} tasks)", slurm.shards);
+    println!("finish: job {finish}");
+    println!("logs: {}", logs.display());
+    println!("progress: lmfilm farm status {}", dir.display());
+    Ok(())
+}
+
+/// Counts the files of `dir` whose names end with `suffix`.
+fn count(dir: &Path, suffix: &str) -> usize {
+    std::fs::read_dir(dir).map_or(0, |entries| {
+        entries
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().ends_with(suffix))
+            .count()
+    })
+}
+
+/// `lmfilm farm status DIR`: the chain's jobs as Slurm accounts for them
+/// (`sacct`), and the frames derived and rendered so far.
+pub fn status(dir: &Path) -> Result<()> {
+    let ids = jobs(dir)?;
+    let out = Command::new("sacct")
+        .args(["-n", "-P", "-X", "--format=JobID,JobName,State", "-j"])
+        .arg(ids.join(","))
+        .output();
+    match out {
+        Ok(o) if o.status.success() => {
+            for line in String::from_utf8_lossy(&o.stdout).lines() {
+                let cols: Vec<&str> = line.split('|').collect();
+                if let [id, name, state] = cols[..] {
+                    println!("{id:>14}  {name:<16} {state}");
+                }
+            }
+        }
+        _ => println!(
+            "sacct is not available here: the jobs are {}",
+            ids.join(", ")
+        ),
+    }
+    let snapshots = count(&dir.join("scene"), ".snap");
+    let rendered = count(&dir.join("frames"), ".json");
+    println!("frames: {snapshots} derived, {rendered} rendered");
+    let finished = dir.join("manifest.json").is_file();
+    println!(
+        "film: {}",
+        if finished {
+            "finished (manifest written; `lmfilm verify` checks it)"
+        } else {
+            "not finished"
+        }
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn slurm() -> Slurm {
+        Slurm {
+            shards: 3,
+            partition: Some("render".into()),
+            time: Some("01:00:00".into()),
+            mem: Some("4G".into()),
+            cpus: Some(2),
+            account: None,
+            lmfilm: PathBuf::from("/opt/lmfilm/bin/lmfilm"),
+        }
+    }
+
+    /// The chain runs the user's commands with the binary's absolute
+    /// path over the shared folder: derive, an array of 3 shards (each
+    /// retried), then sound, mux when ffmpeg exists, and verify.
+    #[test]
+    fn the_scripts_run_the_film_commands() {
+        let dir = Path::new("/shared/films/it's");
+        let c = slurm().chain(&[PathBuf::from("/shared/scenes/a.lm")], dir);
+        assert!(c.derive.contains("#SBATCH --partition=render\n"));
+        assert!(c.derive.contains("#SBATCH --cpus-per-task=2\n"));
+        assert!(!c.derive.contains("--account"));
+        assert!(c.derive.contains(
+            "exec '/opt/lmfilm/bin/lmfilm' derive '/shared/scenes/a.lm' -o '/shared/films/it'\\''s'\n"
+        ));
+        assert!(c.render.contains("#SBATCH --array=1-3\n"));
+        assert!(c.render.contains("--shard \"$SLURM_ARRAY_TASK_ID/3\""));
+        assert!(c.render.contains(&format!("seq 1 {RENDER_ATTEMPTS}")));
+        assert!(c.finish.contains("' sound '/shared/films/it'\\''s'\n"));
+        assert!(c.finish.contains("command -v ffmpeg"));
+        assert!(c.finish.ends_with("verify '/shared/films/it'\\''s'\n"));
+        for s in [&c.derive, &c.render, &c.finish] {
+            assert!(s.starts_with("#!/bin/bash\n#SBATCH --job-name=lmfilm-"));
+            assert!(s.contains("/shared/films/it's/farm/logs/"));
+            assert!(s.contains("set -euo pipefail\n"));
+        }
+    }
+}
