@@ -278,11 +278,12 @@ pub fn status(dir: &Path) -> Result<()> {
     let snapshots = count(&dir.join("scene"), ".snap");
     let rendered = count(&dir.join("frames"), ".json");
     println!("frames: {snapshots} derived, {rendered} rendered");
-    let finished = dir.join("manifest.json").is_file();
+    // The finishing job writes the soundtrack, then the manifest.
+    let finished = snapshots > 0 && rendered == snapshots && dir.join("soundtrack.wav").is_file();
     println!(
         "film: {}",
         if finished {
-            "finished (manifest written; `lmfilm verify` checks it)"
+            "finished (`lmfilm verify` checks it)"
         } else {
             "not finished"
         }

@@ -114,3 +114,106 @@ fn bad_requests_are_refused_with_exit_2() {
     assert_eq!(code, 2);
     assert!(err.contains("no chain was submitted"), "{err}");
 }
+
+/// Whether a Slurm node is up here (scripts/slurm_up.sh starts one);
+/// when not, the test says so and skips.
+fn slurm_is_up(test: &str) -> bool {
+    let up = Command::new("sinfo")
+        .args(["-h", "-o", "%T"])
+        .output()
+        .is_ok_and(|o| o.status.success() && String::from_utf8_lossy(&o.stdout).contains("idle"));
+    if !up {
+        println!("{test}: SKIPPED — no Slurm node is up here (scripts/slurm_up.sh starts one)");
+    }
+    up
+}
+
+/// Waits until none of the jobs is queued any more (at most 5 minutes).
+fn wait_for(ids: &[String]) {
+    for _ in 0..300 {
+        let out = Command::new("squeue")
+            .args(["-h", "-o", "%i", "-j", &ids.join(",")])
+            .output()
+            .unwrap();
+        if String::from_utf8_lossy(&out.stdout).trim().is_empty() {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_secs(1));
+    }
+    panic!("the chain {ids:?} did not end within 5 minutes");
+}
+
+/// Submits the chain of `scene` into `dir`; returns its job ids.
+fn submit(scene: &str, dir: &Path) -> Vec<String> {
+    let (code, out, err) = lmfilm(&[
+        "farm",
+        "slurm",
+        scene,
+        "-o",
+        dir.to_str().unwrap(),
+        "--shards",
+        "3",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    let ids: Vec<String> = out
+        .lines()
+        .filter_map(|l| l.split("job ").nth(1))
+        .map(|r| r.split_whitespace().next().unwrap().to_string())
+        .collect();
+    assert_eq!(ids.len(), 3, "{out}");
+    ids
+}
+
+/// A real Slurm runs the chain; a render task cancelled before it runs
+/// keeps the chain from finishing (the folder is incomplete, never
+/// reported complete), and submitting again completes the same film.
+#[test]
+fn on_slurm_the_chain_finishes_resumes_and_matches_a_local_run() {
+    if !slurm_is_up("on_slurm_the_chain_finishes_resumes_and_matches_a_local_run") {
+        return;
+    }
+    let root = std::env::temp_dir().join(format!("lmfilm-slurm-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(&root).unwrap();
+    let scene = root.join("growing.lm");
+    std::fs::write(&scene, SCENE).unwrap();
+    let s = scene.to_str().unwrap();
+    let (film, local) = (root.join("film"), root.join("local"));
+    // The chain held, a render task cancelled, then released.
+    let ids = submit(s, &film);
+    let task = format!("{}_2", ids[1]);
+    assert!(Command::new("scancel")
+        .arg(&task)
+        .status()
+        .unwrap()
+        .success());
+    // The finishing job can never run now: Slurm keeps it pending.
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    Command::new("scancel").arg(&ids[2]).status().unwrap();
+    wait_for(&ids);
+    assert!(
+        !film.join("soundtrack.wav").exists(),
+        "a cancelled chain finished"
+    );
+    let (code, out, _) = lmfilm(&["verify", film.to_str().unwrap()]);
+    assert_ne!(code, 0, "a cancelled chain verified: {out}");
+    // Submitted again, it completes.
+    let ids = submit(s, &film);
+    wait_for(&ids);
+    let (code, out, err) = lmfilm(&["verify", film.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    let (code, _, err) = lmfilm(&["run", s, "-o", local.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    for f in [
+        "soundtrack.wav",
+        "frames/growing.0003.png",
+        "frames/growing.0005.exr",
+    ] {
+        let (a, b) = (
+            std::fs::read(film.join(f)).unwrap(),
+            std::fs::read(local.join(f)).unwrap(),
+        );
+        assert!(a == b, "{f} differs");
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
