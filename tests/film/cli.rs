@@ -2,7 +2,8 @@
 
 use std::process::Command;
 
-fn lmfilm(args: &[&str]) -> (i32, String, String) {
+/// Runs lmfilm with `args`: exit code, stdout, stderr.
+pub(crate) fn lmfilm(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
         .args(args)
         .output()

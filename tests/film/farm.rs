@@ -5,17 +5,7 @@
 use std::path::Path;
 use std::process::Command;
 
-fn lmfilm(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use crate::cli::lmfilm;
 
 /// Runs a job script with bash, as a Slurm task `task` would.
 fn job(script: &Path, task: Option<u32>) {

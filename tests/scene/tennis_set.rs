@@ -96,12 +96,7 @@ fn the_showcase_derives_every_frame_without_warnings() {
     let mut film = Film::load(&files, Options::default()).unwrap();
     assert_eq!(film.frame_count(), 351, "14 s at 25 frames per second");
     while let Some(frame) = film.next_frame().unwrap() {
-        assert!(
-            frame.warnings().is_empty(),
-            "frame {}: {:?}",
-            frame.number(),
-            frame.warnings()
-        );
+        no_warnings(frame);
     }
     let frame = film.frame().unwrap();
     let scene = frame.scene();
@@ -172,12 +167,7 @@ fn the_built_in_film_is_the_tennis_showcase() {
     );
     for _ in 0..5 {
         let frame = film.next_frame().unwrap().unwrap();
-        assert!(
-            frame.warnings().is_empty(),
-            "frame {}: {:?}",
-            frame.number(),
-            frame.warnings()
-        );
+        no_warnings(frame);
     }
     // The head is the built-in copy of head.obj, with its colours,
     // whatever the current folder holds.
@@ -189,5 +179,15 @@ fn the_built_in_film_is_the_tennis_showcase() {
         film.referenced_files().is_empty(),
         "{:?}",
         film.referenced_files()
+    );
+}
+
+/// A frame derived without warnings.
+fn no_warnings(frame: &lmfilm::film::Frame) {
+    assert!(
+        frame.warnings().is_empty(),
+        "frame {}: {:?}",
+        frame.number(),
+        frame.warnings()
     );
 }

@@ -206,11 +206,6 @@ impl Player {
         }
     }
 
-    /// The learned factor x of eq. 5.6.5 and the rally's c2 (eq. 5.6.8).
-    pub fn learned(&self) -> (f64, f64) {
-        (self.learner.x(), self.rally.c2)
-    }
-
     fn is_server(&self) -> bool {
         self.server == Some(self.side)
     }
