@@ -129,6 +129,7 @@ impl Living {
             Some(Automata::Referee) => self.referee(),
             Some(Automata::TennisErrorDetection) => self.tennis_error_detection(senses),
             Some(Automata::PlayTennis) => self.play_tennis(senses, deeds),
+            Some(Automata::WalkStepworthy) => self.walk_stepworthy(senses.dt as f32),
             // watch: vision and memory only; L-system: the productions
             // act (5.10); follow_turtle: `M` moves it (the window).
             _ => {}

@@ -10,6 +10,8 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::behaviour::{Deed, Progress, Script, Senses};
+use super::footholds::plan::{Gait, Weights};
+use super::footholds::walk::Footing;
 use super::memory::{Forgetting, VisualMemory};
 use super::navigate::Navigation;
 use super::octree::Cube;
@@ -132,6 +134,9 @@ pub struct Living {
     pub umpire: Option<Umpire>,
     /// A player's game (`play_tennis`, 5.6), once it plays.
     pub player: Option<Player>,
+    /// Walking on footholds (`walk_stepworthy`, 5.9): its settings and
+    /// its walk.
+    pub footing: Footing,
     /// `heuristic`, `coll_test_func` (table G.1), `rel_search_level`
     /// (search voxels of 2^level memory voxels a side), `ahead` (key
     /// points tested) and `inertia` of the navigation.
@@ -195,6 +200,7 @@ impl Living {
             navigation: Navigation::default(),
             umpire: None,
             player: None,
+            footing: Footing::default(),
             heuristic: 1,
             coll_test_func: 3,
             rel_search_level: 1,
@@ -288,6 +294,27 @@ impl Living {
             C::MemDisplCubes => self.display.mode = DisplayMode::Cubes,
             C::MemDisplPoints => self.display.mode = DisplayMode::Points,
             C::MemNoDispl => self.display.mode = DisplayMode::None,
+            C::FootholdPlane(y) => self.footing.settings.plane = Some(y as f32),
+            C::FootholdStep { df_max, max_change } => {
+                self.footing.settings.gait = Gait {
+                    df_max: df_max as f32,
+                    max_change: max_change as f32,
+                }
+            }
+            C::StepWeights([p0, n0, p1, n1, p2, n2]) => {
+                self.footing.settings.weights = Weights {
+                    p0,
+                    n0,
+                    p1,
+                    n1,
+                    p2,
+                    n2,
+                }
+            }
+            C::FootholdMap { range, min_voxels } => {
+                self.footing.settings.range = range as f32;
+                self.footing.settings.min_voxels = u32::try_from(min_voxels).unwrap_or(u32::MAX);
+            }
             // Navigation, tennis and humanoid commands belong to the
             // automata that use them (later issues).
             _ => {}

@@ -427,6 +427,22 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
             int_in(1, *source, 0, i64::from(u32::MAX), "the sound source")?;
             int_in(0, *count, 1, MAX_HEARD, "the number of sound events")
         }
+        C::FootholdPlane(_) => Ok(()),
+        C::FootholdStep { df_max, max_change } => {
+            positive(1, *df_max, "the longest step")?;
+            at_least(0, *max_change, 0.0, "the step length change")
+        }
+        C::StepWeights(w) => {
+            for (k, v) in w.iter().enumerate() {
+                let what = if k % 2 == 0 { "a weight" } else { "an exponent" };
+                at_least(5 - k, *v, 0.0, what)?;
+            }
+            Ok(())
+        }
+        C::FootholdMap { range, min_voxels } => {
+            positive(1, *range, "the map's range")?;
+            int_in(0, *min_voxels, 1, BIG, "the smallest foothold (voxels)")
+        }
         C::Goal(_)
         | C::ResetGoal
         | C::MemDisplCubes

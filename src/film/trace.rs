@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use super::Film;
 use crate::actors::live::Living;
+use crate::lsys::automata::Automata;
 
 /// One frame: its particles, its actors and the sound events it started.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -46,6 +47,25 @@ pub struct ActorRecord {
     pub found: bool,
     pub pixels: u32,
     pub position: Option<[f32; 3]>,
+    /// Its walk on footholds, once it runs `walk_stepworthy`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub footing: Option<FootingRecord>,
+}
+
+/// A `walk_stepworthy` actor's walk: the foothold it stands on, the
+/// foot it last set down, whether it turns on the spot, its local map's
+/// size, its destination, the footholds planned ahead, and how many
+/// paths it found (of them, after an obstacle on the planned path).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FootingRecord {
+    pub on: Option<[f32; 3]>,
+    pub foot: Option<&'static str>,
+    pub turning: bool,
+    pub map: usize,
+    pub destination: Option<[f32; 3]>,
+    pub ahead: Vec<[f32; 3]>,
+    pub plans: u32,
+    pub replans: u32,
 }
 
 impl ActorRecord {
@@ -66,6 +86,21 @@ impl ActorRecord {
             found: thing.is_some(),
             pixels: thing.map_or(0, |t| t.pixels),
             position: thing.map(|t| t.position.to_array()),
+            footing: (l.footing.plans > 0 || l.automata == Some(Automata::WalkStepworthy)).then(
+                || {
+                    let f = &l.footing;
+                    FootingRecord {
+                        on: f.on.map(|p| p.to_array()),
+                        foot: f.foot.map(|f| f.name()),
+                        turning: f.turning(),
+                        map: f.map.len(),
+                        destination: f.destination.map(|p| p.to_array()),
+                        ahead: f.ahead.iter().map(|p| p.at.to_array()).collect(),
+                        plans: f.plans,
+                        replans: f.replans,
+                    }
+                },
+            ),
         }
     }
 }

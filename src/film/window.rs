@@ -20,12 +20,15 @@ use crate::lsys::{Sensors, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::sound::air::{self, Air, AMBIENT_SOURCE};
 use crate::source::FileRef;
-use crate::turtle::{ActorMapping, ParticleMapping, SoundRequest, TurtleWorld};
+use crate::turtle::{ActorMapping, ActorPose, ParticleMapping, SoundRequest, TurtleWorld};
 
 use super::tracks::Tracks;
 
 /// The `turtle` mapping that shows the planned path (6.3.4).
 const SHOW_PATH: i64 = 3;
+/// `turtle` 1: walking on footholds, the body upright and coloured by
+/// its feet (6.3.4).
+const FOOTHOLD: i64 = 1;
 /// `turtle` 2: the tennis racket, facing along its stroke (6.3.4).
 const RACKET: i64 = 2;
 /// `turtle` 4: the interactive racket (6.3.4).
@@ -271,7 +274,7 @@ impl TurtleWorld for Window<'_> {
         self.living.len()
     }
 
-    fn map_actor(&mut self, actor: Option<u32>, mapping: ActorMapping) -> Option<(DVec3, DVec3)> {
+    fn map_actor(&mut self, actor: Option<u32>, mapping: ActorMapping) -> Option<ActorPose> {
         let time = self.physics.time();
         let a = self.actor_of(actor)?;
         let id = a.id as u32;
@@ -286,14 +289,23 @@ impl TurtleWorld for Window<'_> {
                 let stroke = (a.turtle == RACKET)
                     .then(|| a.racket_normal(time))
                     .flatten();
+                let eye = a.eye.as_dvec3();
                 let to = if driven || a.automata == Some(Automata::FollowTurtle) {
                     (a.eye, a.look_at) = (v(&at), v(&(at + h)));
                     None
                 } else if let Some(n) = stroke {
                     // The racket faces its motion along its planned path.
-                    Some((a.eye.as_dvec3(), (a.eye + n).as_dvec3()))
+                    Some(ActorPose::looking(eye, (a.eye + n).as_dvec3()))
+                } else if a.turtle == FOOTHOLD {
+                    // Upright along its body's heading, coloured by its feet.
+                    Some(ActorPose {
+                        h: a.footing.heading.as_dvec3(),
+                        upright: true,
+                        material: a.foothold_material(),
+                        ..ActorPose::looking(eye, eye)
+                    })
                 } else {
-                    Some((a.eye.as_dvec3(), a.look_at.as_dvec3()))
+                    Some(ActorPose::looking(eye, a.look_at.as_dvec3()))
                 };
                 self.actor = Some(id);
                 return to;
@@ -312,6 +324,10 @@ impl TurtleWorld for Window<'_> {
         match self.living.get(actor as usize) {
             Some(a) if a.turtle == SHOW_PATH => {
                 a.shown_path().iter().map(|p| p.as_dvec3()).collect()
+            }
+            // The footholds it plans to step on.
+            Some(a) if a.turtle == FOOTHOLD => {
+                a.footing.ahead.iter().map(|p| p.at.as_dvec3()).collect()
             }
             _ => Vec::new(),
         }

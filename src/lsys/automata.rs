@@ -285,6 +285,25 @@ pub enum AutomataCommand {
         source: i64,
         count: i64,
     },
+    /// `foothold_plane y` (lmfilm's): the height of the foothold
+    /// locations' plane for `walk_stepworthy` (5.9.2).
+    FootholdPlane(f64),
+    /// `foothold_step df_max max_change` (lmfilm's): the walking model
+    /// of `walk_stepworthy` (5.9.3): the longest step, and the most a
+    /// step's length may change from the step before.
+    FootholdStep {
+        df_max: f64,
+        max_change: f64,
+    },
+    /// `step_weights p0 n0 p1 n1 p2 n2` (lmfilm's): the weights and
+    /// exponents of the step cost, eq. 7.3.1.
+    StepWeights([f64; 6]),
+    /// `foothold_map range min_voxels` (lmfilm's): the local map's
+    /// radius around the actor and its smallest foothold, in voxels.
+    FootholdMap {
+        range: f64,
+        min_voxels: i64,
+    },
     /// `motor_init speed scale trace`: humanoid maximal speed (mm/s),
     /// scale factor, ray tracer output 1/0.
     MotorInit {
@@ -336,6 +355,10 @@ const COMMANDS: &[Spec] = &[
     ("motor_init", 3, 3, false),
     ("words_to_speak", 1, MAX_WORDS, false),
     ("listen_to", 2, 2, false),
+    ("foothold_plane", 1, 1, false),
+    ("foothold_step", 2, 2, false),
+    ("step_weights", 6, 6, false),
+    ("foothold_map", 2, 2, false),
 ];
 
 /// Most words one `words_to_speak` may give.
@@ -380,6 +403,10 @@ impl AutomataCommand {
             C::OptimAhead(_) => "optim_ahead",
             C::VisionRange { .. } => "vision_range",
             C::MotorInit { .. } => "motor_init",
+            C::FootholdPlane(_) => "foothold_plane",
+            C::FootholdStep { .. } => "foothold_step",
+            C::StepWeights(_) => "step_weights",
+            C::FootholdMap { .. } => "foothold_map",
             C::WordsToSpeak(_) => "words_to_speak",
             C::ListenTo { .. } => "listen_to",
         }
@@ -727,6 +754,16 @@ fn typed(
         "listen_to" => C::ListenTo {
             source: int(0)?,
             count: int(1)?,
+        },
+        "foothold_plane" => C::FootholdPlane(f(0)),
+        "foothold_step" => C::FootholdStep {
+            df_max: f(0),
+            max_change: f(1),
+        },
+        "step_weights" => C::StepWeights([f(0), f(1), f(2), f(3), f(4), f(5)]),
+        "foothold_map" => C::FootholdMap {
+            range: f(0),
+            min_voxels: int(1)?,
         },
         _ => unreachable!("every command of COMMANDS has an arm"),
     })

@@ -369,9 +369,18 @@ impl Interpreter<'_> {
                 "`M` names actor {actor}, which the scene does not declare (NBR_actors {count}); skipped"
             ));
         }
-        if let Some((eye, look_at)) = self.world.map_actor(Some(actor as u32), mapping) {
-            self.t.pos = eye;
-            self.t.look_along(look_at - eye);
+        if let Some(pose) = self.world.map_actor(Some(actor as u32), mapping) {
+            self.t.pos = pose.at;
+            self.t.look_along(pose.h);
+            let flat = DVec3::new(pose.h.x, 0.0, pose.h.z).normalize_or_zero();
+            if pose.upright && flat != DVec3::ZERO {
+                self.t.h = flat;
+                self.t.l = DVec3::Y;
+                self.t.u = flat.cross(DVec3::Y);
+            }
+            if let Some(m) = pose.material {
+                self.material = m;
+            }
         }
         if kind == 7.0 {
             self.show_path(actor as u32);

@@ -53,9 +53,9 @@ pub trait TurtleWorld: Sensors {
         0
     }
     /// An `M` or `g` symbol maps actor `actor` — or, for None, the
-    /// current actor — and the turtle (C.5); returns where the actor's
-    /// eye is and what it looks at, when the turtle goes there.
-    fn map_actor(&mut self, _actor: Option<u32>, _mapping: ActorMapping) -> Option<(DVec3, DVec3)> {
+    /// current actor — and the turtle (C.5); returns where the turtle
+    /// goes, when it goes to the actor.
+    fn map_actor(&mut self, _actor: Option<u32>, _mapping: ActorMapping) -> Option<ActorPose> {
         None
     }
     /// The `I` symbol: the records of the traced actors (`trace_actor`)
@@ -124,6 +124,29 @@ pub enum ActorMapping {
     DisplayLookAt {
         at: DVec3,
     },
+}
+
+/// Where `M` par1 = 7 puts the turtle: at the actor's eye `at`, H along
+/// `h`; with `upright`, L vertical (turtle 1, footholds: H is then the
+/// horizontal part of `h`); and the material it activates, if any.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ActorPose {
+    pub at: DVec3,
+    pub h: DVec3,
+    pub upright: bool,
+    pub material: Option<u32>,
+}
+
+impl ActorPose {
+    /// The turtle at `eye`, looking at `look_at`.
+    pub fn looking(eye: DVec3, look_at: DVec3) -> Self {
+        ActorPose {
+            at: eye,
+            h: look_at - eye,
+            upright: false,
+            material: None,
+        }
+    }
 }
 
 /// What a `T` symbol asks of the sound event handler (C.6), in world

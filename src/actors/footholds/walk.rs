@@ -1,0 +1,462 @@
+//! The automata `walk_stepworthy` (thesis figure 5.9.5): initialization,
+//! look_around (observe and memorise), create the local map, pop a
+//! destination (end when there is none), search_new_path (back to
+//! look_around when there is no path), and walking step by step — back to
+//! look_around when the destination foothold is reached, or when the
+//! memory shows an obstacle on a voxel along the planned path: a foothold
+//! gone from under a planned step, or something standing on the way.
+//!
+//! The actor knows the stones only through its memory, which its vision
+//! fills (and empties, by forgetting) at every sense step.
+
+use glam::{Vec2, Vec3};
+
+use super::map::{self, Foothold, Region};
+use super::plan::{self, Foot, Gait, Weights};
+use crate::actors::behaviour::Script;
+use crate::actors::live::state::{LOOK_AROUND, SEARCH_NEW_PATH, STOP, WALK};
+use crate::actors::live::Living;
+use crate::lsys::automata::Automata;
+
+/// Looks around and searches in a row without a path before the actor
+/// gives the destination up (the thesis loops; a film must not hang).
+const MAX_LOOKS: u32 = 3;
+/// Shortest time of one step, seconds.
+const MIN_STEP_TIME: f32 = 0.25;
+/// Time to bring the feet together at a halt, seconds.
+const HALT_TIME: f32 = 0.3;
+/// How fast the actor turns on the spot, radians a second.
+const TURN_SPEED: f32 = std::f32::consts::PI;
+/// A turn smaller than this (radians) is made while stepping.
+const TURN_ON_SPOT: f32 = 0.1;
+/// How high a step lifts the actor, as a share of the step's length.
+const HOP: f32 = 0.2;
+/// The local map's radius and smallest foothold before any `foothold_map`.
+const DEFAULT_RANGE: f32 = 10.0;
+const DEFAULT_MIN_VOXELS: u32 = 4;
+
+/// The configuration of `walk_stepworthy`, set by its commands.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    /// `foothold_plane`: the plane's height; None: the busiest layer of
+    /// the memory under the eye, found at the first map.
+    pub plane: Option<f32>,
+    pub gait: Gait,
+    pub weights: Weights,
+    /// `foothold_map`: the map's radius and smallest foothold.
+    pub range: f32,
+    pub min_voxels: u32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            plane: None,
+            gait: Gait::default(),
+            weights: Weights::default(),
+            range: DEFAULT_RANGE,
+            min_voxels: DEFAULT_MIN_VOXELS,
+        }
+    }
+}
+
+/// Where the automata is (figure 5.9.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+enum Phase {
+    #[default]
+    Initialization,
+    /// Back from look_around: create the local map, pop a destination.
+    CreateMap,
+    Walking,
+}
+
+/// A planned foothold ahead: where, and the foot set on it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Planned {
+    pub at: Vec3,
+    pub foot: Foot,
+    /// Feet together there: the start, or a halt.
+    pub together: bool,
+}
+
+/// What the actor's body does now.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Motion {
+    /// A step (or the feet brought together) from `from` to `to`.
+    Step { from: Vec3, to: Vec3, time: f32 },
+    /// Turning on the spot, feet together, from one heading to another.
+    Turn { from: Vec3, to: Vec3, time: f32 },
+}
+
+/// What a `walk_stepworthy` actor keeps between frames.
+#[derive(Debug, Clone, Default)]
+pub struct Footing {
+    pub settings: Settings,
+    phase: Phase,
+    /// The foothold plane, once known, and the eye's height over it.
+    pub plane: Option<f32>,
+    stand: f32,
+    /// The last local map.
+    pub map: Vec<Foothold>,
+    /// The destination it walks to, popped from the goal stack.
+    pub destination: Option<Vec3>,
+    /// The planned footholds ahead, the next first.
+    pub ahead: Vec<Planned>,
+    /// The foothold it stands on, the foot it last set down, where its
+    /// body faces.
+    pub on: Option<Vec3>,
+    pub foot: Option<Foot>,
+    pub heading: Vec3,
+    /// Whether its feet are together on `on` (or it has not stepped yet).
+    together: bool,
+    motion: Option<(Motion, f32)>,
+    /// The foothold a walk ended on short of its destination: ending
+    /// there again means the map leads no nearer.
+    stuck_at: Option<Vec3>,
+    /// Look-arounds in a row without a path.
+    failures: u32,
+    /// Paths found, and of them those searched because the memory showed
+    /// an obstacle on the planned path.
+    pub plans: u32,
+    pub replans: u32,
+}
+
+impl Footing {
+    /// Whether the actor turns on the spot (turtle 1 shows it red).
+    pub fn turning(&self) -> bool {
+        matches!(self.motion, Some((Motion::Turn { .. }, _)))
+    }
+}
+
+/// The horizontal part of `v`, normalised (zero when vertical).
+fn flat(v: Vec3) -> Vec3 {
+    Vec3::new(v.x, 0.0, v.z).normalize_or_zero()
+}
+
+fn ground(p: Vec3) -> Vec2 {
+    Vec2::new(p.x, p.z)
+}
+
+/// The unsigned angle between two horizontal directions.
+fn angle(a: Vec3, b: Vec3) -> f32 {
+    a.dot(b).clamp(-1.0, 1.0).acos()
+}
+
+/// `a` turned toward `b` by the share `s` of the angle between them
+/// (horizontal unit vectors).
+fn slerp(a: Vec3, b: Vec3, s: f32) -> Vec3 {
+    let signed = (a.z * b.x - a.x * b.z).atan2(a.dot(b));
+    let t = signed * s.clamp(0.0, 1.0);
+    let (sin, cos) = t.sin_cos();
+    Vec3::new(a.x * cos + a.z * sin, 0.0, -a.x * sin + a.z * cos)
+}
+
+impl Living {
+    /// One frame of `walk_stepworthy`.
+    pub(crate) fn walk_stepworthy(&mut self, dt: f32) {
+        if self.memory.is_none() {
+            // No memory, no map (`init`).
+            return self.pop();
+        }
+        match self.footing.phase {
+            Phase::Initialization => {
+                self.footing.heading = self.heading_of_eyes();
+                self.footing.phase = Phase::CreateMap;
+                self.look_around_footholds();
+            }
+            Phase::CreateMap => self.create_map_and_search(),
+            Phase::Walking => self.walking(dt),
+        }
+    }
+
+    /// Where the eyes look, horizontally.
+    fn heading_of_eyes(&self) -> Vec3 {
+        let h = flat(self.look_at - self.eye);
+        if h == Vec3::ZERO {
+            Vec3::Z
+        } else {
+            h
+        }
+    }
+
+    /// look_around: pushes itself and runs `observe`, which turns the eyes
+    /// once around and pops it back, to create the map.
+    fn look_around_footholds(&mut self) {
+        self.state = LOOK_AROUND;
+        self.footing.phase = Phase::CreateMap;
+        self.footing.ahead.clear();
+        if let Some(plane) = self.footing.plane {
+            // The eyes look down at the plane two longest steps ahead.
+            let reach = 2.0 * self.footing.settings.gait.df_max;
+            let at = self.eye + self.footing.heading * reach;
+            self.look_at = Vec3::new(at.x, plane, at.z);
+        }
+        self.push(Script::of(Automata::WalkStepworthy));
+        self.activate(Script::of(Automata::Observe));
+    }
+
+    /// The local map around the eye, on the plane (found first, when the
+    /// scene does not give it).
+    fn create_map(&mut self) {
+        let Some(memory) = self.memory.as_ref() else {
+            return;
+        };
+        let f = &mut self.footing;
+        let region = |plane| Region {
+            centre: self.eye,
+            range: f.settings.range,
+            plane,
+        };
+        let plane = f.plane.or(f.settings.plane).or_else(|| {
+            map::busiest_layer(memory.octree(), &region(0.0), self.eye.y - f32::EPSILON)
+        });
+        let Some(plane) = plane else {
+            f.map.clear();
+            return;
+        };
+        if f.plane.is_none() {
+            f.plane = Some(plane);
+            f.stand = (self.eye.y - plane).max(self.size_actor.max(0.1));
+        }
+        f.map = map::local_map(memory.octree(), &region(plane), f.settings.min_voxels);
+    }
+
+    /// Create the local map, pop a destination (end without one), and
+    /// search a path to it; without one, look around again.
+    fn create_map_and_search(&mut self) {
+        self.create_map();
+        if self.footing.destination.is_none() {
+            match self.goals.pop() {
+                Some(g) => self.footing.destination = Some(g),
+                None => {
+                    self.state = STOP;
+                    return self.pop();
+                }
+            }
+        }
+        self.state = SEARCH_NEW_PATH;
+        if self.search_steps() {
+            self.footing.failures = 0;
+            self.footing.phase = Phase::Walking;
+            self.state = WALK;
+            return;
+        }
+        self.footing.failures += 1;
+        if self.footing.failures >= MAX_LOOKS {
+            // No way there in what it can see: the next destination.
+            self.footing.failures = 0;
+            self.footing.destination = None;
+        }
+        self.look_around_footholds();
+    }
+
+    /// search_new_path: Dijkstra over walking states from the foothold
+    /// closest to the actor (feet together, left foot, facing the
+    /// destination) to the one closest to the destination; true when
+    /// there is a path, which becomes the footholds ahead.
+    fn search_steps(&mut self) -> bool {
+        let f = &mut self.footing;
+        let Some(dest) = f.destination else {
+            return false;
+        };
+        let points: Vec<Vec2> = f.map.iter().map(Foothold::ground).collect();
+        let closest = |p: Vec2| {
+            (0..points.len()).min_by(|&a, &b| {
+                points[a]
+                    .distance_squared(p)
+                    .total_cmp(&points[b].distance_squared(p))
+            })
+        };
+        let here = ground(f.on.unwrap_or(self.eye));
+        let (Some(start), Some(goal)) = (closest(here), closest(ground(dest))) else {
+            return false;
+        };
+        let facing = (ground(dest) - points[start]).normalize_or_zero();
+        let facing = if facing == Vec2::ZERO {
+            ground(f.heading)
+        } else {
+            facing
+        };
+        let Some(found) = plan::plan(&points, start, goal, facing, &f.settings.gait, &f.settings.weights)
+        else {
+            return false;
+        };
+        let at = |i: usize| f.map[i].at;
+        f.ahead = found
+            .steps
+            .iter()
+            .map(|s| Planned {
+                at: at(s.current),
+                foot: s.foot,
+                together: s.is_halt(),
+            })
+            .collect();
+        // The start state is where the feet are; the first step onto it
+        // when the actor is not there yet.
+        if f.on.is_some_and(|on| ground(on).distance(points[start]) < 1e-4) {
+            f.ahead.remove(0);
+        }
+        f.plans += 1;
+        true
+    }
+
+    /// walking: one frame of the step under way, or the next step.
+    fn walking(&mut self, dt: f32) {
+        self.state = WALK;
+        if let Some((motion, t)) = self.footing.motion {
+            return self.move_body(motion, t + dt);
+        }
+        let Some(next) = self.footing.ahead.first().copied() else {
+            return self.reached();
+        };
+        if self.obstacle_ahead() {
+            self.footing.replans += 1;
+            return self.look_around_footholds();
+        }
+        let from = self.footing.on.unwrap_or(self.eye);
+        let to_next = flat(next.at - from);
+        let assembled = self.footing.on.is_none() || self.footing.together;
+        if assembled && to_next != Vec3::ZERO && angle(self.footing.heading, to_next) > TURN_ON_SPOT {
+            // Feet together: it turns on the spot before the step.
+            let turn = Motion::Turn {
+                from: self.footing.heading,
+                to: to_next,
+                time: angle(self.footing.heading, to_next) / TURN_SPEED,
+            };
+            return self.move_body(turn, 0.0);
+        }
+        let length = ground(from).distance(ground(next.at));
+        let time = if length < 1e-4 {
+            HALT_TIME
+        } else {
+            (length / self.speed.max(1e-3)).max(MIN_STEP_TIME)
+        };
+        self.footing.foot = Some(next.foot);
+        self.move_body(
+            Motion::Step {
+                from,
+                to: next.at,
+                time,
+            },
+            0.0,
+        );
+    }
+
+    /// The body at time `t` of `motion`; at its end the step is done.
+    fn move_body(&mut self, motion: Motion, t: f32) {
+        let f = &mut self.footing;
+        let stand = f.stand;
+        match motion {
+            Motion::Turn { from, to, time } => {
+                let s = if time > 0.0 { t / time } else { 1.0 };
+                f.heading = slerp(from, to, s);
+                if s >= 1.0 {
+                    f.heading = to;
+                    f.motion = None;
+                } else {
+                    f.motion = Some((motion, t));
+                }
+            }
+            Motion::Step { from, to, time } => {
+                let s = (t / time).min(1.0);
+                let d = flat(to - from);
+                if d != Vec3::ZERO {
+                    f.heading = d;
+                }
+                let lift = HOP * ground(from).distance(ground(to)) * (std::f32::consts::PI * s).sin();
+                let p = from.lerp(to, s);
+                let base = f.plane.unwrap_or(p.y);
+                self.eye = Vec3::new(p.x, base + stand + lift, p.z);
+                if s >= 1.0 {
+                    f.on = Some(to);
+                    f.together = f.ahead.first().is_some_and(|p| p.together);
+                    f.ahead.remove(0);
+                    f.motion = None;
+                } else {
+                    f.motion = Some((motion, t));
+                }
+            }
+        }
+        self.gaze();
+    }
+
+    /// The eyes look at the plane where the feet go two steps ahead (the
+    /// last planned foothold near the end), else along the heading.
+    fn gaze(&mut self) {
+        let f = &self.footing;
+        let plane = f.plane.unwrap_or(self.eye.y - f.stand);
+        let target = f
+            .ahead
+            .get(2)
+            .or(f.ahead.last())
+            .map(|p| p.at)
+            .filter(|p| ground(*p).distance(ground(self.eye)) > 0.5 * f.settings.gait.df_max)
+            .unwrap_or_else(|| self.eye + f.heading * (2.0 * f.settings.gait.df_max));
+        self.look_at = Vec3::new(target.x, plane, target.z);
+    }
+
+    /// Whether the memory, as vision keeps it, shows an obstacle on a
+    /// voxel along the planned path: a planned foothold whose cells are
+    /// gone, or something over a step's way.
+    fn obstacle_ahead(&self) -> bool {
+        let (Some(memory), Some(plane)) = (self.memory.as_ref(), self.footing.plane) else {
+            return false;
+        };
+        let tree = memory.octree();
+        let f = &self.footing;
+        let edge = tree.cube().voxel_edge as f32;
+        let need = (f.settings.min_voxels / 2).max(1);
+        let top = plane + f.stand;
+        let mut from = f.on.unwrap_or(Vec3::new(self.eye.x, plane, self.eye.z));
+        for p in &f.ahead {
+            let size = f
+                .map
+                .iter()
+                .find(|m| ground(m.at).distance(ground(p.at)) < 1e-4)
+                .map_or(1, |m| m.voxels);
+            let radius = (size as f32 / std::f32::consts::PI).sqrt() * edge + edge;
+            if map::cells_near(tree, plane, p.at, radius) < need
+                || map::way_blocked(tree, plane, from, p.at, top)
+            {
+                return true;
+            }
+            from = p.at;
+        }
+        false
+    }
+
+    /// The destination foothold is reached: the destination is done when
+    /// it is within a longest step of it, or when this walk brought the
+    /// actor no nearer (the map ends there); either way it looks around,
+    /// maps and goes on.
+    fn reached(&mut self) {
+        let f = &mut self.footing;
+        if let (Some(dest), Some(on)) = (f.destination, f.on) {
+            let left = ground(dest).distance(ground(on));
+            let near = left <= f.settings.gait.df_max;
+            let stuck = f.stuck_at.is_some_and(|s| ground(s).distance(ground(on)) < 1e-4);
+            if near || stuck {
+                f.destination = None;
+                f.stuck_at = None;
+            } else {
+                f.stuck_at = Some(on);
+            }
+        }
+        self.look_around_footholds();
+    }
+
+    /// The material turtle 1 shows (6.3.4): red turning on the spot,
+    /// white on the right foot, yellow on the left; None before a step.
+    pub fn foothold_material(&self) -> Option<u32> {
+        const RED: u32 = 4;
+        const YELLOW: u32 = 5;
+        const WHITE: u32 = 7;
+        if self.footing.turning() {
+            return Some(RED);
+        }
+        self.footing.foot.map(|f| match f {
+            Foot::Right => WHITE,
+            Foot::Left => YELLOW,
+        })
+    }
+}
