@@ -9,6 +9,7 @@
 
 pub mod behaviour;
 pub mod display;
+pub mod footholds;
 pub mod heuristics;
 pub mod live;
 pub mod memory;
