@@ -186,7 +186,8 @@ fn term(p: f64, base: f64, n: f64) -> f64 {
 /// assembled: the actor turns on the spot while standing). `a_facing`
 /// gives `a` an explicit orientation instead: the start faces the
 /// destination, so its first step pays its turn; `None` for every other
-/// state (a zero vector means no orientation either).
+/// state (a zero vector means no orientation either). Panics when a
+/// state's index is out of range of `footholds`.
 pub fn cost(
     footholds: &[Vec2],
     a: &Step,
