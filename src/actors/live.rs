@@ -329,6 +329,7 @@ impl Living {
             .get(&0)
             .copied()
             .or(self.navigation.destination)
+            .or(self.footing.destination)
             .or_else(|| self.goals.last().copied())
     }
 

@@ -434,7 +434,11 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
         }
         C::StepWeights(w) => {
             for (k, v) in w.iter().enumerate() {
-                let what = if k % 2 == 0 { "a weight" } else { "an exponent" };
+                let what = if k % 2 == 0 {
+                    "a weight"
+                } else {
+                    "an exponent"
+                };
                 at_least(5 - k, *v, 0.0, what)?;
             }
             Ok(())

@@ -5,6 +5,7 @@
 //! here, so the layer links once.
 
 mod behaviour;
+mod footholds;
 mod maze;
 mod memory_room;
 mod path;

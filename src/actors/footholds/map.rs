@@ -67,7 +67,10 @@ fn voxels_in(memory: &Octree, region: &Region, lo: u32, hi: u32, mut f: impl FnM
     let span = |p: f32| {
         let lo = ((f64::from(p) - range - c.min) / e).floor().max(0.0);
         let hi = ((f64::from(p) + range - c.min) / e).ceil().max(0.0);
-        (lo.min(f64::from(u32::MAX)) as u32, hi.min(f64::from(u32::MAX)) as u32)
+        (
+            lo.min(f64::from(u32::MAX)) as u32,
+            hi.min(f64::from(u32::MAX)) as u32,
+        )
     };
     let (x0, x1) = span(region.centre.x);
     let (z0, z1) = span(region.centre.z);
@@ -181,7 +184,11 @@ pub fn way_blocked(memory: &Octree, plane: f32, a: Vec3, b: Vec3, top: f32) -> b
     (0..=n).any(|i| {
         let p = a.lerp(b, i as f32 / n as f32);
         (lo..=t).any(|y| {
-            let q = [f64::from(p.x), layer_height(memory, y).into(), f64::from(p.z)];
+            let q = [
+                f64::from(p.x),
+                layer_height(memory, y).into(),
+                f64::from(p.z),
+            ];
             memory.voxel(q).is_some_and(|v| memory.get(v).is_some())
         })
     })

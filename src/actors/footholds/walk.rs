@@ -31,6 +31,10 @@ const TURN_SPEED: f32 = std::f32::consts::PI;
 const TURN_ON_SPOT: f32 = 0.1;
 /// How high a step lifts the actor, as a share of the step's length.
 const HOP: f32 = 0.2;
+/// How far ahead, in longest steps, the planned path is checked against
+/// the memory: nearer, vision sees the stones clearly; farther, a small
+/// stone seen at a grazing angle comes and goes in the memory.
+const CHECKED_STEPS: f32 = 2.5;
 /// The local map's radius and smallest foothold before any `foothold_map`.
 const DEFAULT_RANGE: f32 = 10.0;
 const DEFAULT_MIN_VOXELS: u32 = 4;
@@ -149,6 +153,23 @@ fn slerp(a: Vec3, b: Vec3, s: f32) -> Vec3 {
     let t = signed * s.clamp(0.0, 1.0);
     let (sin, cos) = t.sin_cos();
     Vec3::new(a.x * cos + a.z * sin, 0.0, -a.x * sin + a.z * cos)
+}
+
+/// The footholds a walk from `start` may reach, steps shorter than
+/// `df_max` apart (whatever the gait), in index order.
+fn reachable(points: &[Vec2], start: usize, df_max: f32) -> Vec<usize> {
+    let mut seen = vec![false; points.len()];
+    seen[start] = true;
+    let mut todo = vec![start];
+    while let Some(i) = todo.pop() {
+        for (j, p) in points.iter().enumerate() {
+            if !seen[j] && p.distance(points[i]) < df_max {
+                seen[j] = true;
+                todo.push(j);
+            }
+        }
+    }
+    (0..points.len()).filter(|&i| seen[i]).collect()
 }
 
 impl Living {
@@ -277,8 +298,21 @@ impl Living {
         } else {
             facing
         };
-        let Some(found) = plan::plan(&points, start, goal, facing, &f.settings.gait, &f.settings.weights)
-        else {
+        let gait = &f.settings.gait;
+        let weights = &f.settings.weights;
+        let found = plan::plan(&points, start, goal, facing, gait, weights).or_else(|| {
+            // No way to the destination's foothold in what it has seen:
+            // as near to the destination as the map leads, if nearer.
+            let near = reachable(&points, start, gait.df_max)
+                .into_iter()
+                .min_by(|&a, &b| {
+                    let d = |i: usize| points[i].distance_squared(ground(dest));
+                    d(a).total_cmp(&d(b)).then(a.cmp(&b))
+                })
+                .filter(|&i| i != start && i != goal)?;
+            plan::plan(&points, start, near, facing, gait, weights)
+        });
+        let Some(found) = found else {
             return false;
         };
         let at = |i: usize| f.map[i].at;
@@ -293,7 +327,15 @@ impl Living {
             .collect();
         // The start state is where the feet are; the first step onto it
         // when the actor is not there yet.
-        if f.on.is_some_and(|on| ground(on).distance(points[start]) < 1e-4) {
+        // (as the map placed it now: a stone seen better moves a little).
+        let edge = self
+            .memory
+            .as_ref()
+            .map_or(0.0, |m| m.octree().cube().voxel_edge as f32);
+        let radius = (f.map[start].voxels as f32 / std::f32::consts::PI).sqrt() * edge;
+        if f.on
+            .is_some_and(|on| ground(on).distance(points[start]) <= radius)
+        {
             f.ahead.remove(0);
         }
         f.plans += 1;
@@ -316,7 +358,8 @@ impl Living {
         let from = self.footing.on.unwrap_or(self.eye);
         let to_next = flat(next.at - from);
         let assembled = self.footing.on.is_none() || self.footing.together;
-        if assembled && to_next != Vec3::ZERO && angle(self.footing.heading, to_next) > TURN_ON_SPOT {
+        if assembled && to_next != Vec3::ZERO && angle(self.footing.heading, to_next) > TURN_ON_SPOT
+        {
             // Feet together: it turns on the spot before the step.
             let turn = Motion::Turn {
                 from: self.footing.heading,
@@ -363,7 +406,8 @@ impl Living {
                 if d != Vec3::ZERO {
                     f.heading = d;
                 }
-                let lift = HOP * ground(from).distance(ground(to)) * (std::f32::consts::PI * s).sin();
+                let lift =
+                    HOP * ground(from).distance(ground(to)) * (std::f32::consts::PI * s).sin();
                 let p = from.lerp(to, s);
                 let base = f.plane.unwrap_or(p.y);
                 self.eye = Vec3::new(p.x, base + stand + lift, p.z);
@@ -408,7 +452,13 @@ impl Living {
         let need = (f.settings.min_voxels / 2).max(1);
         let top = plane + f.stand;
         let mut from = f.on.unwrap_or(Vec3::new(self.eye.x, plane, self.eye.z));
-        for p in &f.ahead {
+        let here = ground(from);
+        let watched = CHECKED_STEPS * f.settings.gait.df_max;
+        for p in f
+            .ahead
+            .iter()
+            .take_while(|p| ground(p.at).distance(here) <= watched)
+        {
             let size = f
                 .map
                 .iter()
@@ -434,7 +484,9 @@ impl Living {
         if let (Some(dest), Some(on)) = (f.destination, f.on) {
             let left = ground(dest).distance(ground(on));
             let near = left <= f.settings.gait.df_max;
-            let stuck = f.stuck_at.is_some_and(|s| ground(s).distance(ground(on)) < 1e-4);
+            let stuck = f
+                .stuck_at
+                .is_some_and(|s| ground(s).distance(ground(on)) < 1e-4);
             if near || stuck {
                 f.destination = None;
                 f.stuck_at = None;

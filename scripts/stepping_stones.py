@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""Writes scenes/actors/footholds.lm: a field of stepping stones for
+walk_stepworthy (thesis 5.9). The stones stand on a jittered grid with
+some left out (a fixed seed); one of them sinks during the walk.
+
+    python3 scripts/stepping_stones.py > scenes/actors/footholds.lm
+
+The stone list is also what tests/actors/footholds.rs checks the walk
+against (it reads the `f` lines of the scene back)."""
+
+import random
+
+SPACING = 0.62
+HALF = 0.15          # stones are 0.3 x 0.3: the size of a foot
+DEPTH = 0.3          # water surface below the stones' tops (y = 0)
+BASE = 1.5           # the stones reach this far down, under the water
+KEEP = 0.72
+SINK_AT = (1.11, -1.46)   # the stone that sinks
+SINK_T = 4.4              # when it starts to sink, seconds
+SEED = 1997
+
+rng = random.Random(SEED)
+stones = []
+for i in range(-5, 6):
+    for j in range(-6, 6):
+        x = i * SPACING + rng.uniform(-0.07, 0.07)
+        z = j * SPACING + rng.uniform(-0.07, 0.07) + SPACING / 2
+        keep = rng.random() < KEEP
+        near_start = abs(i + 5) + abs(j + 6) <= 1
+        if keep or near_start:
+            stones.append((round(x, 2), round(z, 2)))
+
+def sinking(x, z):
+    return abs(x - SINK_AT[0]) < 0.2 and abs(z - SINK_AT[1]) < 0.2
+
+print(f"""/* Walking on sparse foothold locations (thesis 5.9, 7.3.2):
+   walk_stepworthy. A cube-like actor with a periscope eye crosses a field
+   of {len(stones)} stepping stones (0.3 x 0.3, the size of a foot, tops
+   at y = 0, {SPACING} apart on a jittered grid with gaps) standing in
+   water {DEPTH} below, to two destinations in turn. It knows the stones
+   only through its vision (a 96 x 96 window, 90 degrees) and its visual
+   memory (voxels of 0.05, the stones' tops in the middle of a voxel
+   layer; it forgets what it no longer sees within 3 m): it looks around, extracts the local map of
+   the foothold locations from its memory (5.9.2), plans its steps by
+   Dijkstra over walking states with the thesis's cost (eq. 7.3.1,
+   p0 = n0 = p1 = n1 = 1, p2 = 5, n2 = 2) and walks them one by one. At
+   T = {SINK_T} the stone at about ({SINK_AT[0]}, {SINK_AT[1]}) sinks; when
+   the actor's memory forgets it, the planned path has an obstacle and
+   the actor looks around and plans again. Turtle 1 colours it: white on
+   the right foot, yellow on the left, red turning on the spot; the
+   footholds it plans to step on are drawn as small spheres (for the
+   viewer only).
+   Written by scripts/stepping_stones.py.
+     lmfilm run scenes/actors/footholds.lm --inset 0 -o renders/footholds
+     lmfilm trace scenes/actors/footholds.lm   (the walk: "footing") */
+Camera_AnimationParameters
+pref_pos_x1_x2_y1_y2 0 640 0 360
+observer 0.3 4.4 -7.6
+lookatPoint 0 -0.6 1.2
+viewAngle 500
+t_final_interval 24.0 0.04
+
+Options
+NBR_actors 1
+iVisionWinSize 0 96 8
+actorNbr_automata 0 walk_stepworthy init 10 -6.425 6.375 0.05 obs -3.1 0.7 -3.4 lat 0 0 0 fov 900 vision_range 0.75 12 3 goal -2.5 0 3.5 goal 3.1 0 0.6 speed 1.2 size_actor 0.35 foothold_plane 0 turtle 1 mem_displ_cubes
+actorNbr_automata 0 watch
+
+Axiom
+/* sky, clouds, the sun, the water */
+D () (15)
+D () (16)
+l () () () (12) (0.5) (0.7_) (0.35)
+[ m () (3) m () () () (1) (0.10) (0.22) (0.30) D () (2) () () ({DEPTH}_) ]
+/* the actor: a cube with a periscope eye (turtle 1: H its heading, L up),
+   all of it within its near plane (0.75) so that it never sees itself */
+[ M () (7) () (0)
+  [ a () () () () (0.12) ]
+  [ f () () () (3) (0) (0.35_) (0) + () () () () (90) O () () () () (0.3) (0.02) (0.02) ]
+  [ f () () () (3) (0.175_) (0.525_) (0) c () () () () (0.35) (0.35) (0.35) ]
+  [ f () () () (3) (0.175) (0.55_) (0) c () () () () (0.04) (0.08) (0.2) ] ]
+/* the stepping stones */""")
+for x, z in stones:
+    y = f"T {SINK_T} - 1.5 / ?08 1.5 * {BASE} + _" if sinking(x, z) else f"{BASE}_"
+    print(f"[ m () (16) $ () () (3) f () () () (2) ({x}{'_' if x < 0 else ''}) ({y}) ({z}{'_' if z < 0 else ''}) + () () () () (90) c () () () () ({BASE}) ({2 * HALF}) ({2 * HALF}) ]".replace("(-", "("))
+print("""
+Productions
+EndProductions""")
