@@ -723,6 +723,67 @@ mod tests {
     }
 
     #[test]
+    fn a_gap_makes_a_halt_only_where_the_curvature_saving_outweighs_the_speed_change() {
+        // A line 0.6 apart with the stone at x = 3 missing (a gap of 1.2 >
+        // Df_max) and a stone beside the gap, `off` to the side: the walk
+        // turns onto it and back. Each halt of the plan saves more turning
+        // than it costs in speed change, and each stone it walks over
+        // without halting would cost more with a halt.
+        let (gait, weights) = (Gait::default(), Weights::default());
+        let mut halted = Vec::new();
+        for off in [0.15f32, 0.3, 0.5, 0.7] {
+            let mut stones: Vec<Vec2> = (0..11)
+                .filter(|&i| i != 5)
+                .map(|i| Vec2::new(i as f32 * 0.6, 0.0))
+                .collect();
+            stones.push(Vec2::new(3.0, off));
+            let side = stones.len() - 1;
+            let goal = side - 1;
+            let facing = stones[goal] - stones[0];
+            let p = plan(&stones, 0, goal, facing, &gait, &weights).unwrap();
+            check(&stones, &p, 0, goal, facing, &gait, &weights);
+            let order: Vec<usize> = p
+                .steps
+                .iter()
+                .filter(|s| !s.is_halt())
+                .map(|s| s.current)
+                .fold(vec![0], |mut o, c| {
+                    o.push(c);
+                    o
+                });
+            assert!(order.contains(&side), "{off}: {:?}", p.steps);
+            let halts: Vec<usize> = p.steps[1..p.steps.len() - 1]
+                .iter()
+                .filter(|s| s.is_halt())
+                .map(|s| s.current)
+                .collect();
+            for &k in &order[1..order.len() - 1] {
+                let toggled: Vec<usize> = if halts.contains(&k) {
+                    halts.iter().copied().filter(|&h| h != k).collect()
+                } else {
+                    halts.iter().copied().chain([k]).collect()
+                };
+                let other = walk(&order, &toggled);
+                let feasible = other
+                    .windows(2)
+                    .all(|w| allowed(&stones, &w[0], &w[1], &gait));
+                if feasible {
+                    let c = walk_cost(&stones, &other, facing, &weights);
+                    assert!(
+                        c >= p.cost - 1e-9,
+                        "{off}: toggling {k} costs {c} < {}",
+                        p.cost
+                    );
+                }
+            }
+            halted.push(!halts.is_empty());
+        }
+        // A small side step is taken in stride; a wide one halts.
+        assert_eq!(halted.first(), Some(&false), "{halted:?}");
+        assert_eq!(halted.last(), Some(&true), "{halted:?}");
+    }
+
+    #[test]
     fn deterministic() {
         let (stones, _) = bend(1.0);
         let goal = stones.len() - 1;
