@@ -196,6 +196,36 @@ fn the_sunk_stone_makes_the_actor_plan_again() {
 }
 
 #[test]
+fn a_box_set_on_a_planned_stone_makes_the_actor_plan_around_it() {
+    // The sinking stone stays, and at T = 4.4 a crate rises onto it from
+    // the water: a foothold blocked during the film.
+    let text = scene_text();
+    let stone = stones(&text)
+        .into_iter()
+        .find(|s| s.sinks.is_some())
+        .unwrap();
+    let start = text.find("(T ").unwrap();
+    let end = start + text[start..].find(')').unwrap() + 1;
+    let crate_line = format!(
+        "[ m () (2) $ () () (3) f () () () (2) ({}) (T 4.4 - 0.5 / ?08 0.9 * 0.5 - ) ({}) + () () () () (90) c () () () () (0.5) (0.24) (0.24) ]\n",
+        written(stone.at.x),
+        written(stone.at.y)
+    );
+    let text = format!("{}(1.5_){}", &text[..start], &text[end..]).replace(
+        "/* the stepping stones */\n",
+        &format!("/* the stepping stones */\n{crate_line}"),
+    );
+    let frames = trace_of(&text, "crate.lm");
+    let footing = &frames.last().unwrap()["actors"][0]["footing"];
+    assert!(footing["replans"].as_u64().unwrap() >= 1, "{footing}");
+    let on = stood_on(&frames);
+    assert!(on
+        .iter()
+        .all(|(_, p)| ground(*p).distance(stone.at) > HALF + VOXEL));
+    assert_eq!(frames.last().unwrap()["actors"][0]["automata"], "watch");
+}
+
+#[test]
 fn the_map_from_the_actors_own_vision_holds_every_stone_and_no_phantom() {
     // Nine stones (0.3 × 0.3, tops at y = 0) around an actor whose eye is
     // 1.5 above the field; it looks around once (observe), then watches.

@@ -117,8 +117,10 @@ pub struct Footing {
     /// The foothold a walk ended on short of its destination: ending
     /// there again means the map leads no nearer.
     stuck_at: Option<Vec3>,
-    /// Look-arounds in a row without a path.
+    /// Look-arounds in a row without a path, and for an obstacle before
+    /// a step was made.
     failures: u32,
+    blocked: u32,
     /// Paths found, and of them those searched because the memory showed
     /// an obstacle on the planned path.
     pub plans: u32,
@@ -239,7 +241,12 @@ impl Living {
             f.plane = Some(plane);
             f.stand = (self.eye.y - plane).max(self.size_actor.max(0.1));
         }
-        f.map = map::local_map(memory.octree(), &region(plane), f.settings.min_voxels);
+        // A foothold with something standing on it is none.
+        let top = plane + f.stand;
+        f.map = map::local_map(memory.octree(), &region(plane), f.settings.min_voxels)
+            .into_iter()
+            .filter(|m| !map::way_blocked(memory.octree(), plane, m.at, m.at, top))
+            .collect();
     }
 
     /// Create the local map, pop a destination (end without one), and
@@ -352,7 +359,15 @@ impl Living {
             return self.reached();
         };
         if self.obstacle_ahead() {
-            self.footing.replans += 1;
+            let f = &mut self.footing;
+            f.replans += 1;
+            f.blocked += 1;
+            if f.blocked >= MAX_LOOKS {
+                // The map keeps leading into what the memory shows
+                // blocked: the next destination.
+                f.blocked = 0;
+                f.destination = None;
+            }
             return self.look_around_footholds();
         }
         let from = self.footing.on.unwrap_or(self.eye);
@@ -413,6 +428,7 @@ impl Living {
                 self.eye = Vec3::new(p.x, base + stand + lift, p.z);
                 if s >= 1.0 {
                     f.on = Some(to);
+                    f.blocked = 0;
                     f.together = f.ahead.first().is_some_and(|p| p.together);
                     f.ahead.remove(0);
                     f.motion = None;
