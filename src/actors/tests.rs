@@ -164,6 +164,26 @@ fn refuses_what_no_actor_can_run() {
     refused("NBR_actors 1\nactorNbr_automata 0 9 turtle 5", 2, "5");
     refused("NBR_actors 1\nactorNbr_automata 0 9 interest 1 3", 2, "3");
     refused("NBR_actors 1\nactorNbr_automata 0 9 goal 1 2", 2, "goal");
+    // walk_stepworthy's commands (docs/footholds.md).
+    let w = "NBR_actors 1\nactorNbr_automata 0 8";
+    refused(&format!("{w} foothold_step 0 0.5"), 2, "0 0.5");
+    refused(&format!("{w} foothold_step 1 -0.5"), 2, "-0.5");
+    refused(&format!("{w} step_weights 1 1 1 1 -5 2"), 2, "-5");
+    refused(&format!("{w} step_weights 1 1 1 -1 5 2"), 2, "-1");
+    refused(&format!("{w} foothold_map 0 4"), 2, "0 4");
+    refused(&format!("{w} foothold_map 10 0"), 2, "10 |0");
+    refused(&format!("{w} foothold_map 10 2.5"), 2, "2.5");
+    refused(&format!("{w} foothold_plane"), 2, "foothold_plane");
+    let t = scene(&format!(
+        "{w} foothold_plane 0.2 foothold_step 0.8 0.3 step_weights 1 1 0 1 5 2 foothold_map 6 3"
+    ))
+    .unwrap();
+    assert_eq!(t.get(0).unwrap().automata()[0].commands.len(), 4);
+    let walker = &super::live::living(&t)[0].footing.settings;
+    assert_eq!(walker.plane, Some(0.2));
+    assert_eq!((walker.gait.df_max, walker.gait.max_change), (0.8, 0.3));
+    assert_eq!(walker.weights.p1, 0.0);
+    assert_eq!((walker.range, walker.min_voxels), (6.0, 3));
 }
 
 #[test]
