@@ -31,6 +31,8 @@ const TURN_SPEED: f32 = std::f32::consts::PI;
 const TURN_ON_SPOT: f32 = 0.1;
 /// How high a step lifts the actor, as a share of the step's length.
 const HOP: f32 = 0.2;
+/// Least height of the eye over the plane, world units.
+const MIN_STAND: f32 = 0.1;
 /// How far ahead, in longest steps, the planned path is checked against
 /// the memory: nearer, vision sees the stones clearly; farther, a small
 /// stone seen at a grazing angle comes and goes in the memory.
@@ -239,7 +241,7 @@ impl Living {
         };
         if f.plane.is_none() {
             f.plane = Some(plane);
-            f.stand = (self.eye.y - plane).max(self.size_actor.max(0.1));
+            f.stand = (self.eye.y - plane).max(MIN_STAND);
         }
         // A foothold with something standing on it is none.
         let top = plane + f.stand;
@@ -257,7 +259,9 @@ impl Living {
             match self.goals.pop() {
                 Some(g) => self.footing.destination = Some(g),
                 None => {
+                    // end: a later walk_stepworthy starts afresh.
                     self.state = STOP;
+                    self.footing.phase = Phase::Initialization;
                     return self.pop();
                 }
             }
