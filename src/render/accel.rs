@@ -17,8 +17,9 @@ use crate::scene::{Geometry, Material, Scene};
 /// heuristic decides below that; measured best on the forest).
 const BLAS_LEAF: u32 = 16;
 
-/// A primitive of a geometry: an analytic shape or a triangle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A primitive of a geometry: an analytic shape or a triangle (shapes
+/// order first: the tie-break between equally near hits).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Prim {
     Shape(u32),
     Triangle(u32),
@@ -81,6 +82,53 @@ pub struct Hit {
     pub symbol: u64,
     /// Flat colour of the material for synthetic vision (3.1.2).
     pub vision: Vec3,
+}
+
+/// The nearest hit found so far: among equally near hits, the lowest
+/// (instance, primitive) wins, so the result does not depend on the
+/// order the traversal met them in (one ray or a packet, DESIGN §4).
+#[derive(Clone, Copy)]
+struct Closest {
+    t: f32,
+    k: u32,
+    prim: Prim,
+    hit: intersect::LocalHit,
+}
+
+/// Keeps `c` in `best` when it is nearer, or as near with a lower key.
+#[inline(always)]
+fn offer(best: &mut Option<Closest>, c: Closest) {
+    let better = match best {
+        Some(b) => c.t < b.t || (c.t == b.t && (c.k, c.prim) < (b.k, b.prim)),
+        None => true,
+    };
+    if better {
+        *best = Some(c);
+    }
+}
+
+/// The bound a hit must stay under to matter: `tmax` before any hit, then
+/// just above the best one, so an equally near hit is still tested.
+#[inline(always)]
+fn limit(best: &Option<Closest>, tmax: f32) -> f32 {
+    match best {
+        Some(b) => next_up(b.t).min(tmax),
+        None => tmax,
+    }
+}
+
+/// The least float above finite `t` (`f32::next_up`, stable only since
+/// Rust 1.86).
+#[inline(always)]
+fn next_up(t: f32) -> f32 {
+    let bits = t.to_bits();
+    if t == 0.0 {
+        f32::from_bits(1)
+    } else if t > 0.0 {
+        f32::from_bits(bits + 1)
+    } else {
+        f32::from_bits(bits - 1)
+    }
 }
 
 /// The ray-casting structure of one frame's scene. It shares the scene
@@ -207,40 +255,64 @@ impl Accel {
         )
     }
 
-    /// Closest hit within instance `k` nearer than `tmax`, kept in `best`;
-    /// returns the new `tmax`.
+    /// Closest hit within instance `k` under `tmax`, offered to `best`;
+    /// returns the new bound.
     #[inline]
-    fn instance_closest(
-        &self,
-        k: usize,
-        r: &Ray,
-        tmax: f32,
-        best: &mut Option<(u32, Prim, intersect::LocalHit)>,
-    ) -> f32 {
+    fn instance_closest(&self, k: usize, r: &Ray, tmax: f32, best: &mut Option<Closest>) -> f32 {
         let Some((b, geo, r)) = self.instance(k, r) else {
             return tmax;
         };
-        let mut found = tmax;
+        let mut bound = tmax;
         b.tree.traverse(&r, tmax, |l, tmax| {
-            let (packs, shapes) = b.leaf(l);
-            for pack in packs {
-                if let Some((t, lane)) = pack.intersect(&r, *tmax) {
-                    let prim = Prim::Triangle(pack.index[lane]);
-                    let normal = Vec3A::ZERO; // computed for the closest only
-                    *best = Some((k as u32, prim, intersect::LocalHit { t, normal }));
-                    *tmax = t;
-                }
-            }
-            for s in shapes {
-                if let Some(h) = s.hit(geo, &r, *tmax) {
-                    *best = Some((k as u32, Prim::Shape(s.index), h));
-                    *tmax = h.t;
-                }
-            }
-            found = *tmax;
+            self.leaf_closest(b, geo, k as u32, l, &r, tmax, best);
+            bound = *tmax;
             false
         });
-        found
+        bound
+    }
+
+    /// The ray against the primitives of leaf `l` of instance `k`'s tree,
+    /// hits offered to `best`; lowers `tmax` to the new bound.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn leaf_closest(
+        &self,
+        b: &Blas,
+        geo: &Geometry,
+        k: u32,
+        l: u32,
+        r: &Ray,
+        tmax: &mut f32,
+        best: &mut Option<Closest>,
+    ) {
+        let (packs, shapes) = b.leaf(l);
+        for pack in packs {
+            if let Some((t, lane)) = pack.intersect(r, *tmax) {
+                // The normal is computed for the closest only.
+                let hit = intersect::LocalHit {
+                    t,
+                    normal: Vec3A::ZERO,
+                };
+                let prim = Prim::Triangle(pack.index[lane]);
+                offer(best, Closest { t, k, prim, hit });
+                *tmax = limit(best, *tmax);
+            }
+        }
+        for s in shapes {
+            if let Some(hit) = s.hit(geo, r, *tmax) {
+                let prim = Prim::Shape(s.index);
+                offer(
+                    best,
+                    Closest {
+                        t: hit.t,
+                        k,
+                        prim,
+                        hit,
+                    },
+                );
+                *tmax = limit(best, *tmax);
+            }
+        }
     }
 
     /// Whether anything in instance `k` but a cloud layer blocks the ray
@@ -294,8 +366,8 @@ impl Accel {
                 false
             });
         }
-        let (k, prim, h) = best?;
-        Some(self.resolve(k, prim, h))
+        let c = best?;
+        Some(self.resolve(c.k, c.prim, c.hit))
     }
 
     /// Whether anything but a cloud layer blocks the ray within (tmin, tmax).

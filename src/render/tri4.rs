@@ -37,7 +37,8 @@ impl Tri4 {
         p
     }
 
-    /// The nearest lane hit with t in (ray.tmin, tmax): `(t, lane)`.
+    /// The nearest lane hit with t in (ray.tmin, tmax): `(t, lane)`; of
+    /// equally near ones, the lowest index.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<(f32, usize)> {
         let s = Vec4::splat;
@@ -76,8 +77,9 @@ impl Tri4 {
         while mask != 0 {
             let lane = mask.trailing_zeros() as usize;
             mask &= mask - 1;
+            // Equally near: the lower index, whatever the lane order.
             match best {
-                Some((bt, _)) if bt <= t[lane] => {}
+                Some((bt, b)) if (bt, self.index[b]) <= (t[lane], self.index[lane]) => {}
                 _ => best = Some((t[lane], lane)),
             }
         }
@@ -94,4 +96,24 @@ pub fn triangle(v: &[Vec3; 3], o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Opti
     Tri4::pack(&[(0, *v)])
         .intersect(&Ray::new(o, d, tmin), tmax)
         .map(|(t, _)| t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equally_near_lanes_give_the_lowest_index() {
+        let tri = [
+            Vec3::new(-1.0, 0.0, -1.0),
+            Vec3::new(1.0, 0.0, -1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+        ];
+        let ray = Ray::new(Vec3A::new(0.0, 2.0, 0.0), -Vec3A::Y, 0.0);
+        for order in [[7, 3, 9, 5], [3, 7, 5, 9], [9, 5, 7, 3]] {
+            let pack = Tri4::pack(&order.map(|i| (i, tri)));
+            let (t, lane) = pack.intersect(&ray, f32::INFINITY).unwrap();
+            assert_eq!((t, pack.index[lane]), (2.0, 3), "{order:?}");
+        }
+    }
 }

@@ -407,3 +407,26 @@ fn preview_mirrors_and_glass_are_not_black() {
         );
     }
 }
+
+#[test]
+fn equally_near_hits_resolve_to_the_lowest_primitive_whatever_the_walk() {
+    // Two identical ground squares (two triangles each), red drawn first,
+    // then yellow, then a third in white: every ray down meets three
+    // triangles at the same distance, and takes the first drawn's.
+    let s = scene_of(
+        "Camera_AnimationParameters\nobserver 0 10 1\nlookatPoint 0 0 0\nAxiom\n\
+         m () (4) D () (2) m () (5) D () (2) m () (7) D () (2)\n",
+    );
+    let accel = Accel::new(s.clone());
+    for i in 0..400 {
+        let (x, z) = (
+            (i % 20) as f32 * 37.3 - 370.0,
+            (i / 20) as f32 * 41.1 - 390.0,
+        );
+        let hit = accel
+            .cast(Vec3A::new(x, 5.0, z), -Vec3A::Y, 0.0, f32::INFINITY)
+            .unwrap();
+        assert_eq!(s.materials[hit.material as usize].name, "red", "at {x} {z}");
+        assert!((hit.t - 5.0).abs() < 1e-4);
+    }
+}
