@@ -53,15 +53,16 @@ pub struct ActorRecord {
 }
 
 /// A `walk_stepworthy` actor's walk: the foothold it stands on, the
-/// foot it last set down, whether it turns on the spot, its local map's
-/// size, its destination, the footholds planned ahead, and how many
-/// paths it found (of them, after an obstacle on the planned path).
+/// foot it last set down, whether it turns on the spot, its last local
+/// map (each foothold's x, y, z and size in voxels), its destination,
+/// the footholds planned ahead, and how many paths it found (of them,
+/// after an obstacle on the planned path).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FootingRecord {
     pub on: Option<[f32; 3]>,
     pub foot: Option<&'static str>,
     pub turning: bool,
-    pub map: usize,
+    pub map: Vec<[f32; 4]>,
     pub destination: Option<[f32; 3]>,
     pub ahead: Vec<[f32; 3]>,
     pub plans: u32,
@@ -93,7 +94,11 @@ impl ActorRecord {
                         on: f.on.map(|p| p.to_array()),
                         foot: f.foot.map(|f| f.name()),
                         turning: f.turning(),
-                        map: f.map.len(),
+                        map: f
+                            .map
+                            .iter()
+                            .map(|m| [m.at.x, m.at.y, m.at.z, m.voxels as f32])
+                            .collect(),
                         destination: f.destination.map(|p| p.to_array()),
                         ahead: f.ahead.iter().map(|p| p.at.to_array()).collect(),
                         plans: f.plans,
