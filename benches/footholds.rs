@@ -79,11 +79,11 @@ fn main() {
     };
     println!(
         "map500: {} footholds from {} voxels",
-        local_map(&tree, &region, 4).len(),
+        local_map(&tree, &region, 4, 0.3).len(),
         tree.voxel_count()
     );
     group.bench_function("map500", |bench| {
-        bench.iter(|| local_map(&tree, &region, 4))
+        bench.iter(|| local_map(&tree, &region, 4, 0.3))
     });
     group.finish();
 }

@@ -15,8 +15,8 @@ HALF = 0.15          # stones are 0.3 x 0.3: the size of a foot
 DEPTH = 0.3          # water surface below the stones' tops (y = 0)
 BASE = 1.5           # the stones reach this far down, under the water
 KEEP = 0.72
-SINK_AT = (1.11, -1.46)   # the stone that sinks
-SINK_T = 4.4              # when it starts to sink, seconds
+SINK_AT = (0.04, 0.26)   # the stone that sinks
+SINK_T = 3.8              # when it starts to sink, seconds
 SEED = 1997
 
 rng = random.Random(SEED)

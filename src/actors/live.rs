@@ -311,9 +311,17 @@ impl Living {
                     n2,
                 }
             }
-            C::FootholdMap { range, min_voxels } => {
-                self.footing.settings.range = range as f32;
-                self.footing.settings.min_voxels = u32::try_from(min_voxels).unwrap_or(u32::MAX);
+            C::FootholdMap {
+                range,
+                min_voxels,
+                foot,
+            } => {
+                let s = &mut self.footing.settings;
+                s.range = range as f32;
+                s.min_voxels = u32::try_from(min_voxels).unwrap_or(u32::MAX);
+                if let Some(f) = foot {
+                    s.foot = f as f32;
+                }
             }
             // Navigation, tennis and humanoid commands belong to the
             // automata that use them (later issues).

@@ -443,9 +443,18 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
             }
             Ok(())
         }
-        C::FootholdMap { range, min_voxels } => {
-            positive(1, *range, "the map's range")?;
-            int_in(0, *min_voxels, 1, BIG, "the smallest foothold (voxels)")
+        C::FootholdMap {
+            range,
+            min_voxels,
+            foot,
+        } => {
+            let k = usize::from(foot.is_some());
+            positive(1 + k, *range, "the map's range")?;
+            int_in(k, *min_voxels, 1, BIG, "the smallest foothold (voxels)")?;
+            match foot {
+                Some(f) => at_least(0, *f, 0.0, "the largest foothold"),
+                None => Ok(()),
+            }
         }
         C::Goal(_)
         | C::ResetGoal

@@ -298,11 +298,13 @@ pub enum AutomataCommand {
     /// `step_weights p0 n0 p1 n1 p2 n2` (lmfilm's): the weights and
     /// exponents of the step cost, eq. 7.3.1.
     StepWeights([f64; 6]),
-    /// `foothold_map range min_voxels` (lmfilm's): the local map's
-    /// radius around the actor and its smallest foothold, in voxels.
+    /// `foothold_map range min_voxels [foot]` (lmfilm's): the local
+    /// map's radius around the actor, its smallest foothold in voxels,
+    /// and its largest in world units.
     FootholdMap {
         range: f64,
         min_voxels: i64,
+        foot: Option<f64>,
     },
     /// `motor_init speed scale trace`: humanoid maximal speed (mm/s),
     /// scale factor, ray tracer output 1/0.
@@ -358,7 +360,7 @@ const COMMANDS: &[Spec] = &[
     ("foothold_plane", 1, 1, false),
     ("foothold_step", 2, 2, false),
     ("step_weights", 6, 6, false),
-    ("foothold_map", 2, 2, false),
+    ("foothold_map", 2, 3, false),
 ];
 
 /// Most words one `words_to_speak` may give.
@@ -764,6 +766,7 @@ fn typed(
         "foothold_map" => C::FootholdMap {
             range: f(0),
             min_voxels: int(1)?,
+            foot: (n == 3).then(|| f(2)),
         },
         _ => unreachable!("every command of COMMANDS has an arm"),
     })

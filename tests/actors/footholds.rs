@@ -197,7 +197,7 @@ fn the_sunk_stone_makes_the_actor_plan_again() {
 
 #[test]
 fn a_box_set_on_a_planned_stone_makes_the_actor_plan_around_it() {
-    // The sinking stone stays, and at T = 4.4 a crate rises onto it from
+    // The sinking stone stays, and at T = 3.8 a crate rises onto it from
     // the water: a foothold blocked during the film.
     let text = scene_text();
     let stone = stones(&text)
@@ -207,7 +207,7 @@ fn a_box_set_on_a_planned_stone_makes_the_actor_plan_around_it() {
     let start = text.find("(T ").unwrap();
     let end = start + text[start..].find(')').unwrap() + 1;
     let crate_line = format!(
-        "[ m () (2) $ () () (3) f () () () (2) ({}) (T 4.4 - 0.5 / ?08 0.9 * 0.5 - ) ({}) + () () () () (90) c () () () () (0.5) (0.24) (0.24) ]\n",
+        "[ m () (2) $ () () (3) f () () () (2) ({}) (T 3.8 - 0.5 / ?08 0.9 * 0.5 - ) ({}) + () () () () (90) c () () () () (0.5) (0.24) (0.24) ]\n",
         written(stone.at.x),
         written(stone.at.y)
     );
@@ -264,7 +264,7 @@ fn the_map_from_the_actors_own_vision_holds_every_stone_and_no_phantom() {
         range: 3.0,
         plane: 0.0,
     };
-    let map = local_map(memory, &region, 4);
+    let map = local_map(memory, &region, 4, 0.3);
     for s in &stones {
         let found = map.iter().find(|m| {
             let d = (m.ground() - *s).abs();
@@ -273,6 +273,49 @@ fn the_map_from_the_actors_own_vision_holds_every_stone_and_no_phantom() {
         assert!(found.is_some(), "stone {s} not within a voxel: {map:?}");
     }
     assert_eq!(map.len(), stones.len(), "phantom stones: {map:?}");
+}
+
+#[test]
+fn every_map_of_the_walk_holds_each_stone_once_and_nothing_else() {
+    // Far stones seen at a grazing angle come in pieces; the map joins
+    // them (docs/footholds.md), so no map holds a phantom or a stone twice.
+    let text = scene_text();
+    let field = stones(&text);
+    let frames = trace_of(&text, "maps.lm");
+    let mut maps = 0;
+    let mut last = serde_json::Value::Null;
+    for f in &frames {
+        let map = &f["actors"][0]["footing"]["map"];
+        if map.is_null() || *map == last {
+            continue;
+        }
+        last = map.clone();
+        maps += 1;
+        let mut on = vec![0; field.len()];
+        for m in map.as_array().unwrap() {
+            let p = Vec2::new(m[0].as_f64().unwrap() as f32, m[2].as_f64().unwrap() as f32);
+            let k = field
+                .iter()
+                .position(|s| {
+                    let d = (p - s.at).abs();
+                    d.x <= HALF + VOXEL && d.y <= HALF + VOXEL
+                })
+                .unwrap_or_else(|| panic!("frame {}: a phantom at {p}", f["frame"]));
+            on[k] += 1;
+        }
+        assert!(
+            on.iter().all(|&n| n <= 1),
+            "frame {}: a stone in pieces",
+            f["frame"]
+        );
+    }
+    assert!(maps >= 3, "{maps}");
+    // By the end it has seen the whole field.
+    assert!(
+        last.as_array().unwrap().len() >= field.len() - 1,
+        "{}",
+        last.as_array().unwrap().len()
+    );
 }
 
 #[test]

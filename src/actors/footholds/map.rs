@@ -102,21 +102,56 @@ fn map_cells(memory: &Octree, region: &Region) -> BTreeSet<Cell> {
     cells
 }
 
-/// The local map of the region: its foothold locations of at least
-/// `min_voxels` cells, in the order of their first cell (x, then z).
-pub fn local_map(memory: &Octree, region: &Region, min_voxels: u32) -> Vec<Foothold> {
-    let mut left = map_cells(memory, region);
-    let e = memory.cube().voxel_edge;
-    let min = memory.cube().min;
-    let mut map = Vec::new();
+/// A 4-connected component of the map: its cell count, the sums of its
+/// cells' coordinates, and its bounding box in cells.
+#[derive(Debug, Clone, Copy)]
+struct Part {
+    n: u32,
+    sx: f64,
+    sz: f64,
+    lo: Cell,
+    hi: Cell,
+}
+
+impl Part {
+    fn join(&self, o: &Part) -> Part {
+        Part {
+            n: self.n + o.n,
+            sx: self.sx + o.sx,
+            sz: self.sz + o.sz,
+            lo: (self.lo.0.min(o.lo.0), self.lo.1.min(o.lo.1)),
+            hi: (self.hi.0.max(o.hi.0), self.hi.1.max(o.hi.1)),
+        }
+    }
+
+    /// Its larger extent, in cells.
+    fn extent(&self) -> u32 {
+        (self.hi.0 - self.lo.0).max(self.hi.1 - self.lo.1) + 1
+    }
+}
+
+/// The 4-connected components of `cells`, in the order of their first
+/// cell (x, then z).
+fn components(mut left: BTreeSet<Cell>) -> Vec<Part> {
+    let mut parts = Vec::new();
     while let Some(first) = left.pop_first() {
-        // One 4-connected component, by a breadth-first flood.
+        // One component, by a flood from its first cell.
         let mut todo = vec![first];
-        let (mut n, mut sx, mut sz) = (0u32, 0f64, 0f64);
+        let mut p = Part {
+            n: 0,
+            sx: 0.0,
+            sz: 0.0,
+            lo: first,
+            hi: first,
+        };
         while let Some((x, z)) = todo.pop() {
-            n += 1;
-            sx += f64::from(x);
-            sz += f64::from(z);
+            p = p.join(&Part {
+                n: 1,
+                sx: f64::from(x),
+                sz: f64::from(z),
+                lo: (x, z),
+                hi: (x, z),
+            });
             let four = [
                 x.checked_sub(1).map(|x| (x, z)),
                 x.checked_add(1).map(|x| (x, z)),
@@ -129,15 +164,55 @@ pub fn local_map(memory: &Octree, region: &Region, min_voxels: u32) -> Vec<Footh
                 }
             }
         }
-        if n >= min_voxels.max(1) {
-            let mean = |s: f64| (min + (s / f64::from(n) + 0.5) * e) as f32;
-            map.push(Foothold {
-                at: Vec3::new(mean(sx), region.plane, mean(sz)),
-                voxels: n,
-            });
-        }
+        parts.push(p);
     }
-    map
+    parts
+}
+
+/// The local map of the region: its foothold locations of at least
+/// `min_voxels` cells, in the order of their first cell (x, then z).
+///
+/// Components that together fit in a square of side `foot` (plus a cell
+/// on each side for a stone's rim) are one foothold seen in pieces: a
+/// stone far away, seen at a grazing angle, shows its far edge and its
+/// near rim with cells not yet seen between. Two footholds cannot fit
+/// there: each is the size of a foot and empty space lies between them
+/// (5.9.1).
+pub fn local_map(memory: &Octree, region: &Region, min_voxels: u32, foot: f32) -> Vec<Foothold> {
+    let e = memory.cube().voxel_edge;
+    let min = memory.cube().min;
+    // foot ≤ 0: no joining.
+    let fits = if foot > 0.0 {
+        (f64::from(foot) / e).floor() as u32 + 2
+    } else {
+        0
+    };
+    let mut parts = components(map_cells(memory, region));
+    // Join pieces, first pair first, until none fit together.
+    'join: loop {
+        for i in 0..parts.len() {
+            for j in i + 1..parts.len() {
+                let u = parts[i].join(&parts[j]);
+                if u.extent() <= fits {
+                    parts[i] = u;
+                    parts.remove(j);
+                    continue 'join;
+                }
+            }
+        }
+        break;
+    }
+    parts
+        .iter()
+        .filter(|p| p.n >= min_voxels.max(1))
+        .map(|p| {
+            let mean = |s: f64| (min + (s / f64::from(p.n) + 0.5) * e) as f32;
+            Foothold {
+                at: Vec3::new(mean(p.sx), region.plane, mean(p.sz)),
+                voxels: p.n,
+            }
+        })
+        .collect()
 }
 
 /// The foothold plane an actor stands on when the scene does not say:
@@ -233,7 +308,7 @@ mod tests {
     #[test]
     fn every_stone_is_found_at_its_centre() {
         let stones = [(0.0, 0.0, 3), (1.0, 0.3, 3), (-1.2, 2.0, 4)];
-        let map = local_map(&field(&stones), &region(5.0), 4);
+        let map = local_map(&field(&stones), &region(5.0), 4, 0.3);
         assert_eq!(map.len(), 3, "{map:?}");
         for &(x, z, n) in &stones {
             let f = map
@@ -251,11 +326,13 @@ mod tests {
         // Two cells touching at a corner only: two components of one cell.
         t.insert_point([0.05, -0.01, 0.05], 1);
         t.insert_point([0.15, -0.01, 0.15], 1);
-        assert!(local_map(&t, &region(5.0), 2).is_empty());
-        assert_eq!(local_map(&t, &region(5.0), 1).len(), 2);
+        assert!(local_map(&t, &region(5.0), 2, 0.0).is_empty());
+        assert_eq!(local_map(&t, &region(5.0), 1, 0.0).len(), 2);
+        // Joined as pieces of one foot-sized foothold.
+        assert_eq!(local_map(&t, &region(5.0), 1, 0.3).len(), 1);
         // A third joins them by an edge: one component of three.
         t.insert_point([0.15, -0.01, 0.05], 1);
-        let map = local_map(&t, &region(5.0), 2);
+        let map = local_map(&t, &region(5.0), 2, 0.0);
         assert_eq!(map.len(), 1);
         assert_eq!(map[0].voxels, 3);
     }
@@ -271,7 +348,7 @@ mod tests {
         for (v, l) in far.occupied_voxels() {
             t.insert(v, l);
         }
-        let map = local_map(&t, &region(3.0), 4);
+        let map = local_map(&t, &region(3.0), 4, 0.3);
         assert_eq!(map.len(), 1, "{map:?}");
         assert!(map[0].ground().length() < 0.1);
     }

@@ -40,6 +40,8 @@ const CHECKED_STEPS: f32 = 2.5;
 /// The local map's radius and smallest foothold before any `foothold_map`.
 const DEFAULT_RANGE: f32 = 10.0;
 const DEFAULT_MIN_VOXELS: u32 = 4;
+/// A foot's length, world units (metres): the largest foothold.
+const DEFAULT_FOOT: f32 = 0.3;
 
 /// The configuration of `walk_stepworthy`, set by its commands.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,6 +54,9 @@ pub struct Settings {
     /// `foothold_map`: the map's radius and smallest foothold.
     pub range: f32,
     pub min_voxels: u32,
+    /// `foothold_map`'s third number: the largest foothold, world units;
+    /// pieces of the map that fit in a square this size are one.
+    pub foot: f32,
 }
 
 impl Default for Settings {
@@ -62,6 +67,7 @@ impl Default for Settings {
             weights: Weights::default(),
             range: DEFAULT_RANGE,
             min_voxels: DEFAULT_MIN_VOXELS,
+            foot: DEFAULT_FOOT,
         }
     }
 }
@@ -245,7 +251,8 @@ impl Living {
         }
         // A foothold with something standing on it is none.
         let top = plane + f.stand;
-        f.map = map::local_map(memory.octree(), &region(plane), f.settings.min_voxels)
+        let (min_voxels, foot) = (f.settings.min_voxels, f.settings.foot);
+        f.map = map::local_map(memory.octree(), &region(plane), min_voxels, foot)
             .into_iter()
             .filter(|m| !map::way_blocked(memory.octree(), plane, m.at, m.at, top))
             .collect();
