@@ -14,20 +14,19 @@ use lmfilm::actors::footholds::map::{local_map, Region};
 use lmfilm::actors::footholds::plan::{plan, Gait, Weights};
 use lmfilm::actors::octree::{Cube, Octree};
 
-/// The stones, row by row from the corner at the origin.
+/// The stones, row by row from the corner at the origin, each jittered
+/// by up to ±0.1 from the crate's keyed random stream.
 fn field() -> Vec<Vec2> {
-    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-    let mut jitter = move || {
-        // SplitMix64, mapped to [-0.1, 0.1).
-        seed = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = seed;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u32 << 24) as f32 * 0.2 - 0.1
-    };
-    (0..20)
-        .flat_map(|row| (0..25).map(move |col| (row, col)))
-        .map(|(row, col)| Vec2::new(col as f32 * 0.7 + jitter(), row as f32 * 0.7 + jitter()))
+    let jitter = |slot: u64| lmfilm::random::unit(17, slot) as f32 * 0.2 - 0.1;
+    (0..20u64)
+        .flat_map(|row| (0..25u64).map(move |col| (row, col)))
+        .map(|(row, col)| {
+            let k = 2 * (row * 25 + col);
+            Vec2::new(
+                col as f32 * 0.7 + jitter(k),
+                row as f32 * 0.7 + jitter(k + 1),
+            )
+        })
         .collect()
 }
 
