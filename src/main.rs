@@ -298,27 +298,8 @@ enum FarmCommand {
         /// The film folder, on storage every node shares.
         #[arg(short, long, value_name = "DIR")]
         output: PathBuf,
-        /// Render tasks in the array.
-        #[arg(long, value_name = "N")]
-        shards: u32,
-        /// Slurm partition of every job.
-        #[arg(long, value_name = "P")]
-        partition: Option<String>,
-        /// Wall-time limit of every job (`HH:MM:SS`, `MM`, `D-HH`…).
-        #[arg(long, value_name = "T")]
-        time: Option<String>,
-        /// Memory of every job (`4G`, `500M`).
-        #[arg(long, value_name = "M")]
-        mem: Option<String>,
-        /// CPUs of every job (`--cpus-per-task`).
-        #[arg(long, value_name = "C")]
-        cpus: Option<u32>,
-        /// Slurm account charged.
-        #[arg(long, value_name = "A")]
-        account: Option<String>,
-        /// The lmfilm binary the jobs run (default: this one).
-        #[arg(long, value_name = "PATH")]
-        lmfilm: Option<PathBuf>,
+        #[command(flatten)]
+        slurm: commands::farm::Slurm,
         /// Write and print the scripts; submit nothing.
         #[arg(long)]
         dry_run: bool,
@@ -399,36 +380,9 @@ fn main() -> ExitCode {
         Command::Farm(FarmCommand::Slurm {
             scenes,
             output,
-            shards,
-            partition,
-            time,
-            mem,
-            cpus,
-            account,
-            lmfilm,
+            slurm,
             dry_run,
-        }) => {
-            let lmfilm = match lmfilm {
-                Some(p) => Ok(p),
-                None => std::env::current_exe().map_err(|e| {
-                    lmfilm::error::Error::input(format!(
-                        "this lmfilm's path: {e}; give --lmfilm PATH"
-                    ))
-                }),
-            };
-            lmfilm.and_then(|lmfilm| {
-                let slurm = commands::farm::Slurm {
-                    shards,
-                    partition,
-                    time,
-                    mem,
-                    cpus,
-                    account,
-                    lmfilm,
-                };
-                commands::farm::slurm(&scenes, &output, slurm, dry_run)
-            })
-        }
+        }) => commands::farm::slurm(&scenes, &output, &slurm, dry_run),
         Command::Farm(FarmCommand::Status { dir }) => commands::farm::status(&dir),
         Command::Render {
             dir,

@@ -11,6 +11,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use clap::Args;
+
 use crate::error::{Error, Result};
 
 /// The chain's folder inside the film folder, and its logs.
@@ -25,19 +27,31 @@ const JOBS_FILE: &str = "jobs.txt";
 /// missing).
 pub const RENDER_ATTEMPTS: u32 = 3;
 
-/// What the jobs ask Slurm for, and the binary they run.
-#[derive(Debug, Clone, PartialEq)]
+/// What the jobs ask Slurm for, and the binary they run, as
+/// `lmfilm farm slurm` reads them.
+#[derive(Debug, Clone, PartialEq, Args)]
 pub struct Slurm {
+    /// Render tasks in the array.
+    #[arg(long, value_name = "N")]
     pub shards: u32,
+    /// Slurm partition of every job.
+    #[arg(long, value_name = "P")]
     pub partition: Option<String>,
-    /// Wall-time limit per job, in Slurm's notation (`HH:MM:SS`, `MM`…).
+    /// Wall-time limit of every job (`HH:MM:SS`, `MM`, `D-HH`…).
+    #[arg(long, value_name = "T")]
     pub time: Option<String>,
-    /// Memory per job, in Slurm's notation (`4G`, `500M`).
+    /// Memory of every job (`4G`, `500M`).
+    #[arg(long, value_name = "M")]
     pub mem: Option<String>,
+    /// CPUs of every job (`--cpus-per-task`).
+    #[arg(long, value_name = "C")]
     pub cpus: Option<u32>,
+    /// Slurm account charged.
+    #[arg(long, value_name = "A")]
     pub account: Option<String>,
-    /// The lmfilm binary the jobs run: an absolute path.
-    pub lmfilm: PathBuf,
+    /// The lmfilm binary the jobs run (default: this one).
+    #[arg(long, value_name = "PATH")]
+    pub lmfilm: Option<PathBuf>,
 }
 
 /// The three job scripts of a chain.
@@ -88,12 +102,12 @@ impl Slurm {
         h
     }
 
-    /// The chain's scripts for the scenes `scenes` into the film folder
-    /// `dir` (both absolute: the jobs run on other machines, in other
-    /// folders).
-    pub fn chain(&self, scenes: &[PathBuf], dir: &Path) -> Chain {
+    /// The chain's scripts running the binary `lmfilm` on the scenes
+    /// `scenes` into the film folder `dir` (all absolute: the jobs run on
+    /// other machines, in other folders).
+    pub fn chain(&self, lmfilm: &Path, scenes: &[PathBuf], dir: &Path) -> Chain {
         let logs = dir.join(FARM_DIR).join(LOGS_DIR);
-        let bin = quote_path(&self.lmfilm);
+        let bin = quote_path(lmfilm);
         let folder = quote_path(dir);
         let scene_list: Vec<String> = scenes.iter().map(|s| quote_path(s)).collect();
         let derive = format!(
@@ -205,7 +219,7 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 
 /// `lmfilm farm slurm`: writes the chain's scripts into `out`/farm and
 /// submits them (or, with `dry_run`, prints them).
-pub fn slurm(scenes: &[PathBuf], out: &Path, mut slurm: Slurm, dry_run: bool) -> Result<()> {
+pub fn slurm(scenes: &[PathBuf], out: &Path, slurm: &Slurm, dry_run: bool) -> Result<()> {
     if slurm.shards == 0 {
         return Err(Error::input("--shards must be at least 1"));
     }
@@ -217,8 +231,12 @@ pub fn slurm(scenes: &[PathBuf], out: &Path, mut slurm: Slurm, dry_run: bool) ->
         absolute_scenes.push(absolute(s)?);
     }
     let dir = absolute(out)?;
-    slurm.lmfilm = absolute(&slurm.lmfilm)?;
-    let chain = slurm.chain(&absolute_scenes, &dir);
+    let lmfilm = match &slurm.lmfilm {
+        Some(p) => absolute(p)?,
+        None => std::env::current_exe()
+            .map_err(|e| Error::input(format!("this lmfilm's path: {e}; give --lmfilm PATH")))?,
+    };
+    let chain = slurm.chain(&lmfilm, &absolute_scenes, &dir);
     let scripts = write(&dir, &chain)?;
     let logs = dir.join(FARM_DIR).join(LOGS_DIR);
     if dry_run {
@@ -303,7 +321,7 @@ mod tests {
             mem: Some("4G".into()),
             cpus: Some(2),
             account: None,
-            lmfilm: PathBuf::from("/opt/lmfilm/bin/lmfilm"),
+            lmfilm: None,
         }
     }
 
@@ -313,7 +331,8 @@ mod tests {
     #[test]
     fn the_scripts_run_the_film_commands() {
         let dir = Path::new("/shared/films/it's");
-        let c = slurm().chain(&[PathBuf::from("/shared/scenes/a.lm")], dir);
+        let bin = Path::new("/opt/lmfilm/bin/lmfilm");
+        let c = slurm().chain(bin, &[PathBuf::from("/shared/scenes/a.lm")], dir);
         assert!(c.derive.contains("#SBATCH --partition=render\n"));
         assert!(c.derive.contains("#SBATCH --cpus-per-task=2\n"));
         assert!(!c.derive.contains("--account"));
