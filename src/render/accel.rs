@@ -262,57 +262,41 @@ impl Accel {
         let Some((b, geo, r)) = self.instance(k, r) else {
             return tmax;
         };
+        let k = k as u32;
         let mut bound = tmax;
         b.tree.traverse(&r, tmax, |l, tmax| {
-            self.leaf_closest(b, geo, k as u32, l, &r, tmax, best);
+            let (packs, shapes) = b.leaf(l);
+            for pack in packs {
+                if let Some((t, lane)) = pack.intersect(&r, *tmax) {
+                    // The normal is computed for the closest only.
+                    let hit = intersect::LocalHit {
+                        t,
+                        normal: Vec3A::ZERO,
+                    };
+                    let prim = Prim::Triangle(pack.index[lane]);
+                    offer(best, Closest { t, k, prim, hit });
+                    *tmax = limit(best, *tmax);
+                }
+            }
+            for s in shapes {
+                if let Some(hit) = s.hit(geo, &r, *tmax) {
+                    let prim = Prim::Shape(s.index);
+                    offer(
+                        best,
+                        Closest {
+                            t: hit.t,
+                            k,
+                            prim,
+                            hit,
+                        },
+                    );
+                    *tmax = limit(best, *tmax);
+                }
+            }
             bound = *tmax;
             false
         });
         bound
-    }
-
-    /// The ray against the primitives of leaf `l` of instance `k`'s tree,
-    /// hits offered to `best`; lowers `tmax` to the new bound.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn leaf_closest(
-        &self,
-        b: &Blas,
-        geo: &Geometry,
-        k: u32,
-        l: u32,
-        r: &Ray,
-        tmax: &mut f32,
-        best: &mut Option<Closest>,
-    ) {
-        let (packs, shapes) = b.leaf(l);
-        for pack in packs {
-            if let Some((t, lane)) = pack.intersect(r, *tmax) {
-                // The normal is computed for the closest only.
-                let hit = intersect::LocalHit {
-                    t,
-                    normal: Vec3A::ZERO,
-                };
-                let prim = Prim::Triangle(pack.index[lane]);
-                offer(best, Closest { t, k, prim, hit });
-                *tmax = limit(best, *tmax);
-            }
-        }
-        for s in shapes {
-            if let Some(hit) = s.hit(geo, r, *tmax) {
-                let prim = Prim::Shape(s.index);
-                offer(
-                    best,
-                    Closest {
-                        t: hit.t,
-                        k,
-                        prim,
-                        hit,
-                    },
-                );
-                *tmax = limit(best, *tmax);
-            }
-        }
     }
 
     /// Whether anything in instance `k` but a cloud layer blocks the ray
