@@ -77,13 +77,13 @@ pub struct Progress {
 
 /// `v` turned by `a` radians about the vertical axis (toward +x from +z
 /// for a > 0: to the actor's left).
-fn turn(v: Vec3, a: f32) -> Vec3 {
+pub(crate) fn turn(v: Vec3, a: f32) -> Vec3 {
     let (s, c) = a.sin_cos();
     Vec3::new(v.x * c + v.z * s, v.y, -v.x * s + v.z * c)
 }
 
 /// The signed horizontal angle from `from` to `to` (positive: to the left).
-fn angle_to(from: Vec3, to: Vec3) -> f32 {
+pub(crate) fn angle_to(from: Vec3, to: Vec3) -> f32 {
     let (a, b) = (Vec3::new(from.x, 0.0, from.z), Vec3::new(to.x, 0.0, to.z));
     (a.z * b.x - a.x * b.z).atan2(a.x * b.x + a.z * b.z)
 }
@@ -137,7 +137,7 @@ impl Living {
     }
 
     /// Where the actor looks, horizontally (its body's direction).
-    fn heading(&self) -> Vec3 {
+    pub(crate) fn heading(&self) -> Vec3 {
         let d = self.look_at - self.eye;
         let flat = Vec3::new(d.x, 0.0, d.z).normalize_or_zero();
         if flat == Vec3::ZERO {

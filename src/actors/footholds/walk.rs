@@ -13,7 +13,7 @@ use glam::{Vec2, Vec3};
 
 use super::map::{self, Foothold, Region};
 use super::plan::{self, Foot, Gait, Weights};
-use crate::actors::behaviour::Script;
+use crate::actors::behaviour::{angle_to, turn, Script};
 use crate::actors::live::state::{LOOK_AROUND, SEARCH_NEW_PATH, STOP, WALK};
 use crate::actors::live::Living;
 use crate::lsys::automata::Automata;
@@ -156,15 +156,6 @@ fn angle(a: Vec3, b: Vec3) -> f32 {
     a.dot(b).clamp(-1.0, 1.0).acos()
 }
 
-/// `a` turned toward `b` by the share `s` of the angle between them
-/// (horizontal unit vectors).
-fn slerp(a: Vec3, b: Vec3, s: f32) -> Vec3 {
-    let signed = (a.z * b.x - a.x * b.z).atan2(a.dot(b));
-    let t = signed * s.clamp(0.0, 1.0);
-    let (sin, cos) = t.sin_cos();
-    Vec3::new(a.x * cos + a.z * sin, 0.0, -a.x * sin + a.z * cos)
-}
-
 /// The footholds a walk from `start` may reach, steps shorter than
 /// `df_max` apart (whatever the gait), in index order.
 fn reachable(points: &[Vec2], start: usize, df_max: f32) -> Vec<usize> {
@@ -191,22 +182,12 @@ impl Living {
         }
         match self.footing.phase {
             Phase::Initialization => {
-                self.footing.heading = self.heading_of_eyes();
+                self.footing.heading = self.heading();
                 self.footing.phase = Phase::CreateMap;
                 self.look_around_footholds();
             }
             Phase::CreateMap => self.create_map_and_search(),
             Phase::Walking => self.walking(dt),
-        }
-    }
-
-    /// Where the eyes look, horizontally.
-    fn heading_of_eyes(&self) -> Vec3 {
-        let h = flat(self.look_at - self.eye);
-        if h == Vec3::ZERO {
-            Vec3::Z
-        } else {
-            h
         }
     }
 
@@ -418,7 +399,7 @@ impl Living {
         match motion {
             Motion::Turn { from, to, time } => {
                 let s = if time > 0.0 { t / time } else { 1.0 };
-                f.heading = slerp(from, to, s);
+                f.heading = turn(from, angle_to(from, to) * s.clamp(0.0, 1.0));
                 if s >= 1.0 {
                     f.heading = to;
                     f.motion = None;
