@@ -424,3 +424,17 @@ fn main() -> ExitCode {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// clap's own checks of the whole command line (unique names and
+    /// groups, valid defaults), which otherwise run only when a test
+    /// happens to parse that subcommand. They need debug assertions, as
+    /// `make test` builds; in a release build they do nothing.
+    #[test]
+    fn the_command_line_is_well_formed() {
+        super::Cli::command().debug_assert();
+    }
+}

@@ -30,6 +30,8 @@ pub const RENDER_ATTEMPTS: u32 = 3;
 /// What the jobs ask Slurm for, and the binary they run, as
 /// `lmfilm farm slurm` reads them.
 #[derive(Debug, Clone, PartialEq, Args)]
+// No argument group: its default name would be the subcommand's.
+#[group(skip)]
 pub struct Slurm {
     /// Render tasks in the array.
     #[arg(long, value_name = "N")]
