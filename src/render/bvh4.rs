@@ -24,6 +24,7 @@ const EMPTY: u32 = u32::MAX;
 /// Traversal stacks up to this size live on the call stack.
 const INLINE_STACK: usize = 64;
 
+
 /// Four children's boxes, one `Vec4` per axis and side.
 #[derive(Clone, Copy)]
 #[repr(C, align(64))]
@@ -476,6 +477,9 @@ impl Bvh4 {
                 .min(far_z * iz - oz)
                 .min(Vec4::splat(tmax));
             let mut mask = t0.cmple(t1).bitmask();
+            // An array, not the `Vec4`: indexing a `Vec4` by a run-time
+            // lane compiles to a jump table.
+            let t0 = t0.to_array();
             // Push the entered children farthest first, so the nearest is
             // popped next (ties keep slot order: deterministic).
             let base = sp;

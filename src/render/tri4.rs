@@ -69,10 +69,15 @@ impl Tri4 {
         let negative = u.cmplt(zero) | w.cmplt(zero) | x.cmplt(zero);
         let positive = u.cmpgt(zero) | w.cmpgt(zero) | x.cmpgt(zero);
         let det = u + w + x;
+        let inside = !(negative & positive) & det.cmpne(zero);
+        // Most packs a walk tests are missed: skip the division for them.
+        if !inside.any() {
+            return None;
+        }
         let t = (u * (sz * a[kz]) + w * (sz * b[kz]) + x * (sz * c[kz])) / det;
-        let hit =
-            !(negative & positive) & det.cmpne(zero) & t.cmpgt(s(ray.tmin)) & t.cmplt(s(tmax));
+        let hit = inside & t.cmpgt(s(ray.tmin)) & t.cmplt(s(tmax));
         let mut mask = hit.bitmask();
+        let t = t.to_array();
         let mut best: Option<(f32, usize)> = None;
         while mask != 0 {
             let lane = mask.trailing_zeros() as usize;
