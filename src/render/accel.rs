@@ -44,25 +44,35 @@ impl ShapeLeaf {
     }
 }
 
-/// One geometry's tree; leaf `l` holds the triangle packs
-/// `tris[packs[l].0..packs[l].1]` and the shapes `shapes[..]` likewise.
+/// One geometry's tree. A leaf's code (see [`Bvh4::set_leaf_codes`])
+/// locates its primitives itself, so a visit reads no table first: one
+/// to four triangle packs and no shape is `first << 2 | (count - 1)`,
+/// the packs `tris[first..first + count]`; any other leaf is `SIDE | k`,
+/// its packs and shapes the ranges `sides[k]`.
 struct Blas {
     tree: Bvh4,
-    packs: Vec<(u32, u32)>,
     tris: Vec<Tri4>,
-    spans: Vec<(u32, u32)>,
     shapes: Vec<ShapeLeaf>,
+    sides: Vec<[(u32, u32); 2]>,
 }
 
+/// The tag of a leaf code that indexes [`Blas::sides`].
+const SIDE: u32 = 1 << 30;
+
 impl Blas {
-    /// The triangle packs and the shapes of leaf `l`.
+    /// The triangle packs and the shapes of the leaf with code `code`.
     #[inline(always)]
-    fn leaf(&self, l: u32) -> (&[Tri4], &[ShapeLeaf]) {
-        let ((a, b), (c, d)) = (self.packs[l as usize], self.spans[l as usize]);
-        (
-            &self.tris[a as usize..b as usize],
-            &self.shapes[c as usize..d as usize],
-        )
+    fn leaf(&self, code: u32) -> (&[Tri4], &[ShapeLeaf]) {
+        if code & SIDE == 0 {
+            let first = (code >> 2) as usize;
+            (&self.tris[first..=first + (code & 3) as usize], &[])
+        } else {
+            let [(a, b), (c, d)] = self.sides[(code & !SIDE) as usize];
+            (
+                &self.tris[a as usize..b as usize],
+                &self.shapes[c as usize..d as usize],
+            )
+        }
     }
 }
 
@@ -137,8 +147,9 @@ fn next_up(t: f32) -> f32 {
 pub struct Accel {
     pub scene: Arc<Scene>,
     tlas: Option<Bvh4>,
-    /// Instance index of each top-level primitive.
-    tlas_inst: Vec<u32>,
+    /// The only instance, when there is one (no top level to walk); the
+    /// top level's leaf codes are instance indices.
+    single: Option<u32>,
     inst_inv: Vec<Affine3A>,
     /// Each instance's normal matrix (inverse transpose).
     inst_normal: Vec<Mat3A>,
@@ -165,12 +176,12 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
     }
     let tree = Bvh4::build(&boxes, BLAS_LEAF)?;
     let mut b = Blas {
-        packs: Vec::with_capacity(tree.leaf_count() as usize),
         tris: Vec::new(),
-        spans: Vec::with_capacity(tree.leaf_count() as usize),
         shapes: Vec::new(),
+        sides: Vec::new(),
         tree,
     };
+    let mut codes = Vec::with_capacity(b.tree.leaf_count() as usize);
     let mut tris = Vec::new();
     for l in 0..b.tree.leaf_count() {
         tris.clear();
@@ -193,9 +204,21 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
         }
         let packs_from = b.tris.len() as u32;
         b.tris.extend(tris.chunks(4).map(Tri4::pack));
-        b.packs.push((packs_from, b.tris.len() as u32));
-        b.spans.push((shapes_from, b.shapes.len() as u32));
+        let (packs, shapes) = (
+            (packs_from, b.tris.len() as u32),
+            (shapes_from, b.shapes.len() as u32),
+        );
+        let count = packs.1 - packs.0;
+        codes.push(
+            if shapes.0 == shapes.1 && (1..=4).contains(&count) && packs.0 < SIDE >> 2 {
+                packs.0 << 2 | (count - 1)
+            } else {
+                b.sides.push([packs, shapes]);
+                SIDE | (b.sides.len() as u32 - 1)
+            },
+        );
     }
+    b.tree.set_leaf_codes(|l| codes[l as usize]);
     Some(b)
 }
 
@@ -220,12 +243,17 @@ impl Accel {
                 boxes.push(wb);
             }
         }
-        let tlas = Bvh4::build(&boxes, 1);
-        let tlas_inst = tlas.as_ref().map_or(Vec::new(), |t| {
-            (0..t.leaf_count())
+        let mut tlas = Bvh4::build(&boxes, 1);
+        if let Some(t) = &mut tlas {
+            let codes: Vec<u32> = (0..t.leaf_count())
                 .map(|l| inst[t.leaf(l)[0] as usize])
-                .collect()
-        });
+                .collect();
+            t.set_leaf_codes(|l| codes[l as usize]);
+        }
+        let single = match inst[..] {
+            [k] => Some(k),
+            _ => None,
+        };
         let inst_inv: Vec<Affine3A> = scene
             .instances
             .iter()
@@ -235,7 +263,7 @@ impl Accel {
         Accel {
             scene,
             tlas,
-            tlas_inst,
+            single,
             inst_inv,
             inst_normal,
             blas,
@@ -337,16 +365,11 @@ impl Accel {
         let tlas = self.tlas.as_ref()?;
         let mut best = None;
         // One instance (a scene without repetitions): no top level to walk.
-        if let [k] = self.tlas_inst[..] {
+        if let Some(k) = self.single {
             self.instance_closest(k as usize, &r, tmax, &mut best);
         } else {
-            tlas.traverse(&r, tmax, |l, tmax| {
-                *tmax = self.instance_closest(
-                    self.tlas_inst[l as usize] as usize,
-                    &r,
-                    *tmax,
-                    &mut best,
-                );
+            tlas.traverse(&r, tmax, |k, tmax| {
+                *tmax = self.instance_closest(k as usize, &r, *tmax, &mut best);
                 false
             });
         }
@@ -360,11 +383,11 @@ impl Accel {
             return false;
         };
         let Some(tlas) = &self.tlas else { return false };
-        if let [k] = self.tlas_inst[..] {
+        if let Some(k) = self.single {
             return self.instance_any(k as usize, &r, tmax);
         }
-        tlas.traverse_any(&r, tmax, |l, tmax| {
-            self.instance_any(self.tlas_inst[l as usize] as usize, &r, *tmax)
+        tlas.traverse_any(&r, tmax, |k, tmax| {
+            self.instance_any(k as usize, &r, *tmax)
         })
     }
 

@@ -371,6 +371,23 @@ impl Bvh4 {
         out
     }
 
+    /// Gives leaf `l` the code `code(l)` (below 2³¹), which traversals
+    /// hand to their leaf callback instead of `l`: the owner's own handle
+    /// on the leaf's data, so a leaf visit needs no lookup table.
+    pub fn set_leaf_codes(&mut self, code: impl Fn(u32) -> u32) {
+        let mut relabel = |c: &mut u32| {
+            if *c != EMPTY && *c & LEAF != 0 {
+                let new = code(*c & !LEAF);
+                assert!(new < LEAF, "leaf code {new} out of range");
+                *c = LEAF | new;
+            }
+        };
+        relabel(&mut self.root);
+        for n in &mut self.nodes {
+            n.child.iter_mut().for_each(&mut relabel);
+        }
+    }
+
     /// Input indices of leaf `l`.
     pub fn leaf(&self, l: u32) -> &[u32] {
         let (first, count) = self.leaves[l as usize];
@@ -391,7 +408,7 @@ impl Bvh4 {
     }
 
     /// Visits the leaves the ray enters with t in (tmin, `tmax`), nearest
-    /// box first. `leaf(l, &mut tmax)` may lower `tmax` (closest hit) or
+    /// box first, by their codes (see [`Self::set_leaf_codes`]). `leaf(l, &mut tmax)` may lower `tmax` (closest hit) or
     /// return true to stop; the result is whether it stopped.
     #[inline]
     pub fn traverse(&self, ray: &Ray, tmax: f32, leaf: impl FnMut(u32, &mut f32) -> bool) -> bool {
