@@ -45,11 +45,16 @@ impl Tri4 {
         let [kx, ky, kz] = ray.axes;
         let (sx, sy, sz) = (s(ray.shear.x), s(ray.shear.y), s(ray.shear.z));
         let o = ray.origin;
-        let rel = |p: &[Vec4; 3]| [p[0] - s(o.x), p[1] - s(o.y), p[2] - s(o.z)];
-        let (a, b, c) = (rel(&self.v[0]), rel(&self.v[1]), rel(&self.v[2]));
-        let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
-        let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
-        let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
+        let (ox, oy, oz) = (s(o[kx]), s(o[ky]), s(o[kz]));
+        // Each corner relative to the origin, sheared; read straight from
+        // the pack by axis (a local array indexed by axis went through
+        // the stack).
+        let corner = |p: &[Vec4; 3]| {
+            let z = p[kz] - oz;
+            (p[kx] - ox - sx * z, p[ky] - oy - sy * z, z)
+        };
+        let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) =
+            (corner(&self.v[0]), corner(&self.v[1]), corner(&self.v[2]));
         let mut u = cx * by - cy * bx;
         let mut w = ax * cy - ay * cx;
         let mut x = bx * ay - by * ax;
@@ -74,7 +79,7 @@ impl Tri4 {
         if !inside.any() {
             return None;
         }
-        let t = (u * (sz * a[kz]) + w * (sz * b[kz]) + x * (sz * c[kz])) / det;
+        let t = (u * (sz * az) + w * (sz * bz) + x * (sz * cz)) / det;
         let hit = inside & t.cmpgt(s(ray.tmin)) & t.cmplt(s(tmax));
         let mut mask = hit.bitmask();
         let t = t.to_array();
