@@ -52,6 +52,8 @@ impl ShapeLeaf {
 struct Blas {
     tree: Bvh4,
     tris: Vec<Tri4>,
+    /// The triangles' indices in their geometry, per pack and lane.
+    ids: Vec<[u32; 4]>,
     shapes: Vec<ShapeLeaf>,
     sides: Vec<[(u32, u32); 2]>,
 }
@@ -60,15 +62,17 @@ struct Blas {
 const SIDE: u32 = 1 << 30;
 
 impl Blas {
-    /// The triangle packs and the shapes of the leaf with code `code`.
+    /// The leaf with code `code`: the index of its first triangle pack,
+    /// its packs and its shapes.
     #[inline(always)]
-    fn leaf(&self, code: u32) -> (&[Tri4], &[ShapeLeaf]) {
+    fn leaf(&self, code: u32) -> (usize, &[Tri4], &[ShapeLeaf]) {
         if code & SIDE == 0 {
             let first = (code >> 2) as usize;
-            (&self.tris[first..=first + (code & 3) as usize], &[])
+            (first, &self.tris[first..=first + (code & 3) as usize], &[])
         } else {
             let [(a, b), (c, d)] = self.sides[(code & !SIDE) as usize];
             (
+                a as usize,
                 &self.tris[a as usize..b as usize],
                 &self.shapes[c as usize..d as usize],
             )
@@ -177,6 +181,7 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
     let tree = Bvh4::build(&boxes, BLAS_LEAF)?;
     let mut b = Blas {
         tris: Vec::new(),
+        ids: Vec::new(),
         shapes: Vec::new(),
         sides: Vec::new(),
         tree,
@@ -202,8 +207,19 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
                 Prim::Triangle(i) => tris.push((i, g.triangles[i as usize].v)),
             }
         }
+        // In index order: a pack's lowest lane among equally near hits
+        // is then its lowest index (the tie-break).
+        tris.sort_unstable_by_key(|&(i, _)| i);
         let packs_from = b.tris.len() as u32;
-        b.tris.extend(tris.chunks(4).map(Tri4::pack));
+        for chunk in tris.chunks(4) {
+            let v: Vec<[Vec3; 3]> = chunk.iter().map(|&(_, v)| v).collect();
+            b.tris.push(Tri4::pack(&v));
+            let mut ids = [u32::MAX; 4];
+            for (id, &(i, _)) in ids.iter_mut().zip(chunk) {
+                *id = i;
+            }
+            b.ids.push(ids);
+        }
         let (packs, shapes) = (
             (packs_from, b.tris.len() as u32),
             (shapes_from, b.shapes.len() as u32),
@@ -293,15 +309,15 @@ impl Accel {
         let k = k as u32;
         let mut bound = tmax;
         b.tree.traverse(&r, tmax, |l, tmax| {
-            let (packs, shapes) = b.leaf(l);
-            for pack in packs {
+            let (first, packs, shapes) = b.leaf(l);
+            for (j, pack) in packs.iter().enumerate() {
                 if let Some((t, lane)) = pack.intersect(&r, *tmax) {
                     // The normal is computed for the closest only.
                     let hit = intersect::LocalHit {
                         t,
                         normal: Vec3A::ZERO,
                     };
-                    let prim = Prim::Triangle(pack.index[lane]);
+                    let prim = Prim::Triangle(b.ids[first + j][lane]);
                     offer(best, Closest { t, k, prim, hit });
                     *tmax = limit(best, *tmax);
                 }
@@ -335,8 +351,8 @@ impl Accel {
             return false;
         };
         b.tree.traverse_any(&r, tmax, |l, tmax| {
-            let (packs, shapes) = b.leaf(l);
-            packs.iter().any(|p| p.intersect(&r, *tmax).is_some())
+            let (_, packs, shapes) = b.leaf(l);
+            packs.iter().any(|p| p.hits(&r, *tmax))
                 || shapes
                     .iter()
                     .any(|s| s.shadows && s.hit(geo, &r, *tmax).is_some())
@@ -386,9 +402,7 @@ impl Accel {
         if let Some(k) = self.single {
             return self.instance_any(k as usize, &r, tmax);
         }
-        tlas.traverse_any(&r, tmax, |k, tmax| {
-            self.instance_any(k as usize, &r, *tmax)
-        })
+        tlas.traverse_any(&r, tmax, |k, tmax| self.instance_any(k as usize, &r, *tmax))
     }
 
     /// World-space details of a local hit.

@@ -24,7 +24,6 @@ const EMPTY: u32 = u32::MAX;
 /// Traversal stacks up to this size live on the call stack.
 const INLINE_STACK: usize = 64;
 
-
 /// Four children's boxes, one `Vec4` per axis and side.
 #[derive(Clone, Copy)]
 #[repr(C, align(64))]

@@ -9,38 +9,57 @@ use glam::{Vec3, Vec3A, Vec4};
 
 use super::bvh4::Ray;
 
-/// Up to four triangles, one `Vec4` per vertex coordinate. Unused lanes
+/// Up to four triangles, one `Vec4` per vertex coordinate (144 bytes:
+/// their indices are kept apart, as only a hit needs them). Unused lanes
 /// hold NaN, which fails every comparison.
 #[derive(Clone, Copy)]
-#[repr(C, align(16))]
 pub struct Tri4 {
     v: [[Vec4; 3]; 3],
-    /// The triangles' indices in their geometry.
-    pub index: [u32; 4],
 }
 
 impl Tri4 {
-    /// Packs up to four triangles given as `(index, vertices)`.
-    pub fn pack(tris: &[(u32, [Vec3; 3])]) -> Tri4 {
+    /// Packs up to four triangles. Their owner orders them by index, so
+    /// that the lowest lane among equally near hits is the lowest index.
+    pub fn pack(tris: &[[Vec3; 3]]) -> Tri4 {
         let mut p = Tri4 {
             v: [[Vec4::NAN; 3]; 3],
-            index: [u32::MAX; 4],
         };
-        for (lane, (i, v)) in tris.iter().enumerate().take(4) {
+        for (lane, v) in tris.iter().enumerate().take(4) {
             for (corner, point) in v.iter().enumerate() {
                 for k in 0..3 {
                     p.v[corner][k][lane] = point[k];
                 }
             }
-            p.index[lane] = *i;
         }
         p
     }
 
     /// The nearest lane hit with t in (ray.tmin, tmax): `(t, lane)`; of
-    /// equally near ones, the lowest index.
+    /// equally near ones, the lowest lane.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<(f32, usize)> {
+        let (mut mask, t) = self.lanes(ray, tmax);
+        let mut best: Option<(f32, usize)> = None;
+        while mask != 0 {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            // Lanes come lowest first: only a nearer one replaces.
+            if best.map_or(true, |(bt, _)| t[lane] < bt) {
+                best = Some((t[lane], lane));
+            }
+        }
+        best
+    }
+
+    /// Whether any lane is hit with t in (ray.tmin, tmax).
+    #[inline(always)]
+    pub fn hits(&self, ray: &Ray, tmax: f32) -> bool {
+        self.lanes(ray, tmax).0 != 0
+    }
+
+    /// The lanes hit with t in (ray.tmin, tmax), and each lane's t.
+    #[inline(always)]
+    fn lanes(&self, ray: &Ray, tmax: f32) -> (u32, [f32; 4]) {
         let s = Vec4::splat;
         let [kx, ky, kz] = ray.axes;
         let (sx, sy, sz) = (s(ray.shear.x), s(ray.shear.y), s(ray.shear.z));
@@ -77,23 +96,13 @@ impl Tri4 {
         let inside = !(negative & positive) & det.cmpne(zero);
         // Most packs a walk tests are missed: skip the division for them.
         if !inside.any() {
-            return None;
+            return (0, [0.0; 4]);
         }
         let t = (u * (sz * az) + w * (sz * bz) + x * (sz * cz)) / det;
         let hit = inside & t.cmpgt(s(ray.tmin)) & t.cmplt(s(tmax));
-        let mut mask = hit.bitmask();
-        let t = t.to_array();
-        let mut best: Option<(f32, usize)> = None;
-        while mask != 0 {
-            let lane = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            // Equally near: the lower index, whatever the lane order.
-            match best {
-                Some((bt, b)) if (bt, self.index[b]) <= (t[lane], self.index[lane]) => {}
-                _ => best = Some((t[lane], lane)),
-            }
-        }
-        best
+        // An array, not the `Vec4`: indexing a `Vec4` by a run-time lane
+        // compiles to a jump table.
+        (hit.bitmask(), t.to_array())
     }
 }
 
@@ -103,7 +112,7 @@ pub fn triangle(v: &[Vec3; 3], o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Opti
     if !(o.is_finite() && d.is_finite()) || d == Vec3A::ZERO {
         return None;
     }
-    Tri4::pack(&[(0, *v)])
+    Tri4::pack(&[*v])
         .intersect(&Ray::new(o, d, tmin), tmax)
         .map(|(t, _)| t)
 }
@@ -113,17 +122,28 @@ mod tests {
     use super::*;
 
     #[test]
-    fn equally_near_lanes_give_the_lowest_index() {
-        let tri = [
-            Vec3::new(-1.0, 0.0, -1.0),
-            Vec3::new(1.0, 0.0, -1.0),
-            Vec3::new(0.0, 0.0, 1.0),
-        ];
+    fn equally_near_lanes_give_the_lowest_lane() {
+        let tri = |y: f32| {
+            [
+                Vec3::new(-1.0, y, -1.0),
+                Vec3::new(1.0, y, -1.0),
+                Vec3::new(0.0, y, 1.0),
+            ]
+        };
         let ray = Ray::new(Vec3A::new(0.0, 2.0, 0.0), -Vec3A::Y, 0.0);
-        for order in [[7, 3, 9, 5], [3, 7, 5, 9], [9, 5, 7, 3]] {
-            let pack = Tri4::pack(&order.map(|i| (i, tri)));
-            let (t, lane) = pack.intersect(&ray, f32::INFINITY).unwrap();
-            assert_eq!((t, pack.index[lane]), (2.0, 3), "{order:?}");
+        for (heights, want) in [
+            ([0.0; 4], (2.0, 0)),
+            ([0.0, 0.0, 1.0, 1.0], (1.0, 2)),
+            ([0.0, 1.0, 0.5, 1.0], (1.0, 1)),
+        ] {
+            let pack = Tri4::pack(&heights.map(tri));
+            assert_eq!(
+                pack.intersect(&ray, f32::INFINITY),
+                Some(want),
+                "{heights:?}"
+            );
+            assert!(pack.hits(&ray, f32::INFINITY));
+            assert!(!pack.hits(&ray, 0.5));
         }
     }
 }
