@@ -212,12 +212,11 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
         tris.sort_unstable_by_key(|&(i, _)| i);
         let packs_from = b.tris.len() as u32;
         for chunk in tris.chunks(4) {
-            let v: Vec<[Vec3; 3]> = chunk.iter().map(|&(_, v)| v).collect();
-            b.tris.push(Tri4::pack(&v));
-            let mut ids = [u32::MAX; 4];
-            for (id, &(i, _)) in ids.iter_mut().zip(chunk) {
-                *id = i;
+            let (mut v, mut ids) = ([[Vec3::ZERO; 3]; 4], [u32::MAX; 4]);
+            for (lane, &(i, t)) in chunk.iter().enumerate() {
+                (v[lane], ids[lane]) = (t, i);
             }
+            b.tris.push(Tri4::pack(&v[..chunk.len()]));
             b.ids.push(ids);
         }
         let (packs, shapes) = (

@@ -24,28 +24,29 @@ const EMPTY: u32 = u32::MAX;
 /// Traversal stacks up to this size live on the call stack.
 const INLINE_STACK: usize = 64;
 
-/// Four children's boxes, one `Vec4` per axis and side.
+/// Four children's boxes, one `Vec4` per side and axis: `side[0]` the
+/// least corners, `side[1]` the greatest. A ray picks its near and far
+/// side per axis by its direction's sign, so the walk indexes the sides
+/// by that sign (one offset per ray, no selection per node).
 #[derive(Clone, Copy)]
 #[repr(C, align(64))]
 struct Node {
-    min: [Vec4; 3],
-    max: [Vec4; 3],
+    side: [[Vec4; 3]; 2],
     child: [u32; 4],
 }
 
 impl Node {
     fn empty() -> Node {
         Node {
-            min: [Vec4::INFINITY; 3],
-            max: [Vec4::NEG_INFINITY; 3],
+            side: [[Vec4::INFINITY; 3], [Vec4::NEG_INFINITY; 3]],
             child: [EMPTY; 4],
         }
     }
 
     fn set(&mut self, lane: usize, b: &Aabb, child: u32) {
         for a in 0..3 {
-            self.min[a][lane] = b.min[a];
-            self.max[a][lane] = b.max[a];
+            self.side[0][a][lane] = b.min[a];
+            self.side[1][a][lane] = b.max[a];
         }
         self.child[lane] = child;
     }
@@ -472,16 +473,9 @@ impl Bvh4 {
                 }
             } else {
                 let n = &self.nodes[cur as usize];
-                let pick = |neg: bool, a: usize| {
-                    if neg {
-                        (n.max[a], n.min[a])
-                    } else {
-                        (n.min[a], n.max[a])
-                    }
-                };
-                let (near_x, far_x) = pick(nx, 0);
-                let (near_y, far_y) = pick(ny, 1);
-                let (near_z, far_z) = pick(nz, 2);
+                let (near_x, far_x) = (n.side[usize::from(nx)][0], n.side[usize::from(!nx)][0]);
+                let (near_y, far_y) = (n.side[usize::from(ny)][1], n.side[usize::from(!ny)][1]);
+                let (near_z, far_z) = (n.side[usize::from(nz)][2], n.side[usize::from(!nz)][2]);
                 let t0 = (near_x * ix - ox)
                     .max(near_y * iy - oy)
                     .max(near_z * iz - oz)
