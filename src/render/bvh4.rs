@@ -66,6 +66,8 @@ pub struct Ray {
     negative: [bool; 3],
     pub axes: [usize; 3],
     pub shear: Vec3A,
+    /// The origin's coordinates in the order of `axes`.
+    pub permuted_origin: Vec3A,
 }
 
 impl Ray {
@@ -105,6 +107,7 @@ impl Ray {
             negative: d.to_array().map(|c| c.is_sign_negative()),
             axes: [kx, ky, kz],
             shear: Vec3A::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]),
+            permuted_origin: Vec3A::new(origin[kx], origin[ky], origin[kz]),
         }
     }
 }
