@@ -154,7 +154,9 @@ pub struct Accel {
     /// The only instance, when there is one (no top level to walk); the
     /// top level's leaf codes are instance indices.
     single: Option<u32>,
-    inst_inv: Vec<Affine3A>,
+    /// Each instance's inverse transform; None for the identity (its
+    /// rays are the world's).
+    inst_inv: Vec<Option<Affine3A>>,
     /// Each instance's normal matrix (inverse transpose).
     inst_normal: Vec<Mat3A>,
     blas: Vec<Option<Blas>>,
@@ -269,12 +271,16 @@ impl Accel {
             [k] => Some(k),
             _ => None,
         };
-        let inst_inv: Vec<Affine3A> = scene
+        let inverse: Vec<Affine3A> = scene
             .instances
             .iter()
             .map(|i| i.transform.inverse())
             .collect();
-        let inst_normal = inst_inv.iter().map(|m| m.matrix3.transpose()).collect();
+        let inst_normal = inverse.iter().map(|m| m.matrix3.transpose()).collect();
+        let inst_inv = inverse
+            .into_iter()
+            .map(|m| (m != Affine3A::IDENTITY).then_some(m))
+            .collect();
         Accel {
             scene,
             tlas,
@@ -287,10 +293,9 @@ impl Accel {
 
     /// The ray in instance `k`'s geometry space (same t).
     fn local_ray(&self, k: usize, r: &Ray) -> Ray {
-        let inv = &self.inst_inv[k];
-        if *inv == Affine3A::IDENTITY {
+        let Some(inv) = &self.inst_inv[k] else {
             return *r;
-        }
+        };
         Ray::new(
             inv.transform_point3a(r.origin),
             inv.transform_vector3a(r.direction) + Vec3A::ZERO,

@@ -72,16 +72,15 @@ pub struct Ray {
 
 impl Ray {
     pub fn new(origin: Vec3A, direction: Vec3A, tmin: f32) -> Ray {
-        let inv = Vec3A::from_array(direction.to_array().map(|d| {
-            let r = 1.0 / d;
-            if r.is_finite() {
-                r
-            } else {
-                f32::MAX.copysign(d)
-            }
-        }));
-        let d = direction;
-        let ad = d.abs();
+        // Lane by lane, the same divisions as one at a time.
+        let r = Vec3A::ONE / direction;
+        let inv = Vec3A::select(
+            r.is_finite_mask(),
+            r,
+            Vec3A::splat(f32::MAX).copysign(direction),
+        );
+        let d = direction.to_array();
+        let ad = direction.abs();
         let kz = if ad.x > ad.y {
             if ad.x > ad.z {
                 0
@@ -98,16 +97,17 @@ impl Ray {
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
+        let o = origin.to_array();
         Ray {
             origin,
             direction,
             tmin,
             inv,
             origin_inv: origin * inv,
-            negative: d.to_array().map(|c| c.is_sign_negative()),
+            negative: d.map(|c| c.is_sign_negative()),
             axes: [kx, ky, kz],
-            shear: Vec3A::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]),
-            permuted_origin: Vec3A::new(origin[kx], origin[ky], origin[kz]),
+            shear: Vec3A::new(d[kx], d[ky], 1.0) / Vec3A::splat(d[kz]),
+            permuted_origin: Vec3A::new(o[kx], o[ky], o[kz]),
         }
     }
 }
