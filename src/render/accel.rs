@@ -9,7 +9,7 @@ use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 
 use super::bvh4::{Bvh4, Ray};
 use super::intersect;
-use super::tri4::Tri4;
+use super::tri4::{self, Simd, Tri4};
 use crate::scene::material::Texture;
 use crate::scene::{Geometry, Material, Scene};
 
@@ -160,6 +160,8 @@ pub struct Accel {
     /// Each instance's normal matrix (inverse transpose).
     inst_normal: Vec<Mat3A>,
     blas: Vec<Option<Blas>>,
+    /// The triangle test the leaves run (the same bits either way).
+    simd: Simd,
 }
 
 /// The bottom level of one geometry; primitives with bounds that are not
@@ -288,7 +290,15 @@ impl Accel {
             inst_inv,
             inst_normal,
             blas,
+            simd: Simd::detect(),
         }
+    }
+
+    /// The same structure with the triangle test `simd` (tests compare
+    /// them; [`Accel::new`] takes the widest the machine has).
+    pub fn with_simd(mut self, simd: Simd) -> Self {
+        self.simd = simd;
+        self
     }
 
     /// The ray in instance `k`'s geometry space (same t).
@@ -314,18 +324,17 @@ impl Accel {
         let mut bound = tmax;
         b.tree.traverse(&r, tmax, |l, tmax| {
             let (first, packs, shapes) = b.leaf(l);
-            for (j, pack) in packs.iter().enumerate() {
-                if let Some((t, lane)) = pack.intersect(&r, *tmax) {
-                    // The normal is computed for the closest only.
-                    let hit = intersect::LocalHit {
-                        t,
-                        normal: Vec3A::ZERO,
-                    };
-                    let prim = Prim::Triangle(b.ids[first + j][lane]);
-                    offer(best, Closest { t, k, prim, hit });
-                    *tmax = limit(best, *tmax);
-                }
-            }
+            let incoming = *tmax;
+            *tmax = tri4::nearest_each(packs, &r, incoming, self.simd, |j, t, lane| {
+                // The normal is computed for the closest only.
+                let hit = intersect::LocalHit {
+                    t,
+                    normal: Vec3A::ZERO,
+                };
+                let prim = Prim::Triangle(b.ids[first + j][lane]);
+                offer(best, Closest { t, k, prim, hit });
+                limit(best, incoming)
+            });
             for s in shapes {
                 if let Some(hit) = s.hit(geo, &r, *tmax) {
                     let prim = Prim::Shape(s.index);
@@ -356,7 +365,7 @@ impl Accel {
         };
         b.tree.traverse_any(&r, tmax, |l, tmax| {
             let (_, packs, shapes) = b.leaf(l);
-            packs.iter().any(|p| p.hits(&r, *tmax))
+            tri4::any_hit(packs, &r, *tmax, self.simd)
                 || shapes
                     .iter()
                     .any(|s| s.shadows && s.hit(geo, &r, *tmax).is_some())

@@ -38,17 +38,8 @@ impl Tri4 {
     /// equally near ones, the lowest lane.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<(f32, usize)> {
-        let (mut mask, t) = self.lanes(ray, tmax);
-        let mut best: Option<(f32, usize)> = None;
-        while mask != 0 {
-            let lane = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            // Lanes come lowest first: only a nearer one replaces.
-            if best.map_or(true, |(bt, _)| t[lane] < bt) {
-                best = Some((t[lane], lane));
-            }
-        }
-        best
+        let (mask, t) = self.lanes(ray, tmax);
+        nearest(mask, &t, tmax)
     }
 
     /// Whether any lane is hit with t in (ray.tmin, tmax).
@@ -105,6 +96,203 @@ impl Tri4 {
         // An array, not the `Vec4`: indexing a `Vec4` by a run-time lane
         // compiles to a jump table.
         (hit.bitmask(), t.to_array())
+    }
+}
+
+/// Of the lanes of `mask` (of `t`, four), the nearest under `bound` and
+/// its lane; of equally near ones, the lowest lane.
+#[inline(always)]
+fn nearest(mut mask: u32, t: &[f32], bound: f32) -> Option<(f32, usize)> {
+    let mut best: Option<(f32, usize)> = None;
+    while mask != 0 {
+        let lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        // Lanes come lowest first: only a nearer one replaces.
+        if t[lane] < best.map_or(bound, |(bt, _)| bt) {
+            best = Some((t[lane], lane));
+        }
+    }
+    best
+}
+
+/// Which triangle test the leaves run: the baseline (SSE2 on x86-64, a
+/// pack of four at a time) or AVX (two packs at once), chosen at run time.
+/// Every lane of both computes the same IEEE operations in the same order
+/// (no fused multiply-add), so they give the same bits (DESIGN §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Simd {
+    Baseline,
+    Avx,
+}
+
+impl Simd {
+    /// The widest test this machine has.
+    pub fn detect() -> Simd {
+        *Simd::available().last().unwrap_or(&Simd::Baseline)
+    }
+
+    /// Every test this machine has, baseline first (tests compare them).
+    pub fn available() -> Vec<Simd> {
+        let mut all = vec![Simd::Baseline];
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            all.push(Simd::Avx);
+        }
+        all
+    }
+}
+
+/// The nearest hit of each of `packs` under the bound, in pack order:
+/// `hit(j, t, lane)` is told pack `j`'s and returns the new bound (a
+/// closest-hit search lowers it). Returns the last bound. With AVX two
+/// packs are tested under the same bound and the second's hit is then
+/// held to the first's: what the baseline, one pack after the other,
+/// finds.
+#[inline(always)]
+pub fn nearest_each(
+    packs: &[Tri4],
+    ray: &Ray,
+    mut tmax: f32,
+    simd: Simd,
+    mut hit: impl FnMut(usize, f32, usize) -> f32,
+) -> f32 {
+    let mut first = 0;
+    #[cfg(target_arch = "x86_64")]
+    if simd == Simd::Avx {
+        while first + 1 < packs.len() {
+            // SAFETY: `Simd::Avx` is chosen only where the CPU has AVX.
+            let (mask, t) = unsafe { avx::lanes_pair(&packs[first], &packs[first + 1], ray, tmax) };
+            for half in 0..2 {
+                let lanes = (mask >> (4 * half)) & 0b1111;
+                if let Some((th, lane)) = nearest(lanes, &t[4 * half..], tmax) {
+                    tmax = hit(first + half, th, lane);
+                }
+            }
+            first += 2;
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = simd;
+    for (j, p) in packs.iter().enumerate().skip(first) {
+        if let Some((t, lane)) = p.intersect(ray, tmax) {
+            tmax = hit(j, t, lane);
+        }
+    }
+    tmax
+}
+
+/// Whether any of `packs` is hit under `tmax`.
+#[inline(always)]
+pub fn any_hit(packs: &[Tri4], ray: &Ray, tmax: f32, simd: Simd) -> bool {
+    let mut first = 0;
+    #[cfg(target_arch = "x86_64")]
+    if simd == Simd::Avx {
+        while first + 1 < packs.len() {
+            // SAFETY: `Simd::Avx` is chosen only where the CPU has AVX.
+            if unsafe { avx::lanes_pair(&packs[first], &packs[first + 1], ray, tmax) }.0 != 0 {
+                return true;
+            }
+            first += 2;
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = simd;
+    packs[first..].iter().any(|p| p.hits(ray, tmax))
+}
+
+/// The AVX test of two packs, lane for lane [`Tri4::lanes`].
+#[cfg(target_arch = "x86_64")]
+mod avx {
+    use std::arch::x86_64::*;
+
+    use super::{Ray, Tri4};
+
+    /// [`Tri4::lanes`] of `p` (lanes 0–3) and `q` (lanes 4–7) at once.
+    #[target_feature(enable = "avx")]
+    pub unsafe fn lanes_pair(p: &Tri4, q: &Tri4, ray: &Ray, tmax: f32) -> (u32, [f32; 8]) {
+        let [kx, ky, kz] = ray.axes.map(|k| k.min(2));
+        let set = |x: f32| _mm256_set1_ps(x);
+        let (sx, sy, sz) = (set(ray.shear.x), set(ray.shear.y), set(ray.shear.z));
+        let o = ray.permuted_origin;
+        let (ox, oy, oz) = (set(o.x), set(o.y), set(o.z));
+        // Corner `c`'s coordinate `k` of both packs in one register.
+        macro_rules! both {
+            ($c:expr, $k:expr) => {
+                _mm256_insertf128_ps::<1>(
+                    _mm256_castps128_ps256(__m128::from(p.v[$c][$k])),
+                    __m128::from(q.v[$c][$k]),
+                )
+            };
+        }
+        macro_rules! corner {
+            ($c:expr) => {{
+                let z = _mm256_sub_ps(both!($c, kz), oz);
+                (
+                    _mm256_sub_ps(_mm256_sub_ps(both!($c, kx), ox), _mm256_mul_ps(sx, z)),
+                    _mm256_sub_ps(_mm256_sub_ps(both!($c, ky), oy), _mm256_mul_ps(sy, z)),
+                    z,
+                )
+            }};
+        }
+        let (ax, ay, az) = corner!(0);
+        let (bx, by, bz) = corner!(1);
+        let (cx, cy, cz) = corner!(2);
+        let (sub, mul) = (|a, b| _mm256_sub_ps(a, b), |a, b| _mm256_mul_ps(a, b));
+        let mut u = sub(mul(cx, by), mul(cy, bx));
+        let mut w = sub(mul(ax, cy), mul(ay, cx));
+        let mut x = sub(mul(bx, ay), mul(by, ax));
+        let zero = _mm256_setzero_ps();
+        let eq = |a| _mm256_cmp_ps::<_CMP_EQ_OQ>(a, zero);
+        let mut exact = _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(eq(u), eq(w)), eq(x))) as u32;
+        if exact != 0 {
+            // As the baseline: such lanes decided in f64.
+            let arr = |v: __m256| {
+                let mut a = [0f32; 8];
+                _mm256_storeu_ps(a.as_mut_ptr(), v);
+                a
+            };
+            let (axa, aya, bxa, bya, cxa, cya) =
+                (arr(ax), arr(ay), arr(bx), arr(by), arr(cx), arr(cy));
+            let (mut ua, mut wa, mut xa) = (arr(u), arr(w), arr(x));
+            while exact != 0 {
+                let l = exact.trailing_zeros() as usize;
+                exact &= exact - 1;
+                let f = |p: f32, q: f32, r: f32, s: f32| {
+                    (p as f64 * q as f64 - r as f64 * s as f64) as f32
+                };
+                ua[l] = f(cxa[l], bya[l], cya[l], bxa[l]);
+                wa[l] = f(axa[l], cya[l], aya[l], cxa[l]);
+                xa[l] = f(bxa[l], aya[l], bya[l], axa[l]);
+            }
+            u = _mm256_loadu_ps(ua.as_ptr());
+            w = _mm256_loadu_ps(wa.as_ptr());
+            x = _mm256_loadu_ps(xa.as_ptr());
+        }
+        let or3 = |a, b, c| _mm256_or_ps(_mm256_or_ps(a, b), c);
+        let lt = |a| _mm256_cmp_ps::<_CMP_LT_OQ>(a, zero);
+        let gt = |a| _mm256_cmp_ps::<_CMP_GT_OQ>(a, zero);
+        let negative = or3(lt(u), lt(w), lt(x));
+        let positive = or3(gt(u), gt(w), gt(x));
+        let det = _mm256_add_ps(_mm256_add_ps(u, w), x);
+        let inside = _mm256_andnot_ps(
+            _mm256_and_ps(negative, positive),
+            _mm256_cmp_ps::<_CMP_NEQ_UQ>(det, zero),
+        );
+        if _mm256_movemask_ps(inside) == 0 {
+            return (0, [0.0; 8]);
+        }
+        let num = _mm256_add_ps(
+            _mm256_add_ps(mul(u, mul(sz, az)), mul(w, mul(sz, bz))),
+            mul(x, mul(sz, cz)),
+        );
+        let t = _mm256_div_ps(num, det);
+        let hit = _mm256_and_ps(
+            _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_GT_OQ>(t, set(ray.tmin))),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(t, set(tmax)),
+        );
+        let mut ts = [0f32; 8];
+        _mm256_storeu_ps(ts.as_mut_ptr(), t);
+        (_mm256_movemask_ps(hit) as u32, ts)
     }
 }
 

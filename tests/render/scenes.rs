@@ -430,3 +430,82 @@ fn equally_near_hits_resolve_to_the_lowest_primitive_whatever_the_walk() {
         assert!((hit.t - 5.0).abs() < 1e-4);
     }
 }
+
+/// The triangle test's paths (the baseline and each wider one this
+/// machine has, chosen at run time) find the same hits, bit for bit, and
+/// render the same bytes (DESIGN §4): a dense soup of triangles with
+/// copies (equally near hits) under several instances, cast and
+/// rendered.
+#[test]
+fn every_simd_path_gives_the_same_hits_and_bytes() {
+    use lmfilm::render::tri4::Simd;
+    use lmfilm::scene::{Geometry, Instance, Triangle};
+    let paths = Simd::available();
+    let mut rng = Lcg(11);
+    let mut s = scene_of(SPHERE);
+    let mut triangles: Vec<Triangle> = (0..4000)
+        .map(|i| {
+            let c = rng.vec(5.0);
+            Triangle {
+                v: [c + rng.vec(0.8), c + rng.vec(0.8), c + rng.vec(0.8)],
+                material: 0,
+                symbol: i as u64,
+            }
+        })
+        .collect();
+    triangles.extend_from_within(..500);
+    s.geometries = vec![Geometry {
+        name: String::new(),
+        shapes: Vec::new(),
+        triangles,
+        resolution: 8,
+    }];
+    s.instances = (0..6)
+        .map(|k| Instance {
+            geometry: 0,
+            transform: if k == 0 {
+                glam::Affine3A::IDENTITY
+            } else {
+                rng.affine(12.0)
+            },
+            object: k,
+        })
+        .collect();
+    let rays: Vec<(Vec3A, Vec3A, f32)> = (0..20_000)
+        .map(|_| {
+            let o = Vec3A::from(rng.vec(20.0));
+            (o, Vec3A::from(rng.vec(6.0)) - o, rng.range(0.5, 3.0))
+        })
+        .collect();
+    let trace = |simd: Simd| {
+        let accel = Accel::new(s.clone()).with_simd(simd);
+        rays.iter()
+            .map(|&(o, d, tmax)| (accel.cast(o, d, 0.0, tmax), accel.occluded(o, d, 0.0, tmax)))
+            .collect::<Vec<_>>()
+    };
+    let base = trace(Simd::Baseline);
+    assert!(base.iter().filter(|h| h.0.is_some()).count() > 5000);
+    let mut st = Settings::final_quality(64, 48);
+    st.spp = 2;
+    let image = |simd: Simd| {
+        let accel = Accel::new(s.clone()).with_simd(simd);
+        let img = lmfilm::render::render_with(&accel, &st, &|_, _| {});
+        img.rgba
+            .iter()
+            .flatten()
+            .map(|v| v.to_bits())
+            .collect::<Vec<_>>()
+    };
+    let base_image = image(Simd::Baseline);
+    let covered = base_image.chunks(4).filter(|p| f32::from_bits(p[3]) > 0.0);
+    assert!(covered.count() > 1000, "the soup fills the view");
+    for &simd in &paths[1..] {
+        let got = trace(simd);
+        for (k, (g, b)) in got.iter().zip(&base).enumerate() {
+            let bits =
+                |h: &Option<lmfilm::render::Hit>| h.map(|h| (h.t.to_bits(), h.instance, h.prim));
+            assert_eq!((bits(&g.0), g.1), (bits(&b.0), b.1), "{simd:?}, ray {k}");
+        }
+        assert_eq!(image(simd), base_image, "{simd:?}");
+    }
+}
