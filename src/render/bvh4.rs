@@ -16,6 +16,7 @@ use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::bvh2::{Bvh2, Bvh2Node};
 use obvhs::ploc::build_ploc_from_leafs;
 use obvhs::BvhBuildParams;
+use rayon::slice::ParallelSliceMut;
 
 /// Child slot tag: a leaf (index into `leaves`) rather than a node.
 const LEAF: u32 = 1 << 31;
@@ -189,13 +190,19 @@ fn leaf_choice(b: &Bvh2, max_leaf: u32) -> (Vec<bool>, Vec<u32>) {
     (leaf, count)
 }
 
+/// Most boxes with one centre left to PLOC, which merges such a run in
+/// as many extra passes. Each quad of a mesh is two triangles with one
+/// box: grouping those pairs took a third of the forest's build and gave
+/// the very same tree.
+const SMALL_RUN: usize = 8;
+
 /// Primitives whose boxes share a centre, grouped: PLOC pairs nodes by
 /// their Morton codes and merges only mutual nearest pairs, so n
 /// coincident boxes (all one code, all one merged area) merged one pair
 /// per pass: O(n²), minutes for 10⁵ identical faces. Each group becomes
 /// one leaf node for PLOC (its members in `order`, smallest box first,
 /// then input order), which [`split_leaves`] divides afterwards. None
-/// when no two centres coincide: the plain build.
+/// when no more than [`SMALL_RUN`] centres coincide: the plain build.
 fn coincident(aabbs: &[Aabb]) -> Option<(Vec<Bvh2Node>, Vec<u32>)> {
     let key = |b: &Aabb| b.center().to_array().map(f32::to_bits);
     // First a sort of 64-bit digests of the centres, a few percent of the
@@ -208,8 +215,13 @@ fn coincident(aabbs: &[Aabb]) -> Option<(Vec<Bvh2Node>, Vec<u32>)> {
             (x << 32 | y).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ z
         })
         .collect();
-    digests.sort_unstable();
-    if digests.windows(2).all(|w| w[0] != w[1]) {
+    // Equal keys are equal bits: any sort gives the same order, so the
+    // parallel one is deterministic.
+    digests.par_sort_unstable();
+    if digests
+        .chunk_by(|a, b| a == b)
+        .all(|r| r.len() <= SMALL_RUN)
+    {
         return None;
     }
     // Sorted by centre, then index.
@@ -607,6 +619,24 @@ mod tests {
         let t = Bvh4::build(&boxes[..20_000], 1).unwrap();
         check_leaves(&t, 20_000, 1);
         assert!(t.depth() <= 9, "depth {}", t.depth());
+    }
+
+    #[test]
+    fn pairs_of_coincident_boxes_are_left_to_ploc() {
+        // A mesh's quads: two triangles with one box each.
+        let boxes: Vec<Aabb> = (0..20_000)
+            .map(|k| {
+                let p = Vec3A::new((k / 2 % 100) as f32, (k / 200) as f32, 0.0);
+                Aabb::new(p, p + Vec3A::ONE)
+            })
+            .collect();
+        assert!(coincident(&boxes).is_none());
+        let t = Bvh4::build(&boxes, 4).unwrap();
+        check_leaves(&t, boxes.len(), 4);
+        assert!(t.depth() <= 12, "depth {}", t.depth());
+        // Past `SMALL_RUN` they are grouped.
+        let many: Vec<Aabb> = boxes.iter().flat_map(|b| [*b; 5]).collect();
+        assert!(coincident(&many).is_some());
     }
 
     #[test]
