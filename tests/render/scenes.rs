@@ -198,6 +198,20 @@ impl Lcg {
     fn vec(&mut self, r: f32) -> Vec3 {
         Vec3::new(self.range(-r, r), self.range(-r, r), self.range(-r, r))
     }
+    /// `n` triangles of corners within `size` of centres within `spread`.
+    fn triangles(&mut self, n: usize, spread: f32, size: f32) -> Vec<lmfilm::scene::Triangle> {
+        (0..n)
+            .map(|i| {
+                let c = self.vec(spread);
+                lmfilm::scene::Triangle {
+                    v: [c + self.vec(size), c + self.vec(size), c + self.vec(size)],
+                    material: 0,
+                    symbol: i as u64,
+                }
+            })
+            .collect()
+    }
+
     fn affine(&mut self, spread: f32) -> glam::Affine3A {
         let q = glam::Quat::from_euler(
             glam::EulerRot::XYZ,
@@ -253,7 +267,7 @@ fn brute_force(s: &Scene, o: Vec3A, d: Vec3A, tmax: f32) -> Option<(f32, usize, 
 #[test]
 fn two_level_bvh_matches_brute_force() {
     use lmfilm::render::accel::Prim;
-    use lmfilm::scene::{Geometry, Instance, Shape, ShapeKind, Triangle};
+    use lmfilm::scene::{Geometry, Instance, Shape, ShapeKind};
     let mut rng = Lcg(7);
     let mut s = scene_of(SPHERE);
     let kinds = [
@@ -272,16 +286,7 @@ fn two_level_bvh_matches_brute_force() {
                 symbol: i as u64,
             })
             .collect(),
-        triangles: (0..tris)
-            .map(|i| {
-                let c = rng.vec(6.0);
-                Triangle {
-                    v: [c + rng.vec(0.6), c + rng.vec(0.6), c + rng.vec(0.6)],
-                    material: 0,
-                    symbol: i as u64,
-                }
-            })
-            .collect(),
+        triangles: rng.triangles(tris, 6.0, 0.6),
         resolution: 8,
     };
     // A mixed geometry, a triangles-only one, and one with a single
@@ -439,20 +444,11 @@ fn equally_near_hits_resolve_to_the_lowest_primitive_whatever_the_walk() {
 #[test]
 fn every_simd_path_gives_the_same_hits_and_bytes() {
     use lmfilm::render::tri4::Simd;
-    use lmfilm::scene::{Geometry, Instance, Triangle};
+    use lmfilm::scene::{Geometry, Instance};
     let paths = Simd::available();
     let mut rng = Lcg(11);
     let mut s = scene_of(SPHERE);
-    let mut triangles: Vec<Triangle> = (0..4000)
-        .map(|i| {
-            let c = rng.vec(5.0);
-            Triangle {
-                v: [c + rng.vec(0.8), c + rng.vec(0.8), c + rng.vec(0.8)],
-                material: 0,
-                symbol: i as u64,
-            }
-        })
-        .collect();
+    let mut triangles = rng.triangles(4000, 5.0, 0.8);
     triangles.extend_from_within(..500);
     s.geometries = vec![Geometry {
         name: String::new(),
