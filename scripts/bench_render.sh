@@ -17,4 +17,6 @@ start=$(date +%s.%N)
 ./target/release/lmfilm still scenes/bench/forest.lm --width 640 --height 480 --spp 16 -o target/lmfilm_forest.png
 end=$(date +%s.%N)
 echo "lmfilm whole_frame_s $(echo "$end - $start" | bc)"
+# Issue 18's peer is the LLVM (JIT, packet) back-end; scalar_rgb for reference.
+"$ENV/bin/python" "$ANCHORS/mitsuba_frame.py" target/forest.obj 640 480 16 llvm_ad_rgb target/mitsuba_forest_llvm.png
 "$ENV/bin/python" "$ANCHORS/mitsuba_frame.py" target/forest.obj 640 480 16 scalar_rgb target/mitsuba_forest.png
