@@ -103,7 +103,6 @@ pub struct Hit {
 /// order the traversal met them in (one ray or a packet, DESIGN §4).
 #[derive(Clone, Copy)]
 struct Closest {
-    t: f32,
     k: u32,
     prim: Prim,
     hit: intersect::LocalHit,
@@ -113,7 +112,10 @@ struct Closest {
 #[inline(always)]
 fn offer(best: &mut Option<Closest>, c: Closest) {
     let better = match best {
-        Some(b) => c.t < b.t || (c.t == b.t && (c.k, c.prim) < (b.k, b.prim)),
+        Some(b) => {
+            let (t, bt) = (c.hit.t, b.hit.t);
+            t < bt || (t == bt && (c.k, c.prim) < (b.k, b.prim))
+        }
         None => true,
     };
     if better {
@@ -126,7 +128,7 @@ fn offer(best: &mut Option<Closest>, c: Closest) {
 #[inline(always)]
 fn limit(best: &Option<Closest>, tmax: f32) -> f32 {
     match best {
-        Some(b) => next_up(b.t).min(tmax),
+        Some(b) => next_up(b.hit.t).min(tmax),
         None => tmax,
     }
 }
@@ -332,21 +334,13 @@ impl Accel {
                     normal: Vec3A::ZERO,
                 };
                 let prim = Prim::Triangle(b.ids[first + j][lane]);
-                offer(best, Closest { t, k, prim, hit });
+                offer(best, Closest { k, prim, hit });
                 limit(best, incoming)
             });
             for s in shapes {
                 if let Some(hit) = s.hit(geo, &r, *tmax) {
                     let prim = Prim::Shape(s.index);
-                    offer(
-                        best,
-                        Closest {
-                            t: hit.t,
-                            k,
-                            prim,
-                            hit,
-                        },
-                    );
+                    offer(best, Closest { k, prim, hit });
                     *tmax = limit(best, *tmax);
                 }
             }

@@ -423,8 +423,9 @@ impl Bvh4 {
     }
 
     /// Visits the leaves the ray enters with t in (tmin, `tmax`), nearest
-    /// box first, by their codes (see [`Self::set_leaf_codes`]). `leaf(l, &mut tmax)` may lower `tmax` (closest hit) or
-    /// return true to stop; the result is whether it stopped.
+    /// box first, by their codes (see [`Self::set_leaf_codes`]).
+    /// `leaf(code, &mut tmax)` may lower `tmax` (closest hit) or return
+    /// true to stop; the result is whether it stopped.
     #[inline]
     pub fn traverse(&self, ray: &Ray, tmax: f32, leaf: impl FnMut(u32, &mut f32) -> bool) -> bool {
         self.with_stack::<true>(ray, tmax, leaf)

@@ -77,11 +77,9 @@ impl Tri4 {
         while exact != 0 {
             let l = exact.trailing_zeros() as usize;
             exact &= exact - 1;
-            let f =
-                |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
-            u[l] = f(cx[l], by[l], cy[l], bx[l]);
-            w[l] = f(ax[l], cy[l], ay[l], cx[l]);
-            x[l] = f(bx[l], ay[l], by[l], ax[l]);
+            u[l] = edge_f64(cx[l], by[l], cy[l], bx[l]);
+            w[l] = edge_f64(ax[l], cy[l], ay[l], cx[l]);
+            x[l] = edge_f64(bx[l], ay[l], by[l], ax[l]);
         }
         let negative = u.cmplt(zero) | w.cmplt(zero) | x.cmplt(zero);
         let positive = u.cmpgt(zero) | w.cmpgt(zero) | x.cmpgt(zero);
@@ -97,6 +95,13 @@ impl Tri4 {
         // compiles to a jump table.
         (hit.bitmask(), t.to_array())
     }
+}
+
+/// The edge function `p·q − r·s` in f64, rounded once: for a lane whose
+/// f32 edge function is exactly 0 (every path decides such lanes alike).
+#[inline]
+fn edge_f64(p: f32, q: f32, r: f32, s: f32) -> f32 {
+    (p as f64 * q as f64 - r as f64 * s as f64) as f32
 }
 
 /// Of the lanes of `mask` (of `t`, four), the nearest under `bound` and
@@ -128,17 +133,19 @@ pub enum Simd {
 impl Simd {
     /// The widest test this machine has.
     pub fn detect() -> Simd {
-        *Simd::available().last().unwrap_or(&Simd::Baseline)
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            return Simd::Avx;
+        }
+        Simd::Baseline
     }
 
     /// Every test this machine has, baseline first (tests compare them).
     pub fn available() -> Vec<Simd> {
-        let mut all = vec![Simd::Baseline];
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            all.push(Simd::Avx);
+        match Simd::detect() {
+            Simd::Baseline => vec![Simd::Baseline],
+            wide => vec![Simd::Baseline, wide],
         }
-        all
     }
 }
 
@@ -257,12 +264,9 @@ mod avx {
             while exact != 0 {
                 let l = exact.trailing_zeros() as usize;
                 exact &= exact - 1;
-                let f = |p: f32, q: f32, r: f32, s: f32| {
-                    (p as f64 * q as f64 - r as f64 * s as f64) as f32
-                };
-                ua[l] = f(cxa[l], bya[l], cya[l], bxa[l]);
-                wa[l] = f(axa[l], cya[l], aya[l], cxa[l]);
-                xa[l] = f(bxa[l], aya[l], bya[l], axa[l]);
+                ua[l] = super::edge_f64(cxa[l], bya[l], cya[l], bxa[l]);
+                wa[l] = super::edge_f64(axa[l], cya[l], aya[l], cxa[l]);
+                xa[l] = super::edge_f64(bxa[l], aya[l], bya[l], axa[l]);
             }
             u = _mm256_loadu_ps(ua.as_ptr());
             w = _mm256_loadu_ps(wa.as_ptr());
