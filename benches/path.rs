@@ -105,7 +105,7 @@ fn astar(h: &Heuristic, grid: &SearchGrid, start: Voxel, end: Voxel) -> Option<(
         }
         for w in candidates(h, u, |v| grid.is_empty(v)) {
             let gw = gu + 1;
-            if g.get(&w).map_or(true, |&old| gw < old) {
+            if g.get(&w).is_none_or(|&old| gw < old) {
                 g.insert(w, gw);
                 heap.push(Reverse((gw + manhattan(w), gw, w)));
             }

@@ -64,7 +64,7 @@ pub struct MemoryDisplay {
 impl MemoryDisplay {
     /// Whether the display is drawn at `frame`.
     pub fn at(&self, frame: u64) -> bool {
-        self.mode != DisplayMode::None && frame % self.every.max(1) == 0
+        self.mode != DisplayMode::None && frame.is_multiple_of(self.every.max(1))
     }
 }
 

@@ -145,7 +145,7 @@ fn valid_frames(dir: &Path, rec: &DeriveRecord) -> Vec<(u64, FrameRecord)> {
             let inset_ok = f
                 .inset
                 .as_ref()
-                .map_or(true, |i| rec.actors.get(&i.file) == Some(&i.sha256));
+                .is_none_or(|i| rec.actors.get(&i.file) == Some(&i.sha256));
             (f.snapshot == *snap && f.frame == k && inset_ok).then_some((k, f))
         })
         .collect()

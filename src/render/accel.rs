@@ -9,7 +9,13 @@ use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 
 use super::bvh4::{Bvh4, Ray};
 use super::intersect;
+use super::packet::{self, Bits, Lanes, RayPacket, LANES};
 use super::tri4::{self, Simd, Tri4};
+#[cfg(not(target_arch = "x86_64"))]
+use super::wide::Scalar as Base;
+use super::wide::Wide;
+#[cfg(target_arch = "x86_64")]
+use super::wide::{Avx, Avx512, Sse as Base};
 use crate::scene::material::Texture;
 use crate::scene::{Geometry, Material, Scene};
 
@@ -58,6 +64,17 @@ struct Blas {
     sides: Vec<[(u32, u32); 2]>,
 }
 
+/// Whether a leaf tests the rays of `lanes` together, a triangle at a
+/// time in lane form `W`, rather than one by one with the single ray's
+/// test (eight triangles per AVX test): from five rays per register a
+/// value of `W` takes, so never with SSE. Measured on the forest's camera
+/// rays in 4 × 4 pixel packets: +7 % over testing together always. Both
+/// find the same hits.
+#[inline(always)]
+fn together<W: Wide>(lanes: u32) -> bool {
+    lanes.count_ones() >= 5 * W::REGISTERS
+}
+
 /// The tag of a leaf code that indexes [`Blas::sides`].
 const SIDE: u32 = 1 << 30;
 
@@ -98,6 +115,15 @@ pub struct Hit {
     pub vision: Vec3,
 }
 
+/// A ray to cast: `origin + t·dir` with t in (tmin, tmax).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Query {
+    pub origin: Vec3A,
+    pub dir: Vec3A,
+    pub tmin: f32,
+    pub tmax: f32,
+}
+
 /// The nearest hit found so far: among equally near hits, the lowest
 /// (instance, primitive) wins, so the result does not depend on the
 /// order the traversal met them in (one ray or a packet, DESIGN §4).
@@ -128,22 +154,8 @@ fn offer(best: &mut Option<Closest>, c: Closest) {
 #[inline(always)]
 fn limit(best: &Option<Closest>, tmax: f32) -> f32 {
     match best {
-        Some(b) => next_up(b.hit.t).min(tmax),
+        Some(b) => b.hit.t.next_up().min(tmax),
         None => tmax,
-    }
-}
-
-/// The least float above finite `t` (`f32::next_up`, stable only since
-/// Rust 1.86).
-#[inline(always)]
-fn next_up(t: f32) -> f32 {
-    let bits = t.to_bits();
-    if t == 0.0 {
-        f32::from_bits(1)
-    } else if t > 0.0 {
-        f32::from_bits(bits + 1)
-    } else {
-        f32::from_bits(bits - 1)
     }
 }
 
@@ -410,6 +422,197 @@ impl Accel {
             return self.instance_any(k as usize, &r, tmax);
         }
         tlas.traverse_any(&r, tmax, |k, tmax| self.instance_any(k as usize, &r, *tmax))
+    }
+
+    /// [`Accel::cast`] of each query, the same hits, into `out`: traced
+    /// in packets of up to [`LANES`] (coherent rays, such as a pixel's
+    /// samples, share their node and triangle fetches and tests).
+    pub fn cast_all(&self, queries: &[Query], out: &mut Vec<Option<Hit>>) {
+        out.clear();
+        for chunk in queries.chunks(LANES) {
+            let (rays, valid, tmax) = self.chunk(chunk);
+            let mut best = [None; LANES];
+            if valid != 0 {
+                match self.simd {
+                    // SAFETY: each is chosen only where the CPU has it.
+                    #[cfg(target_arch = "x86_64")]
+                    Simd::Avx => unsafe { self.closest_avx(&rays, valid, &tmax, &mut best) },
+                    #[cfg(target_arch = "x86_64")]
+                    Simd::Avx512 => unsafe { self.closest_avx512(&rays, valid, &tmax, &mut best) },
+                    _ => self.closest::<Base>(&rays, valid, &tmax, &mut best),
+                }
+            }
+            out.extend(
+                best[..chunk.len()]
+                    .iter()
+                    .map(|c| c.map(|c: Closest| self.resolve(c.k, c.prim, c.hit))),
+            );
+        }
+    }
+
+    /// The rays of up to [`LANES`] queries, the mask of those that can hit
+    /// anything, and their `tmax`.
+    fn chunk(&self, queries: &[Query]) -> ([Ray; LANES], u32, Lanes) {
+        let mut valid = 0;
+        let fallback = Ray::new(Vec3A::ZERO, Vec3A::X, 0.0);
+        let rays = std::array::from_fn(|i| {
+            let r = queries
+                .get(i)
+                .and_then(|q| self.ray(q.origin, q.dir, q.tmin));
+            valid |= u32::from(r.is_some()) << i;
+            r.unwrap_or(fallback)
+        });
+        let tmax = std::array::from_fn(|i| queries.get(i).map_or(0.0, |q| q.tmax));
+        (rays, valid, tmax)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn closest_avx512(
+        &self,
+        rays: &[Ray; LANES],
+        valid: u32,
+        tmax: &Lanes,
+        best: &mut [Option<Closest>; LANES],
+    ) {
+        self.closest::<Avx512>(rays, valid, tmax, best)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn closest_avx(
+        &self,
+        rays: &[Ray; LANES],
+        valid: u32,
+        tmax: &Lanes,
+        best: &mut [Option<Closest>; LANES],
+    ) {
+        self.closest::<Avx>(rays, valid, tmax, best)
+    }
+
+    /// The closest hits of the rays of `valid` (one ray's walk per lane,
+    /// so each finds what [`Accel::cast`] finds).
+    #[inline(always)]
+    fn closest<W: Wide>(
+        &self,
+        rays: &[Ray; LANES],
+        valid: u32,
+        tmax: &Lanes,
+        best: &mut [Option<Closest>; LANES],
+    ) {
+        let Some(tlas) = &self.tlas else { return };
+        for group in packet::groups(rays, valid) {
+            let p = RayPacket::new(rays, group);
+            let mut tfar = *tmax;
+            if let Some(k) = self.single {
+                self.instance_closest_packet::<W>(k, &p, group, &mut tfar, tmax, best);
+                continue;
+            }
+            let mut walk = tlas.packet_walk(&p, group);
+            while let Some((k, lanes)) = walk.next::<W>(tlas, &p, &tfar) {
+                self.instance_closest_packet::<W>(k, &p, lanes, &mut tfar, tmax, best);
+            }
+        }
+    }
+
+    /// Instance `k`'s tree and geometry, and the packet's rays in its
+    /// space (None for the identity: the packet's own).
+    #[inline(always)]
+    fn instance_packet(
+        &self,
+        k: u32,
+        p: &RayPacket,
+    ) -> Option<(&Blas, &Geometry, Option<[Ray; LANES]>)> {
+        let g = self.scene.instances[k as usize].geometry as usize;
+        let b = self.blas[g].as_ref()?;
+        let local = self.inst_inv[k as usize]
+            .is_some()
+            .then(|| std::array::from_fn(|i| self.local_ray(k as usize, &p.rays[i])));
+        Some((b, &self.scene.geometries[g], local))
+    }
+
+    /// [`Accel::instance_closest`] for the rays of `lanes` in packet `p`.
+    #[inline(always)]
+    fn instance_closest_packet<W: Wide>(
+        &self,
+        k: u32,
+        p: &RayPacket,
+        lanes: u32,
+        tfar: &mut Lanes,
+        tmax: &Lanes,
+        best: &mut [Option<Closest>; LANES],
+    ) {
+        let Some((b, geo, local)) = self.instance_packet(k, p) else {
+            return;
+        };
+        let Some(local) = local else {
+            return self.blas_closest::<W>(b, geo, k, p, lanes, tfar, tmax, best);
+        };
+        // A transform may turn the rays apart: one packet per key.
+        for group in packet::groups(&local, lanes) {
+            let lp = RayPacket::new(&local, group);
+            self.blas_closest::<W>(b, geo, k, &lp, group, tfar, tmax, best);
+        }
+    }
+
+    /// The closest hits in one bottom level of the rays of `lanes` (in
+    /// its space).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn blas_closest<W: Wide>(
+        &self,
+        b: &Blas,
+        geo: &Geometry,
+        k: u32,
+        p: &RayPacket,
+        lanes: u32,
+        tfar: &mut Lanes,
+        tmax: &Lanes,
+        best: &mut [Option<Closest>; LANES],
+    ) {
+        let mut walk = b.tree.packet_walk(p, lanes);
+        while let Some((code, lanes)) = walk.next::<W>(&b.tree, p, tfar) {
+            let (first, packs, shapes) = b.leaf(code);
+            if together::<W>(lanes) {
+                for (j, pack) in packs.iter().enumerate() {
+                    for lane in 0..pack.count() {
+                        let (hit, t) = pack.packet_lanes::<W>(lane, p, lanes, tfar);
+                        for i in Bits(hit) {
+                            let prim = Prim::Triangle(b.ids[first + j][lane]);
+                            let hit = intersect::LocalHit {
+                                t: t[i],
+                                normal: Vec3A::ZERO,
+                            };
+                            offer(&mut best[i], Closest { k, prim, hit });
+                            tfar[i] = limit(&best[i], tmax[i]);
+                        }
+                    }
+                }
+            } else {
+                for i in Bits(lanes) {
+                    let best = &mut best[i];
+                    tfar[i] =
+                        tri4::nearest_each(packs, &p.rays[i], tfar[i], self.simd, |j, t, lane| {
+                            let prim = Prim::Triangle(b.ids[first + j][lane]);
+                            let hit = intersect::LocalHit {
+                                t,
+                                normal: Vec3A::ZERO,
+                            };
+                            offer(best, Closest { k, prim, hit });
+                            limit(best, tmax[i])
+                        });
+                }
+            }
+            for s in shapes {
+                for i in Bits(lanes) {
+                    if let Some(hit) = s.hit(geo, &p.rays[i], tfar[i]) {
+                        let prim = Prim::Shape(s.index);
+                        offer(&mut best[i], Closest { k, prim, hit });
+                        tfar[i] = limit(&best[i], tmax[i]);
+                    }
+                }
+            }
+        }
     }
 
     /// World-space details of a local hit.

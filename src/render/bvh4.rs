@@ -10,6 +10,8 @@
 //! single pass. The traversal stack is sized from the tree's measured
 //! depth, so no tree is too deep for it.
 
+use super::packet::{min, Lanes, RayPacket, LANES};
+use super::wide::{Mask, Wide};
 use crate::aabb::Aabb;
 use glam::{Vec3A, Vec4};
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
@@ -62,9 +64,9 @@ pub struct Ray {
     pub origin: Vec3A,
     pub direction: Vec3A,
     pub tmin: f32,
-    inv: Vec3A,
-    origin_inv: Vec3A,
-    negative: [bool; 3],
+    pub(super) inv: Vec3A,
+    pub(super) origin_inv: Vec3A,
+    pub(super) negative: [bool; 3],
     pub axes: [usize; 3],
     pub shear: Vec3A,
     /// The origin's coordinates in the order of `axes`.
@@ -110,6 +112,12 @@ impl Ray {
             shear: Vec3A::new(d[kx], d[ky], 1.0) / Vec3A::splat(d[kz]),
             permuted_origin: Vec3A::new(o[kx], o[ky], o[kz]),
         }
+    }
+
+    /// What rays must share to be traced as one packet: their direction's
+    /// signs (a node's near sides) and axis order (a triangle's frame).
+    pub fn key(&self) -> ([bool; 3], [usize; 3]) {
+        (self.negative, self.axes)
     }
 }
 
@@ -546,6 +554,110 @@ impl Bvh4 {
                     cur = code;
                     break;
                 }
+            }
+        }
+    }
+
+    /// A walk of packet `p`'s rays of `live` through the tree: see
+    /// [`PacketWalk`].
+    #[inline(always)]
+    pub fn packet_walk(&self, p: &RayPacket, live: u32) -> PacketWalk {
+        PacketWalk {
+            stack: Vec::with_capacity(self.stack_size),
+            cur: self.root,
+            near: p.tmin,
+            live,
+            pop: false,
+        }
+    }
+}
+
+/// The leaves a packet's rays enter, one by one from [`PacketWalk::next`]
+/// (a loop, not a callback, so that the caller's leaf tests are compiled
+/// into the same function and with the same SIMD width as the walk).
+/// Nearer boxes come first for the packet as a whole. Each ray's box
+/// tests are its single walk's, lane by lane, so it enters the boxes that
+/// walk would enter under the same `tfar`.
+pub struct PacketWalk {
+    /// Nodes to visit and each ray's entry distance (+∞: not entered).
+    stack: Vec<(u32, Lanes)>,
+    cur: u32,
+    near: Lanes,
+    /// The packet's rays (the other lanes repeat one of them).
+    live: u32,
+    /// Whether `cur` is done with (the next visit pops the stack).
+    pop: bool,
+}
+
+impl PacketWalk {
+    /// The next leaf some ray enters within its `tfar` (which the caller
+    /// lowers as it finds hits), with the mask of those rays; the tests
+    /// run in the lane form `W`.
+    #[inline(always)]
+    pub fn next<W: Wide>(
+        &mut self,
+        tree: &Bvh4,
+        p: &RayPacket,
+        tfar: &Lanes,
+    ) -> Option<(u32, u32)> {
+        let [nx, ny, nz] = p.negative.map(usize::from);
+        let [ix, iy, iz] = p.inv.each_ref().map(W::load);
+        let [ox, oy, oz] = p.origin_inv.each_ref().map(W::load);
+        let (tmin, far) = (W::load(&p.tmin), W::load(tfar));
+        loop {
+            if self.pop {
+                (self.cur, self.near) = self.stack.pop()?;
+            }
+            self.pop = true;
+            let active = W::load(&self.near).le(far);
+            let rays = self.live & active.bits();
+            if rays == 0 {
+                continue;
+            }
+            if self.cur & LEAF != 0 {
+                return Some((self.cur & !LEAF, rays));
+            }
+            let n = &tree.nodes[self.cur as usize];
+            let side = |s: usize, a: usize| n.side[s][a].to_array();
+            let (near_x, far_x) = (side(nx, 0), side(1 - nx, 0));
+            let (near_y, far_y) = (side(ny, 1), side(1 - ny, 1));
+            let (near_z, far_z) = (side(nz, 2), side(1 - nz, 2));
+            // Entered children: code, least entry of the packet, each
+            // ray's entry (+∞ where it does not enter).
+            let mut kids = [(0u32, 0f32, [0f32; LANES]); 4];
+            let mut count = 0;
+            for c in 0..4 {
+                let slab = |side: f32, inv: W, o: W| W::splat(side).mul(inv).sub(o);
+                let t0 = slab(near_x[c], ix, ox)
+                    .max(slab(near_y[c], iy, oy))
+                    .max(slab(near_z[c], iz, oz))
+                    .max(tmin);
+                let t1 = slab(far_x[c], ix, ox)
+                    .min(slab(far_y[c], iy, oy))
+                    .min(slab(far_z[c], iz, oz))
+                    .min(far);
+                let entered = t0.le(t1).and(active);
+                if entered.bits() & self.live == 0 {
+                    continue;
+                }
+                let t0 = W::select(entered, t0, W::splat(f32::INFINITY)).store();
+                let first = t0.iter().fold(f32::INFINITY, |m, &t| min(m, t));
+                // Kept farthest first (ties in slot order).
+                let mut k = count;
+                while k > 0 && kids[k - 1].1 < first {
+                    kids[k] = kids[k - 1];
+                    k -= 1;
+                }
+                kids[k] = (n.child[c], first, t0);
+                count += 1;
+            }
+            if count > 0 {
+                // The farther onto the stack, the nearest visited next.
+                for k in &kids[..count - 1] {
+                    self.stack.push((k.0, k.2));
+                }
+                (self.cur, _, self.near) = kids[count - 1];
+                self.pop = false;
             }
         }
     }

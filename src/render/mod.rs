@@ -7,10 +7,12 @@ pub mod accel;
 pub mod bvh4;
 pub mod intersect;
 pub mod output;
+pub mod packet;
 pub mod sample;
 pub mod shade;
 pub mod texture;
 pub mod tri4;
+pub mod wide;
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;

@@ -3,7 +3,7 @@
 
 use glam::Vec3A;
 
-use super::accel::Accel;
+use super::accel::{Accel, Query};
 use super::shade;
 use crate::random::{self, Stream};
 use crate::scene::Camera;
@@ -144,11 +144,23 @@ pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> 
         0,
     );
     let n = st.spp.max(1);
+    // The samples' camera rays cast together (a pixel's rays are the most
+    // coherent there are), then shaded one by one, as `shade::trace`.
+    let offsets: Vec<(f32, f32)> = (0..n).map(|s| offset(s, n, key)).collect();
+    let queries: Vec<Query> = offsets
+        .iter()
+        .map(|&(ox, oy)| Query {
+            origin: cam.eye(),
+            dir: cam.dir(x as f32 + ox, y as f32 + oy),
+            tmin: 0.0,
+            tmax: f32::INFINITY,
+        })
+        .collect();
+    let mut hits = Vec::with_capacity(queries.len());
+    accel.cast_all(&queries, &mut hits);
     let mut sum = [0.0f32; 4];
     let mut wsum = 0.0f32;
-    for s in 0..n {
-        let (ox, oy) = offset(s, n, key);
-        let d = cam.dir(x as f32 + ox, y as f32 + oy);
+    for (s, ((&(ox, oy), q), hit)) in offsets.iter().zip(&queries).zip(&hits).enumerate() {
         let w = match st.filter {
             Filter::Box => 1.0,
             Filter::Gaussian => {
@@ -156,18 +168,22 @@ pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> 
                 (-(dx * dx + dy * dy) / (2.0 * 0.25)).exp()
             }
         };
-        let (c, hit) = shade::trace(
-            accel,
-            cam.eye(),
-            d,
-            st,
-            0,
-            random::key(key, Stream::Pixel, u64::from(s), 1),
-        );
+        let c = match hit {
+            Some(hit) => shade::shade_hit(
+                accel,
+                hit,
+                q.origin,
+                q.dir,
+                st,
+                0,
+                random::key(key, Stream::Pixel, s as u64, 1),
+            ),
+            None => shade::background(accel, q.dir),
+        };
         sum[0] += w * c.x;
         sum[1] += w * c.y;
         sum[2] += w * c.z;
-        sum[3] += w * f32::from(u8::from(hit));
+        sum[3] += w * f32::from(u8::from(hit.is_some()));
         wsum += w;
     }
     let centre = if st.layers {

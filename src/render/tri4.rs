@@ -8,6 +8,8 @@
 use glam::{Vec3, Vec3A, Vec4};
 
 use super::bvh4::Ray;
+use super::packet::{Bits, Lanes, RayPacket, LANES};
+use super::wide::{Mask, Wide};
 
 /// Up to four triangles, one `Vec4` per vertex coordinate (144 bytes:
 /// their indices are kept apart, as only a hit needs them). Unused lanes
@@ -95,6 +97,78 @@ impl Tri4 {
         // compiles to a jump table.
         (hit.bitmask(), t.to_array())
     }
+    /// Of the rays `rays` of packet `p`, those that hit the pack's
+    /// triangle `j` with t in (tmin, tfar), and each ray's t: lane by
+    /// lane the operations of [`Self::lanes`] (whose lanes are
+    /// triangles, where these are rays), in the lane form `W`.
+    #[inline(always)]
+    pub fn packet_lanes<W: Wide>(
+        &self,
+        j: usize,
+        p: &RayPacket,
+        rays: u32,
+        tfar: &Lanes,
+    ) -> (u32, Lanes) {
+        let [kx, ky, kz] = p.axes.map(|k| k.min(2));
+        let vertex = |c: usize| {
+            let v = &self.v[c];
+            [
+                v[kx].to_array()[j],
+                v[ky].to_array()[j],
+                v[kz].to_array()[j],
+            ]
+        };
+        let (a, b, c) = (vertex(0), vertex(1), vertex(2));
+        let [sx, sy, sz] = p.shear.each_ref().map(W::load);
+        let [ox, oy, oz] = p.permuted_origin.each_ref().map(W::load);
+        let corner = |q: [f32; 3]| {
+            let z = W::splat(q[2]).sub(oz);
+            (
+                W::splat(q[0]).sub(ox).sub(sx.mul(z)),
+                W::splat(q[1]).sub(oy).sub(sy.mul(z)),
+                z,
+            )
+        };
+        let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) = (corner(a), corner(b), corner(c));
+        let mut u = cx.mul(by).sub(cy.mul(bx));
+        let mut w = ax.mul(cy).sub(ay.mul(cx));
+        let mut x = bx.mul(ay).sub(by.mul(ax));
+        let zero = W::splat(0.0);
+        let exact = rays & u.eq(zero).or(w.eq(zero)).or(x.eq(zero)).bits();
+        if exact != 0 {
+            // Exactly on an edge in f32: decided in f64, as the single test.
+            let [axs, ays, bxs, bys, cxs, cys] = [ax, ay, bx, by, cx, cy].map(W::store);
+            let (mut us, mut ws, mut xs) = (u.store(), w.store(), x.store());
+            for i in Bits(exact) {
+                us[i] = edge_f64(cxs[i], bys[i], cys[i], bxs[i]);
+                ws[i] = edge_f64(axs[i], cys[i], ays[i], cxs[i]);
+                xs[i] = edge_f64(bxs[i], ays[i], bys[i], axs[i]);
+            }
+            (u, w, x) = (W::load(&us), W::load(&ws), W::load(&xs));
+        }
+        let negative = u.lt(zero).or(w.lt(zero)).or(x.lt(zero));
+        let positive = u.gt(zero).or(w.gt(zero)).or(x.gt(zero));
+        let det = u.add(w).add(x);
+        let inside = negative.and(positive).andnot(det.ne(zero));
+        // Most triangles a walk tests are missed: skip the divisions.
+        if rays & inside.bits() == 0 {
+            return (0, [0.0; LANES]);
+        }
+        let t = u
+            .mul(sz.mul(az))
+            .add(w.mul(sz.mul(bz)))
+            .add(x.mul(sz.mul(cz)))
+            .div(det);
+        let hit = inside.and(t.gt(W::load(&p.tmin))).and(t.lt(W::load(tfar)));
+        (rays & hit.bits(), t.store())
+    }
+
+    /// The triangles of the pack (a pack of fewer than four holds NaN in
+    /// the rest).
+    #[inline(always)]
+    pub fn count(&self) -> usize {
+        4 - self.v[0][0].is_nan_mask().bitmask().count_ones() as usize
+    }
 }
 
 /// The edge function `p·q − r·s` in f64, rounded once: for a lane whose
@@ -120,32 +194,38 @@ fn nearest(mut mask: u32, t: &[f32], bound: f32) -> Option<(f32, usize)> {
     best
 }
 
-/// Which triangle test the leaves run: the baseline (SSE2 on x86-64, a
-/// pack of four at a time) or AVX (two packs at once), chosen at run time.
-/// Every lane of both computes the same IEEE operations in the same order
-/// (no fused multiply-add), so they give the same bits (DESIGN §4).
+/// Which instructions the tests run, chosen at run time: the baseline
+/// (SSE2 on x86-64: a pack of four triangles at a time, packets as four
+/// SSE registers), AVX (two packs at once, packets as two registers) or
+/// AVX-512 (the same single-ray tests, packets in one register). Every
+/// lane of each computes the same IEEE operations in the same order (no
+/// fused multiply-add), so they give the same bits (DESIGN §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Simd {
     Baseline,
     Avx,
+    Avx512,
 }
 
 impl Simd {
-    /// The widest test this machine has.
+    /// The widest this machine has.
     pub fn detect() -> Simd {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            return Simd::Avx;
-        }
-        Simd::Baseline
+        Simd::available().pop().unwrap_or(Simd::Baseline)
     }
 
-    /// Every test this machine has, baseline first (tests compare them).
+    /// Every one this machine has, narrowest first (tests compare them).
     pub fn available() -> Vec<Simd> {
-        match Simd::detect() {
-            Simd::Baseline => vec![Simd::Baseline],
-            wide => vec![Simd::Baseline, wide],
+        let mut all = vec![Simd::Baseline];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx") {
+                all.push(Simd::Avx);
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                all.push(Simd::Avx512);
+            }
         }
+        all
     }
 }
 
@@ -165,9 +245,10 @@ pub fn nearest_each(
 ) -> f32 {
     let mut first = 0;
     #[cfg(target_arch = "x86_64")]
-    if simd == Simd::Avx {
+    if simd != Simd::Baseline {
         while first + 1 < packs.len() {
-            // SAFETY: `Simd::Avx` is chosen only where the CPU has AVX.
+            // SAFETY: `Simd::Avx` and `Avx512` are chosen only where the CPU
+            // has AVX.
             let (mask, t) = unsafe { avx::lanes_pair(&packs[first], &packs[first + 1], ray, tmax) };
             for half in 0..2 {
                 let lanes = (mask >> (4 * half)) & 0b1111;
@@ -193,9 +274,10 @@ pub fn nearest_each(
 pub fn any_hit(packs: &[Tri4], ray: &Ray, tmax: f32, simd: Simd) -> bool {
     let mut first = 0;
     #[cfg(target_arch = "x86_64")]
-    if simd == Simd::Avx {
+    if simd != Simd::Baseline {
         while first + 1 < packs.len() {
-            // SAFETY: `Simd::Avx` is chosen only where the CPU has AVX.
+            // SAFETY: `Simd::Avx` and `Avx512` are chosen only where the CPU
+            // has AVX.
             if unsafe { avx::lanes_pair(&packs[first], &packs[first + 1], ray, tmax) }.0 != 0 {
                 return true;
             }

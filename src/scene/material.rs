@@ -215,7 +215,7 @@ fn assign_vision(t: &mut [Material]) {
         let mut best: Option<(usize, f32)> = None;
         for (p, &(q, taken)) in points.iter().enumerate() {
             let d = q.distance_squared(target);
-            if !taken && best.map_or(true, |(_, bd)| d < bd) {
+            if !taken && best.is_none_or(|(_, bd)| d < bd) {
                 best = Some((p, d));
             }
         }

@@ -86,7 +86,7 @@ fn stood_on(frames: &[serde_json::Value]) -> Vec<(f64, Vec3)> {
             continue;
         }
         let p = v3(p);
-        if on.last().map_or(true, |l| l.1 != p) {
+        if on.last().is_none_or(|l| l.1 != p) {
             on.push((f["time"].as_f64().unwrap(), p));
         }
     }
@@ -123,7 +123,7 @@ fn the_actor_reaches_both_destinations_stepping_on_stones_only() {
         });
         let stone = under.unwrap_or_else(|| panic!("a step at {p} (T = {t}) on no stone"));
         assert!(
-            stone.sinks.map_or(true, |ts| t < ts),
+            stone.sinks.is_none_or(|ts| t < ts),
             "on the sunk stone at {t}"
         );
     }

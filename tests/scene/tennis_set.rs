@@ -76,7 +76,7 @@ fn the_landscape_leaves_the_players_colours_alone() {
     for _ in 0..=100 {
         let frame = film.next_frame().unwrap().unwrap();
         assert!(frame.warnings().is_empty(), "{:?}", frame.warnings());
-        if frame.number() % 50 == 0 {
+        if frame.number().is_multiple_of(50) {
             let scene = frame.scene();
             for i in scene
                 .geometries

@@ -430,9 +430,16 @@ fn busy_scene(dir: &Path) -> PathBuf {
             log.source_position(s, p).unwrap();
         }
         let k = (t / 0.04).round() as u32;
-        if k % 10 == 0 {
-            log.play(k / 10 % 4, if k % 20 == 0 { "a.wav" } else { "b.wav" })
-                .unwrap();
+        if k.is_multiple_of(10) {
+            log.play(
+                k / 10 % 4,
+                if k.is_multiple_of(20) {
+                    "a.wav"
+                } else {
+                    "b.wav"
+                },
+            )
+            .unwrap();
         }
     });
     let path = dir.join("soundtrack.events");

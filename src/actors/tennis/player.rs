@@ -453,7 +453,7 @@ impl Living {
             (Some(ball), true) => {
                 p.ball.push(senses.time, ball.position);
                 p.frames += 1;
-                if p.frames % u64::from(VELOCITY_FRAMES) == 0 {
+                if p.frames.is_multiple_of(u64::from(VELOCITY_FRAMES)) {
                     let window = f64::from(VELOCITY_FRAMES) * senses.dt;
                     // A window across the bounce would mix two paths.
                     let across = p.bounced.is_some_and(|b| b > senses.time - window);
@@ -634,7 +634,9 @@ impl Living {
                     .stroke
                     .as_ref()
                     .is_some_and(|s| at.distance(s.impact.point) <= STOP_ESTIMATING);
-                if let (true, Some(v)) = (far && p.frames % ESTIMATE_EVERY == 0, p.velocity) {
+                if let (true, Some(v)) =
+                    (far && p.frames.is_multiple_of(ESTIMATE_EVERY), p.velocity)
+                {
                     let first = estimate_impact(at, v, t, HIT_HEIGHT, G, p.learner.x());
                     let second = first.and_then(|f| {
                         let fall = velocity_at(v, t, &f);
@@ -660,7 +662,7 @@ impl Living {
                     (Some(s), Some((_, b))) => b.distance(s.impact.point) < STOP_ESTIMATING,
                     _ => false,
                 };
-                let estimate = !serving && !close(p) && p.frames % ESTIMATE_EVERY == 0;
+                let estimate = !serving && !close(p) && p.frames.is_multiple_of(ESTIMATE_EVERY);
                 if p.stroke.is_none() || estimate {
                     if let (Some(v), Some((_, at))) = (p.velocity, p.ball.last()) {
                         let h = if serving { SERVE_HEIGHT } else { HIT_HEIGHT };

@@ -106,7 +106,7 @@ impl Match {
     /// The half the server serves from: the right for the first point of
     /// a game, then alternately (ITF rule 9).
     pub fn half(&self) -> Half {
-        if (self.points[0] + self.points[1]) % 2 == 0 {
+        if (self.points[0] + self.points[1]).is_multiple_of(2) {
             Half::Right
         } else {
             Half::Left
