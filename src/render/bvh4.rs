@@ -10,7 +10,7 @@
 //! single pass. The traversal stack is sized from the tree's measured
 //! depth, so no tree is too deep for it.
 
-use super::packet::{min, Lanes, RayPacket, LANES};
+use super::packet::{Lanes, RayPacket, LANES};
 use super::wide::{Mask, Wide};
 use crate::aabb::Aabb;
 use glam::{Vec3A, Vec4};
@@ -640,8 +640,9 @@ impl PacketWalk {
                 if entered.bits() & self.live == 0 {
                     continue;
                 }
-                let t0 = W::select(entered, t0, W::splat(f32::INFINITY)).store();
-                let first = t0.iter().fold(f32::INFINITY, |m, &t| min(m, t));
+                // (No NaN here: the slabs' terms are finite or infinite.)
+                let t0 = W::select(entered, t0, W::splat(f32::INFINITY));
+                let (first, t0) = (t0.least(), t0.store());
                 // Kept farthest first (ties in slot order).
                 let mut k = count;
                 while k > 0 && kids[k - 1].1 < first {

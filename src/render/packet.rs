@@ -97,13 +97,3 @@ impl Iterator for Bits {
         })
     }
 }
-
-/// `minps`'s choice, `a < b ? a : b` (NaN and signed zeros included).
-#[inline(always)]
-pub fn min(a: f32, b: f32) -> f32 {
-    if a < b {
-        a
-    } else {
-        b
-    }
-}

@@ -32,6 +32,14 @@ pub trait Wide: Copy {
     fn ne(self, o: Self) -> Self::Mask;
     /// Lane i of `a` where lane i of `m` is set, else of `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// The least lane, of lanes that are not NaN (in any order: the
+    /// same value, but for the sign of a zero).
+    #[inline(always)]
+    fn least(self) -> f32 {
+        self.store()
+            .into_iter()
+            .fold(f32::INFINITY, |m, x| if x < m { x } else { m })
+    }
 }
 
 /// Sixteen flags.
@@ -332,6 +340,10 @@ mod x86 {
         fn select(m: u32, a: Self, b: Self) -> Self {
             Avx512(unsafe { _mm512_mask_blend_ps(m as u16, b.0, a.0) })
         }
+        #[inline(always)]
+        fn least(self) -> f32 {
+            unsafe { _mm512_reduce_min_ps(self.0) }
+        }
     }
 }
 
@@ -354,6 +366,9 @@ mod tests {
         ] {
             out.extend(v.store().map(f32::to_bits));
         }
+        // `least` of lanes without NaN; zeros compared by value.
+        let clean = W::select(x.eq(x), x, W::splat(1.0));
+        out.push((clean.least() + 0.0).to_bits());
         for m in [x.lt(y), x.le(y), x.gt(y), x.eq(y), x.ne(y)] {
             out.push(m.bits());
             out.push(m.and(x.le(y)).or(x.eq(y)).andnot(x.ne(y)).bits());
