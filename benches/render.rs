@@ -1,12 +1,15 @@
 //! Ray-casting throughput on the peers' forest (../shared/anchors): the
 //! same camera rays as `embree_rays.py` (640×480, one per pixel centre)
-//! plus one shadow ray per hit toward the light, on one thread. Prints
+//! plus one shadow ray per hit toward the light, on one thread, cast one
+//! by one (`lmfilm`) and with the camera rays in 4 × 4 pixel packets
+//! (`lmfilm-packets`, as the renderer casts a pixel's samples). Prints
 //! Mrays/s in the anchor's format; `make bench-render` runs both.
 //!
 //! Then two criterion cases (issue 13): `vision/10_actors_64x64`, ten
 //! actors' 64×64 vision windows into the forest's BVH, and
 //! `vision/frame_640x480_16spp`, one final-quality frame render of the
-//! same BVH. `cargo bench --bench render -- vision` runs only those.
+//! same BVH (the render alone, against Mitsuba's `render_s`).
+//! `cargo bench --bench render -- vision` runs only those.
 
 use std::path::Path;
 use std::time::Instant;
