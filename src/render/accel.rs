@@ -174,7 +174,7 @@ pub struct Accel {
     /// Each instance's normal matrix (inverse transpose).
     inst_normal: Vec<Mat3A>,
     blas: Vec<Option<Blas>>,
-    /// The triangle test the leaves run (the same bits either way).
+    /// The instructions the tests run (the same bits every way).
     simd: Simd,
 }
 
@@ -308,8 +308,9 @@ impl Accel {
         }
     }
 
-    /// The same structure with the triangle test `simd` (tests compare
-    /// them; [`Accel::new`] takes the widest the machine has).
+    /// The same structure with the instructions `simd` for its tests,
+    /// single rays and packets (tests compare them; [`Accel::new`] takes
+    /// the widest the machine has).
     pub fn with_simd(mut self, simd: Simd) -> Self {
         self.simd = simd;
         self
