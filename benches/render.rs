@@ -116,10 +116,7 @@ fn rays_per_second(
                 if let Some(hit) = accel.cast(cam.eye(), d, 0.0, f32::INFINITY) {
                     hits += 1;
                     rays += 1;
-                    let p = cam.eye() + d * hit.t;
-                    let to = light - p;
-                    let sd = to.normalize();
-                    blocked += usize::from(accel.occluded(p + sd * 1e-3, sd, 0.0, to.length()));
+                    blocked += usize::from(shadowed(accel, light, cam.eye(), d, hit.t));
                 }
             }
         }
@@ -160,10 +157,7 @@ fn rays_per_second(
                     if let Some(hit) = hit {
                         hits += 1;
                         rays += 1;
-                        let p = q.origin + q.dir * hit.t;
-                        let to = light - p;
-                        let sd = to.normalize();
-                        blocked += usize::from(accel.occluded(p + sd * 1e-3, sd, 0.0, to.length()));
+                        blocked += usize::from(shadowed(accel, light, q.origin, q.dir, hit.t));
                     }
                 }
             }
@@ -176,4 +170,13 @@ fn rays_per_second(
         hits as f64 / (w * h) as f64,
         rays as f64 / best / 1e6
     );
+}
+
+/// Whether the shadow ray from the hit at `t` along `o + t·d` toward the
+/// light is blocked (the anchors' shadow ray).
+fn shadowed(accel: &Accel, light: Vec3A, o: Vec3A, d: Vec3A, t: f32) -> bool {
+    let p = o + d * t;
+    let to = light - p;
+    let sd = to.normalize();
+    accel.occluded(p + sd * 1e-3, sd, 0.0, to.length())
 }

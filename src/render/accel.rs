@@ -159,6 +159,24 @@ fn limit(best: &Option<Closest>, tmax: f32) -> f32 {
     }
 }
 
+/// `Accel::closest` compiled for the instructions of a lane form, to be
+/// called where the CPU has them (chosen at run time).
+macro_rules! closest_with {
+    ($name:ident, $feature:literal, $form:ty) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        unsafe fn $name(
+            &self,
+            rays: &[Ray; LANES],
+            valid: u32,
+            tmax: &Lanes,
+            best: &mut [Option<Closest>; LANES],
+        ) {
+            self.closest::<$form>(rays, valid, tmax, best)
+        }
+    };
+}
+
 /// The ray-casting structure of one frame's scene. It shares the scene
 /// (an [`Arc`]), so the frame that owns both can hand it to vision and to
 /// the camera alike.
@@ -467,29 +485,8 @@ impl Accel {
         (rays, valid, tmax)
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn closest_avx512(
-        &self,
-        rays: &[Ray; LANES],
-        valid: u32,
-        tmax: &Lanes,
-        best: &mut [Option<Closest>; LANES],
-    ) {
-        self.closest::<Avx512>(rays, valid, tmax, best)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn closest_avx(
-        &self,
-        rays: &[Ray; LANES],
-        valid: u32,
-        tmax: &Lanes,
-        best: &mut [Option<Closest>; LANES],
-    ) {
-        self.closest::<Avx>(rays, valid, tmax, best)
-    }
+    closest_with!(closest_avx512, "avx512f", Avx512);
+    closest_with!(closest_avx, "avx", Avx);
 
     /// The closest hits of the rays of `valid` (one ray's walk per lane,
     /// so each finds what [`Accel::cast`] finds).
