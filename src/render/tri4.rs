@@ -97,6 +97,7 @@ impl Tri4 {
         // compiles to a jump table.
         (hit.bitmask(), t.to_array())
     }
+
     /// Of the rays `rays` of packet `p`, those that hit the pack's
     /// triangle `j` with t in (tmin, tfar), and each ray's t: lane by
     /// lane the operations of [`Self::lanes`] (whose lanes are
@@ -210,7 +211,16 @@ pub enum Simd {
 impl Simd {
     /// The widest this machine has.
     pub fn detect() -> Simd {
-        Simd::available().pop().unwrap_or(Simd::Baseline)
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Simd::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx") {
+                return Simd::Avx;
+            }
+        }
+        Simd::Baseline
     }
 
     /// Every one this machine has, narrowest first (tests compare them).
