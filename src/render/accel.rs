@@ -134,6 +134,25 @@ struct Closest {
     hit: intersect::LocalHit,
 }
 
+/// A packet's closest-hit search: each ray's best hit so far and the
+/// bound a hit must stay under.
+struct Search<'a> {
+    best: [Option<Closest>; LANES],
+    /// Each ray's bound: its `tmax`, then just above its best hit.
+    tfar: Lanes,
+    tmax: &'a Lanes,
+}
+
+impl Search<'_> {
+    /// [`offer`]s `c` to ray `i`; returns its new bound.
+    #[inline(always)]
+    fn offer(&mut self, i: usize, c: Closest) -> f32 {
+        offer(&mut self.best[i], c);
+        self.tfar[i] = limit(&self.best[i], self.tmax[i]);
+        self.tfar[i]
+    }
+}
+
 /// Keeps `c` in `best` when it is nearer, or as near with a lower key.
 #[inline(always)]
 fn offer(best: &mut Option<Closest>, c: Closest) {
@@ -165,14 +184,8 @@ macro_rules! closest_with {
     ($name:ident, $feature:literal, $form:ty) => {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
-        unsafe fn $name(
-            &self,
-            rays: &[Ray; LANES],
-            valid: u32,
-            tmax: &Lanes,
-            best: &mut [Option<Closest>; LANES],
-        ) {
-            self.closest::<$form>(rays, valid, tmax, best)
+        unsafe fn $name(&self, rays: &[Ray; LANES], valid: u32, search: &mut Search) {
+            self.closest::<$form>(rays, valid, search)
         }
     };
 }
@@ -450,19 +463,23 @@ impl Accel {
         out.clear();
         for chunk in queries.chunks(LANES) {
             let (rays, valid, tmax) = self.chunk(chunk);
-            let mut best = [None; LANES];
+            let mut search = Search {
+                tfar: tmax,
+                tmax: &tmax,
+                best: [None; LANES],
+            };
             if valid != 0 {
                 match self.simd {
                     // SAFETY: each is chosen only where the CPU has it.
                     #[cfg(target_arch = "x86_64")]
-                    Simd::Avx => unsafe { self.closest_avx(&rays, valid, &tmax, &mut best) },
+                    Simd::Avx => unsafe { self.closest_avx(&rays, valid, &mut search) },
                     #[cfg(target_arch = "x86_64")]
-                    Simd::Avx512 => unsafe { self.closest_avx512(&rays, valid, &tmax, &mut best) },
-                    _ => self.closest::<Base>(&rays, valid, &tmax, &mut best),
+                    Simd::Avx512 => unsafe { self.closest_avx512(&rays, valid, &mut search) },
+                    _ => self.closest::<Base>(&rays, valid, &mut search),
                 }
             }
             out.extend(
-                best[..chunk.len()]
+                search.best[..chunk.len()]
                     .iter()
                     .map(|c| c.map(|c: Closest| self.resolve(c.k, c.prim, c.hit))),
             );
@@ -491,24 +508,17 @@ impl Accel {
     /// The closest hits of the rays of `valid` (one ray's walk per lane,
     /// so each finds what [`Accel::cast`] finds).
     #[inline(always)]
-    fn closest<W: Wide>(
-        &self,
-        rays: &[Ray; LANES],
-        valid: u32,
-        tmax: &Lanes,
-        best: &mut [Option<Closest>; LANES],
-    ) {
+    fn closest<W: Wide>(&self, rays: &[Ray; LANES], valid: u32, search: &mut Search) {
         let Some(tlas) = &self.tlas else { return };
         for group in packet::groups(rays, valid) {
             let p = RayPacket::new(rays, group);
-            let mut tfar = *tmax;
             if let Some(k) = self.single {
-                self.instance_closest_packet::<W>(k, &p, group, &mut tfar, tmax, best);
+                self.instance_closest_packet::<W>(k, &p, group, search);
                 continue;
             }
             let mut walk = tlas.packet_walk(&p, group);
-            while let Some((k, lanes)) = walk.next::<W>(tlas, &p, &tfar) {
-                self.instance_closest_packet::<W>(k, &p, lanes, &mut tfar, tmax, best);
+            while let Some((k, lanes)) = walk.next::<W>(tlas, &p, &search.tfar) {
+                self.instance_closest_packet::<W>(k, &p, lanes, search);
             }
         }
     }
@@ -536,26 +546,23 @@ impl Accel {
         k: u32,
         p: &RayPacket,
         lanes: u32,
-        tfar: &mut Lanes,
-        tmax: &Lanes,
-        best: &mut [Option<Closest>; LANES],
+        search: &mut Search,
     ) {
         let Some((b, geo, local)) = self.instance_packet(k, p) else {
             return;
         };
         let Some(local) = local else {
-            return self.blas_closest::<W>(b, geo, k, p, lanes, tfar, tmax, best);
+            return self.blas_closest::<W>(b, geo, k, p, lanes, search);
         };
         // A transform may turn the rays apart: one packet per key.
         for group in packet::groups(&local, lanes) {
             let lp = RayPacket::new(&local, group);
-            self.blas_closest::<W>(b, geo, k, &lp, group, tfar, tmax, best);
+            self.blas_closest::<W>(b, geo, k, &lp, group, search);
         }
     }
 
     /// The closest hits in one bottom level of the rays of `lanes` (in
     /// its space).
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn blas_closest<W: Wide>(
         &self,
@@ -564,49 +571,41 @@ impl Accel {
         k: u32,
         p: &RayPacket,
         lanes: u32,
-        tfar: &mut Lanes,
-        tmax: &Lanes,
-        best: &mut [Option<Closest>; LANES],
+        search: &mut Search,
     ) {
         let mut walk = b.tree.packet_walk(p, lanes);
-        while let Some((code, lanes)) = walk.next::<W>(&b.tree, p, tfar) {
+        while let Some((code, lanes)) = walk.next::<W>(&b.tree, p, &search.tfar) {
             let (first, packs, shapes) = b.leaf(code);
+            let triangle = |j: usize, lane: usize, t: f32| Closest {
+                k,
+                prim: Prim::Triangle(b.ids[first + j][lane]),
+                hit: intersect::LocalHit {
+                    t,
+                    normal: Vec3A::ZERO,
+                },
+            };
             if together::<W>(lanes) {
                 for (j, pack) in packs.iter().enumerate() {
                     for lane in 0..pack.count() {
-                        let (hit, t) = pack.packet_lanes::<W>(lane, p, lanes, tfar);
+                        let (hit, t) = pack.packet_lanes::<W>(lane, p, lanes, &search.tfar);
                         for i in Bits(hit) {
-                            let prim = Prim::Triangle(b.ids[first + j][lane]);
-                            let hit = intersect::LocalHit {
-                                t: t[i],
-                                normal: Vec3A::ZERO,
-                            };
-                            offer(&mut best[i], Closest { k, prim, hit });
-                            tfar[i] = limit(&best[i], tmax[i]);
+                            search.offer(i, triangle(j, lane, t[i]));
                         }
                     }
                 }
             } else {
                 for i in Bits(lanes) {
-                    let best = &mut best[i];
-                    tfar[i] =
-                        tri4::nearest_each(packs, &p.rays[i], tfar[i], self.simd, |j, t, lane| {
-                            let prim = Prim::Triangle(b.ids[first + j][lane]);
-                            let hit = intersect::LocalHit {
-                                t,
-                                normal: Vec3A::ZERO,
-                            };
-                            offer(best, Closest { k, prim, hit });
-                            limit(best, tmax[i])
-                        });
+                    let tfar = search.tfar[i];
+                    tri4::nearest_each(packs, &p.rays[i], tfar, self.simd, |j, t, lane| {
+                        search.offer(i, triangle(j, lane, t))
+                    });
                 }
             }
             for s in shapes {
                 for i in Bits(lanes) {
-                    if let Some(hit) = s.hit(geo, &p.rays[i], tfar[i]) {
+                    if let Some(hit) = s.hit(geo, &p.rays[i], search.tfar[i]) {
                         let prim = Prim::Shape(s.index);
-                        offer(&mut best[i], Closest { k, prim, hit });
-                        tfar[i] = limit(&best[i], tmax[i]);
+                        search.offer(i, Closest { k, prim, hit });
                     }
                 }
             }
