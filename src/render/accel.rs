@@ -462,21 +462,22 @@ impl Accel {
     pub fn cast_all(&self, queries: &[Query], out: &mut Vec<Option<Hit>>) {
         out.clear();
         for chunk in queries.chunks(LANES) {
-            let (rays, valid, tmax) = self.chunk(chunk);
+            let Some((rays, valid, tmax)) = self.chunk(chunk) else {
+                out.extend(chunk.iter().map(|_| None));
+                continue;
+            };
             let mut search = Search {
                 tfar: tmax,
                 tmax: &tmax,
                 best: [None; LANES],
             };
-            if valid != 0 {
-                match self.simd {
-                    // SAFETY: each is chosen only where the CPU has it.
-                    #[cfg(target_arch = "x86_64")]
-                    Simd::Avx => unsafe { self.closest_avx(&rays, valid, &mut search) },
-                    #[cfg(target_arch = "x86_64")]
-                    Simd::Avx512 => unsafe { self.closest_avx512(&rays, valid, &mut search) },
-                    _ => self.closest::<Base>(&rays, valid, &mut search),
-                }
+            match self.simd {
+                // SAFETY: each is chosen only where the CPU has it.
+                #[cfg(target_arch = "x86_64")]
+                Simd::Avx => unsafe { self.closest_avx(&rays, valid, &mut search) },
+                #[cfg(target_arch = "x86_64")]
+                Simd::Avx512 => unsafe { self.closest_avx512(&rays, valid, &mut search) },
+                _ => self.closest::<Base>(&rays, valid, &mut search),
             }
             out.extend(
                 search.best[..chunk.len()]
@@ -487,19 +488,17 @@ impl Accel {
     }
 
     /// The rays of up to [`LANES`] queries, the mask of those that can hit
-    /// anything, and their `tmax`.
-    fn chunk(&self, queries: &[Query]) -> ([Ray; LANES], u32, Lanes) {
-        let mut valid = 0;
-        let fallback = Ray::new(Vec3A::ZERO, Vec3A::X, 0.0);
-        let rays = std::array::from_fn(|i| {
-            let r = queries
-                .get(i)
-                .and_then(|q| self.ray(q.origin, q.dir, q.tmin));
-            valid |= u32::from(r.is_some()) << i;
-            r.unwrap_or(fallback)
+    /// anything (the other lanes repeat one of them), and their `tmax`;
+    /// None when none can.
+    fn chunk(&self, queries: &[Query]) -> Option<([Ray; LANES], u32, Lanes)> {
+        let cast: [Option<Ray>; LANES] = std::array::from_fn(|i| {
+            let q = queries.get(i)?;
+            self.ray(q.origin, q.dir, q.tmin)
         });
+        let fill = cast.iter().flatten().next().copied()?;
+        let valid = (0..LANES).fold(0, |m, i| m | u32::from(cast[i].is_some()) << i);
         let tmax = std::array::from_fn(|i| queries.get(i).map_or(0.0, |q| q.tmax));
-        (rays, valid, tmax)
+        Some((cast.map(|r| r.unwrap_or(fill)), valid, tmax))
     }
 
     closest_with!(closest_avx512, "avx512f", Avx512);
@@ -523,19 +522,28 @@ impl Accel {
         }
     }
 
-    /// Instance `k`'s tree and geometry, and the packet's rays in its
-    /// space (None for the identity: the packet's own).
+    /// Instance `k`'s tree and geometry, and the packet's rays of `lanes`
+    /// in its space (None for the identity: the packet's own; the other
+    /// lanes are left as they are).
     #[inline(always)]
     fn instance_packet(
         &self,
         k: u32,
         p: &RayPacket,
+        lanes: u32,
     ) -> Option<(&Blas, &Geometry, Option<[Ray; LANES]>)> {
         let g = self.scene.instances[k as usize].geometry as usize;
         let b = self.blas[g].as_ref()?;
-        let local = self.inst_inv[k as usize]
-            .is_some()
-            .then(|| std::array::from_fn(|i| self.local_ray(k as usize, &p.rays[i])));
+        let local = self.inst_inv[k as usize].is_some().then(|| {
+            std::array::from_fn(|i| {
+                let r = &p.rays[i];
+                if lanes >> i & 1 != 0 {
+                    self.local_ray(k as usize, r)
+                } else {
+                    *r
+                }
+            })
+        });
         Some((b, &self.scene.geometries[g], local))
     }
 
@@ -548,7 +556,7 @@ impl Accel {
         lanes: u32,
         search: &mut Search,
     ) {
-        let Some((b, geo, local)) = self.instance_packet(k, p) else {
+        let Some((b, geo, local)) = self.instance_packet(k, p, lanes) else {
             return;
         };
         let Some(local) = local else {

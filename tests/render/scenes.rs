@@ -436,6 +436,35 @@ fn equally_near_hits_resolve_to_the_lowest_primitive_whatever_the_walk() {
     }
 }
 
+/// A geometry of `n` triangles of corners within 0.8 of centres within 5,
+/// the first `copies` of them repeated (equally near hits).
+fn soup(rng: &mut Lcg, n: usize, copies: usize) -> lmfilm::scene::Geometry {
+    let mut triangles = rng.triangles(n, 5.0, 0.8);
+    triangles.extend_from_within(..copies);
+    lmfilm::scene::Geometry {
+        name: String::new(),
+        shapes: Vec::new(),
+        triangles,
+        resolution: 8,
+    }
+}
+
+/// `n` instances of geometry `g`: the identity, then turned and scaled
+/// ones; their objects numbered from `object`.
+fn soup_instances(rng: &mut Lcg, g: u32, n: u32, object: u32) -> Vec<lmfilm::scene::Instance> {
+    (0..n)
+        .map(|k| lmfilm::scene::Instance {
+            geometry: g,
+            transform: if k == 0 {
+                glam::Affine3A::IDENTITY
+            } else {
+                rng.affine(12.0)
+            },
+            object: object + k,
+        })
+        .collect()
+}
+
 /// The triangle test's paths (the baseline and each wider one this
 /// machine has, chosen at run time) find the same hits, bit for bit, and
 /// render the same bytes (DESIGN §4): a dense soup of triangles with
@@ -444,29 +473,11 @@ fn equally_near_hits_resolve_to_the_lowest_primitive_whatever_the_walk() {
 #[test]
 fn every_simd_path_gives_the_same_hits_and_bytes() {
     use lmfilm::render::tri4::Simd;
-    use lmfilm::scene::{Geometry, Instance};
     let paths = Simd::available();
     let mut rng = Lcg(11);
     let mut s = scene_of(SPHERE);
-    let mut triangles = rng.triangles(4000, 5.0, 0.8);
-    triangles.extend_from_within(..500);
-    s.geometries = vec![Geometry {
-        name: String::new(),
-        shapes: Vec::new(),
-        triangles,
-        resolution: 8,
-    }];
-    s.instances = (0..6)
-        .map(|k| Instance {
-            geometry: 0,
-            transform: if k == 0 {
-                glam::Affine3A::IDENTITY
-            } else {
-                rng.affine(12.0)
-            },
-            object: k,
-        })
-        .collect();
+    s.geometries = vec![soup(&mut rng, 4000, 500)];
+    s.instances = soup_instances(&mut rng, 0, 6, 0);
     let rays: Vec<(Vec3A, Vec3A, f32)> = (0..20_000)
         .map(|_| {
             let o = Vec3A::from(rng.vec(20.0));
@@ -517,26 +528,10 @@ fn every_simd_path_gives_the_same_hits_and_bytes() {
 fn packets_find_what_single_rays_find() {
     use lmfilm::render::accel::Query;
     use lmfilm::render::tri4::Simd;
-    use lmfilm::scene::{Geometry, Instance};
     let mut rng = Lcg(23);
     let mut s = scene_of(SPHERE);
-    let mut triangles = rng.triangles(3000, 5.0, 0.8);
-    triangles.extend_from_within(..400);
-    s.geometries.push(Geometry {
-        name: String::new(),
-        shapes: Vec::new(),
-        triangles,
-        resolution: 8,
-    });
-    s.instances.extend((0..5).map(|k| Instance {
-        geometry: 1,
-        transform: if k == 0 {
-            glam::Affine3A::IDENTITY
-        } else {
-            rng.affine(12.0)
-        },
-        object: 10 + k,
-    }));
+    s.geometries.push(soup(&mut rng, 3000, 400));
+    s.instances.extend(soup_instances(&mut rng, 1, 5, 10));
     let mut queries = Vec::new();
     for bundle in 0..1500 {
         let o = Vec3A::from(rng.vec(20.0));
