@@ -488,17 +488,20 @@ impl Accel {
     }
 
     /// The rays of up to [`LANES`] queries, the mask of those that can hit
-    /// anything (the other lanes repeat one of them), and their `tmax`;
-    /// None when none can.
+    /// anything, and their `tmax`; None when none can.
     fn chunk(&self, queries: &[Query]) -> Option<([Ray; LANES], u32, Lanes)> {
-        let cast: [Option<Ray>; LANES] = std::array::from_fn(|i| {
-            let q = queries.get(i)?;
-            self.ray(q.origin, q.dir, q.tmin)
+        let mut valid = 0;
+        // For the idle lanes (masked out: any ray will do).
+        let idle = Ray::new(Vec3A::ZERO, Vec3A::X, 0.0);
+        let rays = std::array::from_fn(|i| {
+            let r = queries
+                .get(i)
+                .and_then(|q| self.ray(q.origin, q.dir, q.tmin));
+            valid |= u32::from(r.is_some()) << i;
+            r.unwrap_or(idle)
         });
-        let fill = cast.iter().flatten().next().copied()?;
-        let valid = (0..LANES).fold(0, |m, i| m | u32::from(cast[i].is_some()) << i);
         let tmax = std::array::from_fn(|i| queries.get(i).map_or(0.0, |q| q.tmax));
-        Some((cast.map(|r| r.unwrap_or(fill)), valid, tmax))
+        (valid != 0).then_some((rays, valid, tmax))
     }
 
     closest_with!(closest_avx512, "avx512f", Avx512);
