@@ -1,9 +1,11 @@
 //! Ray-casting throughput on the peers' forest (../shared/anchors): the
 //! same camera rays as `embree_rays.py` (640×480, one per pixel centre)
 //! plus one shadow ray per hit toward the light, on one thread, cast one
-//! by one (`lmfilm`) and with the camera rays in 4 × 4 pixel packets
-//! (`lmfilm-packets`, as the renderer casts a pixel's samples). Prints
-//! Mrays/s in the anchor's format; `make bench-render` runs both.
+//! by one (`lmfilm`), with the camera rays in 4 × 4 pixel packets
+//! (`lmfilm-packets`, as the renderer casts a pixel's samples), and with
+//! their shadow rays in bundles too (`lmfilm-bundles`, as the renderer
+//! casts a pixel's shadow rays). Prints Mrays/s in the anchor's format;
+//! `make bench-render` runs them.
 //!
 //! Then two criterion cases (issue 13): `vision/10_actors_64x64`, ten
 //! actors' 64×64 vision windows into the forest's BVH, and
@@ -130,9 +132,33 @@ fn rays_per_second(
         rays as f64 / best / 1e6
     );
     // The camera rays in packets of 4 × 4 pixels (`Accel::cast_all`, as
-    // the renderer casts a pixel's samples), their shadow rays one by one.
+    // the renderer casts a pixel's samples), their shadow rays one by one,
+    // then in bundles (`Accel::occluded_all`).
+    for (name, bundled) in [("lmfilm-packets", false), ("lmfilm-bundles", true)] {
+        let (rays, hits, best) = packets(accel, &cam, light, w, h, bundled);
+        println!(
+            "{name} rays {rays} hit_frac {:.3} best_s {best:.3} Mrays_per_s {:.2}",
+            hits as f64 / (w * h) as f64,
+            rays as f64 / best / 1e6
+        );
+    }
+}
+
+/// The rays, the hits and the best of seven times of the anchors' rays
+/// with the camera rays in packets of 4 × 4 pixels, and their shadow rays
+/// in bundles or not.
+fn packets(
+    accel: &Accel,
+    cam: &CameraRays,
+    light: Vec3A,
+    w: u32,
+    h: u32,
+    bundled: bool,
+) -> (usize, usize, f64) {
     let mut best = f64::MAX;
+    let (mut rays, mut hits) = (0, 0);
     let (mut queries, mut got) = (Vec::new(), Vec::new());
+    let (mut shadows, mut answers) = (Vec::new(), Vec::new());
     for _ in 0..7 {
         let t = Instant::now();
         rays = 0;
@@ -153,30 +179,45 @@ fn rays_per_second(
                 }
                 accel.cast_all(&queries, &mut got);
                 rays += queries.len();
+                shadows.clear();
                 for (q, hit) in queries.iter().zip(&got) {
                     if let Some(hit) = hit {
-                        hits += 1;
-                        rays += 1;
-                        blocked += usize::from(shadowed(accel, light, q.origin, q.dir, hit.t));
+                        shadows.push(shadow(light, q.origin, q.dir, hit.t));
                     }
                 }
+                if bundled {
+                    accel.occluded_all(&shadows, &mut answers);
+                    blocked += answers.iter().filter(|&&b| b).count();
+                } else {
+                    let blocked_one = |q: &Query| accel.occluded(q.origin, q.dir, q.tmin, q.tmax);
+                    blocked += shadows.iter().filter(|q| blocked_one(q)).count();
+                }
+                hits += shadows.len();
+                rays += shadows.len();
             }
         }
         std::hint::black_box(blocked);
         best = best.min(t.elapsed().as_secs_f64());
     }
-    println!(
-        "lmfilm-packets rays {rays} hit_frac {:.3} best_s {best:.3} Mrays_per_s {:.2}",
-        hits as f64 / (w * h) as f64,
-        rays as f64 / best / 1e6
-    );
+    (rays, hits, best)
 }
 
 /// Whether the shadow ray from the hit at `t` along `o + t·d` toward the
 /// light is blocked (the anchors' shadow ray).
 fn shadowed(accel: &Accel, light: Vec3A, o: Vec3A, d: Vec3A, t: f32) -> bool {
+    let q = shadow(light, o, d, t);
+    accel.occluded(q.origin, q.dir, q.tmin, q.tmax)
+}
+
+/// The shadow ray from the hit at `t` along `o + t·d` toward the light.
+fn shadow(light: Vec3A, o: Vec3A, d: Vec3A, t: f32) -> Query {
     let p = o + d * t;
     let to = light - p;
-    let sd = to.normalize();
-    accel.occluded(p + sd * 1e-3, sd, 0.0, to.length())
+    let dir = to.normalize();
+    Query {
+        origin: p + dir * 1e-3,
+        dir,
+        tmin: 0.0,
+        tmax: to.length(),
+    }
 }

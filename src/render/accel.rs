@@ -8,6 +8,7 @@ use crate::aabb;
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 
 use super::bvh4::{Bvh4, Ray};
+use super::hull::Hull;
 use super::intersect;
 use super::packet::{self, Bits, Lanes, RayPacket, LANES};
 use super::tri4::{self, Simd, Tri4};
@@ -97,6 +98,42 @@ impl Blas {
     }
 }
 
+/// Whether the leaf `code` of `b` (geometry `geo`) has anything but a
+/// cloud layer on the ray (in its space) before `tmax`.
+#[inline(always)]
+fn blocks(b: &Blas, geo: &Geometry, code: u32, r: &Ray, tmax: f32, simd: Simd) -> bool {
+    let (_, packs, shapes) = b.leaf(code);
+    tri4::any_hit(packs, r, tmax, simd)
+        || shapes
+            .iter()
+            .any(|s| s.shadows && s.hit(geo, r, tmax).is_some())
+}
+
+/// Fewest rays traced as a bundle.
+const MIN_BUNDLE: u32 = 4;
+
+/// The region around the segments (tmin, tmax) of the rays of `lanes`,
+/// along their mean direction; None where a segment is unbounded.
+fn bundle(rays: &[Ray; LANES], lanes: u32, tmax: &Lanes, scale: f32) -> Option<Hull> {
+    let mut ends = [Vec3A::ZERO; 2 * LANES];
+    let mut n = 0;
+    let mut along = Vec3A::ZERO;
+    for i in Bits(lanes) {
+        let r = &rays[i];
+        ends[n] = r.origin + r.tmin * r.direction;
+        ends[n + 1] = r.origin + tmax[i] * r.direction;
+        n += 2;
+        along += r.direction.normalize_or_zero();
+    }
+    Hull::around(&ends[..n], along, scale)
+}
+
+/// The largest coordinate of a tree's boxes.
+fn scale_of(tree: &Bvh4) -> f32 {
+    let b = tree.bounds();
+    b.min.abs().max(b.max.abs()).max_element()
+}
+
 /// The nearest surface a ray meets.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
@@ -176,6 +213,18 @@ fn limit(best: &Option<Closest>, tmax: f32) -> f32 {
         Some(b) => b.hit.t.next_up().min(tmax),
         None => tmax,
     }
+}
+
+/// `Accel::any_bundle` compiled for the instructions of a lane form, to be
+/// called where the CPU has them (chosen at run time).
+macro_rules! any_with {
+    ($name:ident, $feature:literal, $form:ty) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        unsafe fn $name(&self, rays: &[Ray; LANES], valid: u32, tmax: &Lanes) -> u32 {
+            self.any_bundle::<$form>(rays, valid, tmax)
+        }
+    };
 }
 
 /// `Accel::closest` compiled for the instructions of a lane form, to be
@@ -401,13 +450,8 @@ impl Accel {
         let Some((b, geo, r)) = self.instance(k, r) else {
             return false;
         };
-        b.tree.traverse_any(&r, tmax, |l, tmax| {
-            let (_, packs, shapes) = b.leaf(l);
-            tri4::any_hit(packs, &r, *tmax, self.simd)
-                || shapes
-                    .iter()
-                    .any(|s| s.shadows && s.hit(geo, &r, *tmax).is_some())
-        })
+        b.tree
+            .traverse_any(&r, tmax, |l, tmax| blocks(b, geo, l, &r, *tmax, self.simd))
     }
 
     /// Instance `k`'s tree and geometry, and the ray in its space (same
@@ -446,14 +490,131 @@ impl Accel {
 
     /// Whether anything but a cloud layer blocks the ray within (tmin, tmax).
     pub fn occluded(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> bool {
-        let Some(r) = self.ray(origin, dir, tmin) else {
-            return false;
-        };
+        self.ray(origin, dir, tmin)
+            .is_some_and(|r| self.any_one(&r, tmax))
+    }
+
+    /// Whether anything but a cloud layer blocks `r` before `tmax`.
+    fn any_one(&self, r: &Ray, tmax: f32) -> bool {
         let Some(tlas) = &self.tlas else { return false };
         if let Some(k) = self.single {
-            return self.instance_any(k as usize, &r, tmax);
+            return self.instance_any(k as usize, r, tmax);
         }
-        tlas.traverse_any(&r, tmax, |k, tmax| self.instance_any(k as usize, &r, *tmax))
+        tlas.traverse_any(r, tmax, |k, tmax| self.instance_any(k as usize, r, *tmax))
+    }
+
+    /// [`Accel::occluded`] of each query, the same answers, into `out`:
+    /// in bundles of up to [`LANES`], whose walk tests each box once for
+    /// the bundle before it tests it for each ray (see [`super::hull`]):
+    /// a pixel's shadow rays toward one light run close together.
+    pub fn occluded_all(&self, queries: &[Query], out: &mut Vec<bool>) {
+        out.clear();
+        for chunk in queries.chunks(LANES) {
+            let blocked = self
+                .chunk(chunk)
+                .map_or(0, |(rays, valid, tmax)| match self.simd {
+                    // SAFETY: each is chosen only where the CPU has it.
+                    #[cfg(target_arch = "x86_64")]
+                    Simd::Avx => unsafe { self.any_avx(&rays, valid, &tmax) },
+                    #[cfg(target_arch = "x86_64")]
+                    Simd::Avx512 => unsafe { self.any_avx512(&rays, valid, &tmax) },
+                    _ => self.any_bundle::<Base>(&rays, valid, &tmax),
+                });
+            out.extend((0..chunk.len()).map(|i| blocked >> i & 1 != 0));
+        }
+    }
+
+    any_with!(any_avx512, "avx512f", Avx512);
+    any_with!(any_avx, "avx", Avx);
+
+    /// The mask of the rays of `valid` that something but a cloud layer
+    /// blocks before their `tmax`.
+    #[inline(always)]
+    fn any_bundle<W: Wide>(&self, rays: &[Ray; LANES], valid: u32, tmax: &Lanes) -> u32 {
+        let Some(tlas) = &self.tlas else { return 0 };
+        let Some(hull) = bundle(rays, valid, tmax, scale_of(tlas)) else {
+            return self.one_by_one(rays, valid, tmax);
+        };
+        let mut blocked = 0;
+        for group in packet::groups(rays, valid) {
+            if group.count_ones() < MIN_BUNDLE {
+                blocked |= self.one_by_one(rays, group, tmax);
+                continue;
+            }
+            let p = RayPacket::new(rays, group);
+            match self.single {
+                Some(k) => blocked |= self.instance_bundle::<W>(k, &p, group, tmax, &hull),
+                None => tlas.walk_bundle::<W>(&hull, &p, tmax, group, |k, lanes| {
+                    let done = self.instance_bundle::<W>(k, &p, lanes, tmax, &hull);
+                    blocked |= done;
+                    done
+                }),
+            }
+        }
+        blocked
+    }
+
+    /// The mask of the rays of `lanes` that something blocks, each traced
+    /// on its own.
+    fn one_by_one(&self, rays: &[Ray; LANES], lanes: u32, tmax: &Lanes) -> u32 {
+        Bits(lanes)
+            .filter(|&i| self.any_one(&rays[i], tmax[i]))
+            .fold(0, |m, i| m | 1 << i)
+    }
+
+    /// The mask of the rays of `lanes` in packet `p` that something in
+    /// instance `k` blocks; `hull` bounds them in world space.
+    #[inline(always)]
+    fn instance_bundle<W: Wide>(
+        &self,
+        k: u32,
+        p: &RayPacket,
+        lanes: u32,
+        tmax: &Lanes,
+        hull: &Hull,
+    ) -> u32 {
+        let g = self.scene.instances[k as usize].geometry as usize;
+        let Some(b) = &self.blas[g] else { return 0 };
+        let geo = &self.scene.geometries[g];
+        if self.inst_inv[k as usize].is_none() {
+            return self.blas_any::<W>(b, geo, p, lanes, tmax, hull);
+        }
+        let local: [Ray; LANES] = std::array::from_fn(|i| self.local_ray(k as usize, &p.rays[i]));
+        let Some(hull) = bundle(&local, lanes, tmax, scale_of(&b.tree)) else {
+            return Bits(lanes)
+                .filter(|&i| self.instance_any(k as usize, &p.rays[i], tmax[i]))
+                .fold(0, |m, i| m | 1 << i);
+        };
+        // A transform may turn the rays apart: one packet per key.
+        packet::groups(&local, lanes)
+            .map(|group| {
+                let lp = RayPacket::new(&local, group);
+                self.blas_any::<W>(b, geo, &lp, group, tmax, &hull)
+            })
+            .fold(0, |m, done| m | done)
+    }
+
+    /// The mask of the rays of `lanes` in packet `p` (in the bottom
+    /// level's space) that something in it blocks.
+    #[inline(always)]
+    fn blas_any<W: Wide>(
+        &self,
+        b: &Blas,
+        geo: &Geometry,
+        p: &RayPacket,
+        lanes: u32,
+        tmax: &Lanes,
+        hull: &Hull,
+    ) -> u32 {
+        let mut blocked = 0;
+        b.tree.walk_bundle::<W>(hull, p, tmax, lanes, |code, rays| {
+            let done = Bits(rays)
+                .filter(|&i| blocks(b, geo, code, &p.rays[i], tmax[i], self.simd))
+                .fold(0, |m, i| m | 1 << i);
+            blocked |= done;
+            done
+        });
+        blocked
     }
 
     /// [`Accel::cast`] of each query, the same hits, into `out`: traced

@@ -10,7 +10,8 @@
 //! single pass. The traversal stack is sized from the tree's measured
 //! depth, so no tree is too deep for it.
 
-use super::packet::{Lanes, RayPacket, LANES};
+use super::hull::Hull;
+use super::packet::{Bits, Lanes, RayPacket, LANES};
 use super::wide::{Mask, Wide};
 use crate::aabb::Aabb;
 use glam::{Vec3A, Vec4};
@@ -555,6 +556,84 @@ impl Bvh4 {
                     break;
                 }
             }
+        }
+    }
+
+    /// Visits, in no particular order (the same every time), the leaves
+    /// that the rays of `live` in packet `p` enter before their `tmax`,
+    /// with the mask of those rays: each ray's box tests are its single
+    /// walk's (see [`PacketWalk`]), made only in boxes that may meet
+    /// `hull`, which bounds the rays (see [`Hull`]). `leaf(code, rays)`
+    /// returns the rays it is done with, which later leaves are not
+    /// offered; the walk ends when none is left.
+    #[inline(always)]
+    pub fn walk_bundle<W: Wide>(
+        &self,
+        hull: &Hull,
+        p: &RayPacket,
+        tmax: &Lanes,
+        live: u32,
+        mut leaf: impl FnMut(u32, u32) -> u32,
+    ) {
+        let mut inline = [(0u32, 0u32); INLINE_STACK];
+        let mut heap = Vec::new();
+        let stack: &mut [(u32, u32)] = if self.stack_size <= INLINE_STACK {
+            &mut inline
+        } else {
+            heap.resize(self.stack_size, (0, 0));
+            &mut heap
+        };
+        let [nx, ny, nz] = p.negative.map(usize::from);
+        let [ix, iy, iz] = p.inv.each_ref().map(W::load);
+        let [ox, oy, oz] = p.origin_inv.each_ref().map(W::load);
+        let (tmin, far) = (W::load(&p.tmin), W::load(tmax));
+        let (mut open, mut cur, mut sp) = (live, (self.root, live), 0);
+        loop {
+            let (code, rays) = (cur.0, cur.1 & open);
+            if rays != 0 && code & LEAF != 0 {
+                open &= !leaf(code & !LEAF, rays);
+                if open == 0 {
+                    return;
+                }
+            } else if rays != 0 {
+                let n = &self.nodes[code as usize];
+                let side = |s: usize, a: usize| n.side[s][a].to_array();
+                let (near_x, far_x) = (side(nx, 0), side(1 - nx, 0));
+                let (near_y, far_y) = (side(ny, 1), side(1 - ny, 1));
+                let (near_z, far_z) = (side(nz, 2), side(1 - nz, 2));
+                let mut first = None;
+                for c in Bits(hull.meets(&n.side[0], &n.side[1])) {
+                    let slab = |side: f32, inv: W, o: W| W::splat(side).mul(inv).sub(o);
+                    let t0 = slab(near_x[c], ix, ox)
+                        .max(slab(near_y[c], iy, oy))
+                        .max(slab(near_z[c], iz, oz))
+                        .max(tmin);
+                    let t1 = slab(far_x[c], ix, ox)
+                        .min(slab(far_y[c], iy, oy))
+                        .min(slab(far_z[c], iz, oz))
+                        .min(far);
+                    let entered = t0.le(t1).bits() & rays;
+                    if entered == 0 {
+                        continue;
+                    }
+                    let next = (n.child[c], entered);
+                    if first.is_none() {
+                        first = Some(next);
+                    } else {
+                        stack[sp] = next;
+                        sp += 1;
+                    }
+                }
+                if let Some(next) = first {
+                    cur = next;
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            cur = stack[sp];
         }
     }
 

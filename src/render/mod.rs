@@ -5,6 +5,7 @@
 
 pub mod accel;
 pub mod bvh4;
+pub mod hull;
 pub mod intersect;
 pub mod output;
 pub mod packet;

@@ -3,7 +3,7 @@
 
 use glam::Vec3A;
 
-use super::accel::{Accel, Query};
+use super::accel::{Accel, Hit, Query};
 use super::shade;
 use crate::random::{self, Stream};
 use crate::scene::Camera;
@@ -134,6 +134,44 @@ fn offset(s: u32, n: u32, key: u64) -> (f32, f32) {
     )
 }
 
+/// Whether each sample's hard shadow rays are blocked, as (light,
+/// blocked), sample after sample, and where each sample's start: cast
+/// together, light by light, so that a bundle holds the rays of one light
+/// from neighbouring points.
+fn shadows(
+    accel: &Accel,
+    st: &Settings,
+    queries: &[Query],
+    hits: &[Option<Hit>],
+) -> (Vec<(usize, bool)>, Vec<usize>) {
+    let mut rays = Vec::new();
+    let mut starts = Vec::with_capacity(queries.len() + 1);
+    for (q, hit) in queries.iter().zip(hits) {
+        starts.push(rays.len());
+        if let Some(hit) = hit {
+            shade::shadow_rays(accel, hit, q.origin, q.dir, st, &mut rays);
+        }
+    }
+    starts.push(rays.len());
+    let mut blocked = Vec::with_capacity(rays.len());
+    if accel.scene.lights.len() < 2 {
+        let bundle: Vec<Query> = rays.iter().map(|r| r.1).collect();
+        accel.occluded_all(&bundle, &mut blocked);
+    } else {
+        let mut order: Vec<usize> = (0..rays.len()).collect();
+        order.sort_by_key(|&i| rays[i].0);
+        let bundle: Vec<Query> = order.iter().map(|&i| rays[i].1).collect();
+        let mut sorted = Vec::new();
+        accel.occluded_all(&bundle, &mut sorted);
+        blocked.resize(rays.len(), false);
+        for (&i, b) in order.iter().zip(sorted) {
+            blocked[i] = b;
+        }
+    }
+    let seen = rays.iter().zip(blocked).map(|(r, b)| (r.0, b)).collect();
+    (seen, starts)
+}
+
 /// Renders pixel (x, y): colour from `spp` samples, the other layers from
 /// the ray through the pixel centre.
 pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> PixelOut {
@@ -158,6 +196,7 @@ pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> 
         .collect();
     let mut hits = Vec::with_capacity(queries.len());
     accel.cast_all(&queries, &mut hits);
+    let (seen, starts) = shadows(accel, st, &queries, &hits);
     let mut sum = [0.0f32; 4];
     let mut wsum = 0.0f32;
     for (s, ((&(ox, oy), q), hit)) in offsets.iter().zip(&queries).zip(&hits).enumerate() {
@@ -169,7 +208,7 @@ pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> 
             }
         };
         let c = match hit {
-            Some(hit) => shade::shade_hit(
+            Some(hit) => shade::shade_seen(
                 accel,
                 hit,
                 q.origin,
@@ -177,6 +216,7 @@ pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> 
                 st,
                 0,
                 random::key(key, Stream::Pixel, s as u64, 1),
+                &seen[starts[s]..starts[s + 1]],
             ),
             None => shade::background(accel, q.dir),
         };

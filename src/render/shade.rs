@@ -4,12 +4,12 @@
 
 use glam::{Vec3, Vec3A};
 
-use super::accel::{Accel, Hit};
+use super::accel::{Accel, Hit, Query};
 use super::sample::Settings;
 use super::texture;
 use crate::random;
 use crate::scene::material::Texture;
-use crate::scene::{LightKind, Material};
+use crate::scene::{Light, LightKind, Material};
 
 /// Offset of secondary rays from the surface, relative to the scene size
 /// of ordinary scenes (metres).
@@ -73,10 +73,24 @@ pub fn shade_hit(
     depth: u32,
     key: u64,
 ) -> Vec3 {
-    let scene = &*accel.scene;
-    let Some(m) = scene.materials.get(hit.material as usize) else {
-        return Vec3::ZERO;
-    };
+    shade_seen(accel, hit, o, d, st, depth, key, &[])
+}
+
+/// A point of a surface as shading sees it.
+struct Point<'a> {
+    m: &'a Material,
+    p: Vec3A,
+    /// The unit normal facing the incoming ray (bumped).
+    n: Vec3A,
+    diffuse: Vec3,
+    /// Whether the ray comes from outside the surface.
+    outside: bool,
+}
+
+/// The point where the unit ray `o + t·d` meets `hit`; None without a
+/// material.
+fn point<'a>(accel: &'a Accel, hit: &Hit, o: Vec3A, d: Vec3A) -> Option<Point<'a>> {
+    let m = accel.scene.materials.get(hit.material as usize)?;
     let p = o + hit.t * d;
     let outside = hit.normal.dot(d) < 0.0;
     let mut n = if outside { hit.normal } else { -hit.normal };
@@ -86,6 +100,99 @@ pub fn shade_hit(
         Some(Texture::Bump) => n = texture::bump(p, n, 0.3),
         Some(Texture::Cloud) | None => {}
     }
+    Some(Point {
+        m,
+        p,
+        n,
+        diffuse,
+        outside,
+    })
+}
+
+/// Secondary rays leave from just off the surface, on the side `n` faces.
+fn lift(p: Vec3A, n: Vec3A) -> Vec3A {
+    p + n * EPS * (1.0 + p.abs().max_element())
+}
+
+/// The unit direction from `p` to `light`'s centre and its distance (∞
+/// for a directional light).
+fn toward(light: &Light, p: Vec3A) -> (Vec3A, f32) {
+    match light.kind {
+        LightKind::Directional { direction } => {
+            (-Vec3A::from(direction).normalize_or_zero(), f32::INFINITY)
+        }
+        _ => {
+            let to = Vec3A::from(light.position) - p;
+            (to.normalize_or_zero(), to.length())
+        }
+    }
+}
+
+/// The hard shadow rays that shading `hit` (met by the unit ray
+/// `o + t·d`) casts, as (light, ray), pushed onto `out`: one toward each
+/// point and directional light the surface faces (sphere lights sample
+/// their own). A pixel casts its samples' together
+/// ([`Accel::occluded_all`]) and gives the answers to [`shade_seen`].
+pub fn shadow_rays(
+    accel: &Accel,
+    hit: &Hit,
+    o: Vec3A,
+    d: Vec3A,
+    st: &Settings,
+    out: &mut Vec<(usize, Query)>,
+) {
+    if !st.shadows {
+        return;
+    }
+    let Some(pt) = point(accel, hit, o, d) else {
+        return;
+    };
+    if pt.m.texture == Some(Texture::Cloud) {
+        return;
+    }
+    for (li, light) in accel.scene.lights.iter().enumerate() {
+        if matches!(light.kind, LightKind::Sphere { .. }) {
+            continue;
+        }
+        let (l, dist) = toward(light, pt.p);
+        if pt.n.dot(l) > 0.0 && l != Vec3A::ZERO {
+            let origin = lift(pt.p, pt.n);
+            out.push((
+                li,
+                Query {
+                    origin,
+                    dir: l,
+                    tmin: 0.0,
+                    tmax: dist,
+                },
+            ));
+        }
+    }
+}
+
+/// [`shade_hit`], given whether the [`shadow_rays`] of some lights are
+/// blocked, as (light, blocked).
+#[allow(clippy::too_many_arguments)]
+pub fn shade_seen(
+    accel: &Accel,
+    hit: &Hit,
+    o: Vec3A,
+    d: Vec3A,
+    st: &Settings,
+    depth: u32,
+    key: u64,
+    seen: &[(usize, bool)],
+) -> Vec3 {
+    let Some(Point {
+        m,
+        p,
+        n,
+        diffuse,
+        outside,
+    }) = point(accel, hit, o, d)
+    else {
+        return Vec3::ZERO;
+    };
     // A cloud layer lets through what is behind it where it is thin; the
     // pass-through is bounded like any secondary ray.
     if m.texture == Some(Texture::Cloud) {
@@ -110,7 +217,7 @@ pub fn shade_hit(
         // lit surface would be dark on the far side of the layer).
         return behind.lerp(diffuse, density);
     }
-    shade_surface(accel, m, p, n, d, diffuse, outside, st, depth, key)
+    shade_surface(accel, m, p, n, d, diffuse, outside, st, depth, key, seen)
 }
 
 /// Lights, shadows, reflection and refraction at surface point `p` with
@@ -127,21 +234,14 @@ fn shade_surface(
     st: &Settings,
     depth: u32,
     key: u64,
+    seen: &[(usize, bool)],
 ) -> Vec3 {
     let scene = &*accel.scene;
     let mut local = m.ambient;
-    let lift = p + n * EPS * (1.0 + p.abs().max_element());
+    let lift = lift(p, n);
     for (li, light) in scene.lights.iter().enumerate() {
         // Direction and distance to the light's centre, for shading.
-        let (l, dist) = match light.kind {
-            LightKind::Directional { direction } => {
-                (-Vec3A::from(direction).normalize_or_zero(), f32::INFINITY)
-            }
-            _ => {
-                let to = Vec3A::from(light.position) - p;
-                (to.normalize_or_zero(), to.length())
-            }
-        };
+        let (l, dist) = toward(light, p);
         let ndl = n.dot(l);
         if ndl <= 0.0 || l == Vec3A::ZERO {
             continue;
@@ -161,6 +261,8 @@ fn shade_surface(
                 })
                 .count();
             seen as f32 / n_s as f32
+        } else if let Some(&(_, blocked)) = seen.iter().find(|s| s.0 == li) {
+            f32::from(u8::from(!blocked))
         } else if accel.occluded(lift, l, 0.0, dist) {
             0.0
         } else {

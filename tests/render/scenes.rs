@@ -581,3 +581,57 @@ fn packets_find_what_single_rays_find() {
     }
     assert!(hits > 10_000 * Simd::available().len(), "{hits} hits");
 }
+
+/// `Accel::occluded_all` answers what `occluded` answers, ray by ray,
+/// for bundles of shadow rays (neighbouring points toward one light),
+/// scattered ones, rays that cannot hit and rays left unbounded, under
+/// instances with transforms, in every SIMD path.
+#[test]
+fn bundles_find_what_single_shadow_rays_find() {
+    use lmfilm::render::accel::Query;
+    use lmfilm::render::tri4::Simd;
+    let mut rng = Lcg(31);
+    let mut s = scene_of(SPHERE);
+    s.geometries.push(soup(&mut rng, 3000, 400));
+    s.instances.extend(soup_instances(&mut rng, 1, 5, 10));
+    let mut queries = Vec::new();
+    for bundle in 0..1500 {
+        let light = Vec3A::from(rng.vec(30.0));
+        let at = Vec3A::from(rng.vec(8.0));
+        let spread = if bundle % 3 == 0 { 3.0 } else { 0.05 };
+        let lanes = 1 + bundle % 16;
+        for lane in 0..lanes {
+            let o = at + Vec3A::from(rng.vec(spread));
+            let to = light - o;
+            let (dir, tmax) = match lane {
+                5 if bundle % 7 == 0 => (Vec3A::ZERO, 1.0),
+                6 if bundle % 11 == 0 => (Vec3A::NAN, 1.0),
+                7 if bundle % 13 == 0 => (to, f32::INFINITY),
+                _ => (to.normalize(), to.length()),
+            };
+            queries.push(Query {
+                origin: o,
+                dir,
+                tmin: if lane == 2 { 0.1 } else { 0.0 },
+                tmax,
+            });
+        }
+    }
+    let mut blocked = 0;
+    for simd in Simd::available() {
+        let accel = Accel::new(s.clone()).with_simd(simd);
+        let mut got = Vec::new();
+        accel.occluded_all(&queries, &mut got);
+        assert_eq!(got.len(), queries.len());
+        for (k, (q, &g)) in queries.iter().zip(&got).enumerate() {
+            let one = accel.occluded(q.origin, q.dir, q.tmin, q.tmax);
+            assert_eq!(g, one, "{simd:?}, ray {k}: {q:?}");
+            blocked += usize::from(one);
+        }
+    }
+    let per = queries.len() * Simd::available().len();
+    assert!(
+        blocked > per / 5 && blocked < per * 4 / 5,
+        "{blocked} of {per} blocked"
+    );
+}
