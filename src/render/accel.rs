@@ -408,6 +408,18 @@ impl Accel {
         )
     }
 
+    /// The rays of `lanes` in instance `k`'s geometry space (the other
+    /// lanes are left as they are).
+    fn local_rays(&self, k: u32, rays: &[Ray; LANES], lanes: u32) -> [Ray; LANES] {
+        std::array::from_fn(|i| {
+            if lanes >> i & 1 != 0 {
+                self.local_ray(k as usize, &rays[i])
+            } else {
+                rays[i]
+            }
+        })
+    }
+
     /// Closest hit within instance `k` under `tmax`, offered to `best`;
     /// returns the new bound.
     #[inline]
@@ -579,7 +591,7 @@ impl Accel {
         if self.inst_inv[k as usize].is_none() {
             return self.blas_any::<W>(b, geo, p, lanes, tmax, hull);
         }
-        let local: [Ray; LANES] = std::array::from_fn(|i| self.local_ray(k as usize, &p.rays[i]));
+        let local = self.local_rays(k, p.rays, lanes);
         let Some(hull) = bundle(&local, lanes, tmax, scale_of(&b.tree)) else {
             return Bits(lanes)
                 .filter(|&i| self.instance_any(k as usize, &p.rays[i], tmax[i]))
@@ -686,31 +698,6 @@ impl Accel {
         }
     }
 
-    /// Instance `k`'s tree and geometry, and the packet's rays of `lanes`
-    /// in its space (None for the identity: the packet's own; the other
-    /// lanes are left as they are).
-    #[inline(always)]
-    fn instance_packet(
-        &self,
-        k: u32,
-        p: &RayPacket,
-        lanes: u32,
-    ) -> Option<(&Blas, &Geometry, Option<[Ray; LANES]>)> {
-        let g = self.scene.instances[k as usize].geometry as usize;
-        let b = self.blas[g].as_ref()?;
-        let local = self.inst_inv[k as usize].is_some().then(|| {
-            std::array::from_fn(|i| {
-                let r = &p.rays[i];
-                if lanes >> i & 1 != 0 {
-                    self.local_ray(k as usize, r)
-                } else {
-                    *r
-                }
-            })
-        });
-        Some((b, &self.scene.geometries[g], local))
-    }
-
     /// [`Accel::instance_closest`] for the rays of `lanes` in packet `p`.
     #[inline(always)]
     fn instance_closest_packet<W: Wide>(
@@ -720,12 +707,13 @@ impl Accel {
         lanes: u32,
         search: &mut Search,
     ) {
-        let Some((b, geo, local)) = self.instance_packet(k, p, lanes) else {
-            return;
-        };
-        let Some(local) = local else {
+        let g = self.scene.instances[k as usize].geometry as usize;
+        let Some(b) = &self.blas[g] else { return };
+        let geo = &self.scene.geometries[g];
+        if self.inst_inv[k as usize].is_none() {
             return self.blas_closest::<W>(b, geo, k, p, lanes, search);
-        };
+        }
+        let local = self.local_rays(k, p.rays, lanes);
         // A transform may turn the rays apart: one packet per key.
         for group in packet::groups(&local, lanes) {
             let lp = RayPacket::new(&local, group);

@@ -94,8 +94,9 @@ pub fn render_with(
     let rows: Vec<Vec<sample::PixelOut>> = (0..h)
         .into_par_iter()
         .map(|y| {
+            let mut scratch = sample::Scratch::default();
             let row = (0..w)
-                .map(|x| sample::pixel(accel, &cam, settings, x, y))
+                .map(|x| sample::pixel(&mut scratch, accel, &cam, settings, x, y))
                 .collect();
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, h);
             row

@@ -134,47 +134,67 @@ fn offset(s: u32, n: u32, key: u64) -> (f32, f32) {
     )
 }
 
-/// Whether each sample's hard shadow rays are blocked, as (light,
-/// blocked), sample after sample, and where each sample's start: cast
-/// together, light by light, so that a bundle holds the rays of one light
-/// from neighbouring points.
-fn shadows(
-    accel: &Accel,
-    st: &Settings,
-    queries: &[Query],
-    hits: &[Option<Hit>],
-) -> (Vec<(usize, bool)>, Vec<usize>) {
-    let mut rays = Vec::new();
-    let mut starts = Vec::with_capacity(queries.len() + 1);
-    for (q, hit) in queries.iter().zip(hits) {
-        starts.push(rays.len());
-        if let Some(hit) = hit {
-            shade::shadow_rays(accel, hit, q.origin, q.dir, st, &mut rays);
+/// The buffers of a pixel's samples and their shadow rays, kept from
+/// pixel to pixel of a row so that a pixel allocates nothing.
+#[derive(Default)]
+pub struct Scratch {
+    offsets: Vec<(f32, f32)>,
+    queries: Vec<Query>,
+    hits: Vec<Option<Hit>>,
+    /// The hard shadow rays, as (light, ray), sample after sample.
+    rays: Vec<(usize, Query)>,
+    /// Where each sample's rays start, and where the last ends.
+    starts: Vec<usize>,
+    /// The rays in the order cast (light after light), and their answers.
+    bundle: Vec<Query>,
+    order: Vec<usize>,
+    answers: Vec<bool>,
+    /// Whether each ray is blocked, as (light, blocked), in `rays`' order.
+    seen: Vec<(usize, bool)>,
+}
+
+impl Scratch {
+    /// Casts the hard shadow rays of the samples' hits into `seen`:
+    /// together, light by light, so that a bundle holds the rays of one
+    /// light from neighbouring points.
+    fn shadows(&mut self, accel: &Accel, st: &Settings) {
+        self.rays.clear();
+        self.starts.clear();
+        for (q, hit) in self.queries.iter().zip(&self.hits) {
+            self.starts.push(self.rays.len());
+            if let Some(hit) = hit {
+                shade::shadow_rays(accel, hit, q.origin, q.dir, st, &mut self.rays);
+            }
+        }
+        self.starts.push(self.rays.len());
+        self.order.clear();
+        self.order.extend(0..self.rays.len());
+        if accel.scene.lights.len() > 1 {
+            let rays = &self.rays;
+            self.order.sort_by_key(|&i| rays[i].0);
+        }
+        self.bundle.clear();
+        self.bundle
+            .extend(self.order.iter().map(|&i| self.rays[i].1));
+        accel.occluded_all(&self.bundle, &mut self.answers);
+        self.seen.clear();
+        self.seen.extend(self.rays.iter().map(|r| (r.0, false)));
+        for (&i, &b) in self.order.iter().zip(&self.answers) {
+            self.seen[i].1 = b;
         }
     }
-    starts.push(rays.len());
-    let mut blocked = Vec::with_capacity(rays.len());
-    if accel.scene.lights.len() < 2 {
-        let bundle: Vec<Query> = rays.iter().map(|r| r.1).collect();
-        accel.occluded_all(&bundle, &mut blocked);
-    } else {
-        let mut order: Vec<usize> = (0..rays.len()).collect();
-        order.sort_by_key(|&i| rays[i].0);
-        let bundle: Vec<Query> = order.iter().map(|&i| rays[i].1).collect();
-        let mut sorted = Vec::new();
-        accel.occluded_all(&bundle, &mut sorted);
-        blocked.resize(rays.len(), false);
-        for (&i, b) in order.iter().zip(sorted) {
-            blocked[i] = b;
-        }
-    }
-    let seen = rays.iter().zip(blocked).map(|(r, b)| (r.0, b)).collect();
-    (seen, starts)
 }
 
 /// Renders pixel (x, y): colour from `spp` samples, the other layers from
 /// the ray through the pixel centre.
-pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> PixelOut {
+pub fn pixel(
+    scratch: &mut Scratch,
+    accel: &Accel,
+    cam: &CameraRays,
+    st: &Settings,
+    x: u32,
+    y: u32,
+) -> PixelOut {
     let key = random::key(
         st.frame,
         Stream::Pixel,
@@ -184,22 +204,23 @@ pub fn pixel(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> 
     let n = st.spp.max(1);
     // The samples' camera rays cast together (a pixel's rays are the most
     // coherent there are), then shaded one by one, as `shade::trace`.
-    let offsets: Vec<(f32, f32)> = (0..n).map(|s| offset(s, n, key)).collect();
-    let queries: Vec<Query> = offsets
-        .iter()
-        .map(|&(ox, oy)| Query {
-            origin: cam.eye(),
-            dir: cam.dir(x as f32 + ox, y as f32 + oy),
-            tmin: 0.0,
-            tmax: f32::INFINITY,
-        })
-        .collect();
-    let mut hits = Vec::with_capacity(queries.len());
-    accel.cast_all(&queries, &mut hits);
-    let (seen, starts) = shadows(accel, st, &queries, &hits);
+    let sc = scratch;
+    sc.offsets.clear();
+    sc.offsets.extend((0..n).map(|s| offset(s, n, key)));
+    sc.queries.clear();
+    sc.queries.extend(sc.offsets.iter().map(|&(ox, oy)| Query {
+        origin: cam.eye(),
+        dir: cam.dir(x as f32 + ox, y as f32 + oy),
+        tmin: 0.0,
+        tmax: f32::INFINITY,
+    }));
+    accel.cast_all(&sc.queries, &mut sc.hits);
+    sc.shadows(accel, st);
+    let (offsets, queries, hits) = (&sc.offsets, &sc.queries, &sc.hits);
+    let (seen, starts) = (&sc.seen, &sc.starts);
     let mut sum = [0.0f32; 4];
     let mut wsum = 0.0f32;
-    for (s, ((&(ox, oy), q), hit)) in offsets.iter().zip(&queries).zip(&hits).enumerate() {
+    for (s, ((&(ox, oy), q), hit)) in offsets.iter().zip(queries).zip(hits).enumerate() {
         let w = match st.filter {
             Filter::Box => 1.0,
             Filter::Gaussian => {
