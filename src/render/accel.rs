@@ -556,11 +556,14 @@ impl Accel {
             let p = RayPacket::new(rays, group);
             match self.single {
                 Some(k) => blocked |= self.instance_bundle::<W>(k, &p, group, tmax, &hull),
-                None => tlas.walk_bundle::<W>(&hull, &p, tmax, group, |k, lanes| {
-                    let done = self.instance_bundle::<W>(k, &p, lanes, tmax, &hull);
-                    blocked |= done;
-                    done
-                }),
+                None => {
+                    let mut walk = tlas.bundle_walk(group);
+                    while let Some((k, lanes)) = walk.next::<W>(tlas, &hull, &p, tmax) {
+                        let done = self.instance_bundle::<W>(k, &p, lanes, tmax, &hull);
+                        walk.close(done);
+                        blocked |= done;
+                    }
+                }
             }
         }
         blocked
@@ -591,19 +594,27 @@ impl Accel {
         if self.inst_inv[k as usize].is_none() {
             return self.blas_any::<W>(b, geo, p, lanes, tmax, hull);
         }
+        let one_by_one = || {
+            Bits(lanes)
+                .filter(|&i| self.instance_any(k as usize, &p.rays[i], tmax[i]))
+                .fold(0, |m, i| m | 1 << i)
+        };
+        if lanes.count_ones() < MIN_BUNDLE {
+            return one_by_one();
+        }
         let local = self.local_rays(k, p.rays, lanes);
         let Some(hull) = bundle(&local, lanes, tmax, scale_of(&b.tree)) else {
-            return Bits(lanes)
-                .filter(|&i| self.instance_any(k as usize, &p.rays[i], tmax[i]))
-                .fold(0, |m, i| m | 1 << i);
+            return one_by_one();
         };
-        // A transform may turn the rays apart: one packet per key.
-        packet::groups(&local, lanes)
-            .map(|group| {
-                let lp = RayPacket::new(&local, group);
-                self.blas_any::<W>(b, geo, &lp, group, tmax, &hull)
-            })
-            .fold(0, |m, done| m | done)
+        // A transform may turn the rays apart: one packet per key. (A
+        // loop, not a closure, which would not take the lane form's
+        // instructions.)
+        let mut blocked = 0;
+        for group in packet::groups(&local, lanes) {
+            let lp = RayPacket::new(&local, group);
+            blocked |= self.blas_any::<W>(b, geo, &lp, group, tmax, &hull);
+        }
+        blocked
     }
 
     /// The mask of the rays of `lanes` in packet `p` (in the bottom
@@ -619,13 +630,14 @@ impl Accel {
         hull: &Hull,
     ) -> u32 {
         let mut blocked = 0;
-        b.tree.walk_bundle::<W>(hull, p, tmax, lanes, |code, rays| {
+        let mut walk = b.tree.bundle_walk(lanes);
+        while let Some((code, rays)) = walk.next::<W>(&b.tree, hull, p, tmax) {
             let done = Bits(rays)
                 .filter(|&i| blocks(b, geo, code, &p.rays[i], tmax[i], self.simd))
                 .fold(0, |m, i| m | 1 << i);
+            walk.close(done);
             blocked |= done;
-            done
-        });
+        }
         blocked
     }
 

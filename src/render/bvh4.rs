@@ -559,81 +559,13 @@ impl Bvh4 {
         }
     }
 
-    /// Visits, in no particular order (the same every time), the leaves
-    /// that the rays of `live` in packet `p` enter before their `tmax`,
-    /// with the mask of those rays: each ray's box tests are its single
-    /// walk's (see [`PacketWalk`]), made only in boxes that may meet
-    /// `hull`, which bounds the rays (see [`Hull`]). `leaf(code, rays)`
-    /// returns the rays it is done with, which later leaves are not
-    /// offered; the walk ends when none is left.
-    #[inline(always)]
-    pub fn walk_bundle<W: Wide>(
-        &self,
-        hull: &Hull,
-        p: &RayPacket,
-        tmax: &Lanes,
-        live: u32,
-        mut leaf: impl FnMut(u32, u32) -> u32,
-    ) {
-        let mut inline = [(0u32, 0u32); INLINE_STACK];
-        let mut heap = Vec::new();
-        let stack: &mut [(u32, u32)] = if self.stack_size <= INLINE_STACK {
-            &mut inline
-        } else {
-            heap.resize(self.stack_size, (0, 0));
-            &mut heap
-        };
-        let [nx, ny, nz] = p.negative.map(usize::from);
-        let [ix, iy, iz] = p.inv.each_ref().map(W::load);
-        let [ox, oy, oz] = p.origin_inv.each_ref().map(W::load);
-        let (tmin, far) = (W::load(&p.tmin), W::load(tmax));
-        let (mut open, mut cur, mut sp) = (live, (self.root, live), 0);
-        loop {
-            let (code, rays) = (cur.0, cur.1 & open);
-            if rays != 0 && code & LEAF != 0 {
-                open &= !leaf(code & !LEAF, rays);
-                if open == 0 {
-                    return;
-                }
-            } else if rays != 0 {
-                let n = &self.nodes[code as usize];
-                let side = |s: usize, a: usize| n.side[s][a].to_array();
-                let (near_x, far_x) = (side(nx, 0), side(1 - nx, 0));
-                let (near_y, far_y) = (side(ny, 1), side(1 - ny, 1));
-                let (near_z, far_z) = (side(nz, 2), side(1 - nz, 2));
-                let mut first = None;
-                for c in Bits(hull.meets(&n.side[0], &n.side[1])) {
-                    let slab = |side: f32, inv: W, o: W| W::splat(side).mul(inv).sub(o);
-                    let t0 = slab(near_x[c], ix, ox)
-                        .max(slab(near_y[c], iy, oy))
-                        .max(slab(near_z[c], iz, oz))
-                        .max(tmin);
-                    let t1 = slab(far_x[c], ix, ox)
-                        .min(slab(far_y[c], iy, oy))
-                        .min(slab(far_z[c], iz, oz))
-                        .min(far);
-                    let entered = t0.le(t1).bits() & rays;
-                    if entered == 0 {
-                        continue;
-                    }
-                    let next = (n.child[c], entered);
-                    if first.is_none() {
-                        first = Some(next);
-                    } else {
-                        stack[sp] = next;
-                        sp += 1;
-                    }
-                }
-                if let Some(next) = first {
-                    cur = next;
-                    continue;
-                }
-            }
-            if sp == 0 {
-                return;
-            }
-            sp -= 1;
-            cur = stack[sp];
+    /// A walk of the rays of `live` through the tree for any hit: see
+    /// [`BundleWalk`].
+    pub fn bundle_walk(&self, live: u32) -> BundleWalk {
+        BundleWalk {
+            stack: Vec::with_capacity(self.stack_size),
+            cur: Some((self.root, live)),
+            open: live,
         }
     }
 
@@ -647,6 +579,86 @@ impl Bvh4 {
             near: p.tmin,
             live,
             pop: false,
+        }
+    }
+}
+
+/// The leaves that a packet's rays enter before their `tmax`, in no
+/// particular order (the same every time), one by one from
+/// [`BundleWalk::next`] (a loop, as [`PacketWalk`]). Each ray's box tests
+/// are its single walk's, made only in boxes that may meet a region
+/// around the rays (see [`Hull`]): a node's boxes cost one test for the
+/// bundle, and a ray's own test only where the region reaches.
+pub struct BundleWalk {
+    /// Nodes to visit, with the rays that entered them.
+    stack: Vec<(u32, u32)>,
+    cur: Option<(u32, u32)>,
+    /// The rays not yet done with.
+    open: u32,
+}
+
+impl BundleWalk {
+    /// Offers later leaves no more to `rays` (those found blocked).
+    pub fn close(&mut self, rays: u32) {
+        self.open &= !rays;
+    }
+
+    /// The next leaf that some open ray of packet `p` enters before its
+    /// `tmax`, with the mask of those rays; the tests run in the lane
+    /// form `W`.
+    #[inline(always)]
+    pub fn next<W: Wide>(
+        &mut self,
+        tree: &Bvh4,
+        hull: &Hull,
+        p: &RayPacket,
+        tmax: &Lanes,
+    ) -> Option<(u32, u32)> {
+        let [nx, ny, nz] = p.negative.map(usize::from);
+        let [ix, iy, iz] = p.inv.each_ref().map(W::load);
+        let [ox, oy, oz] = p.origin_inv.each_ref().map(W::load);
+        let (tmin, far) = (W::load(&p.tmin), W::load(tmax));
+        loop {
+            if self.open == 0 {
+                return None;
+            }
+            let (code, rays) = match self.cur.take() {
+                Some(c) => c,
+                None => self.stack.pop()?,
+            };
+            let rays = rays & self.open;
+            if rays == 0 {
+                continue;
+            }
+            if code & LEAF != 0 {
+                return Some((code & !LEAF, rays));
+            }
+            let n = &tree.nodes[code as usize];
+            let side = |s: usize, a: usize| n.side[s][a].to_array();
+            let (near_x, far_x) = (side(nx, 0), side(1 - nx, 0));
+            let (near_y, far_y) = (side(ny, 1), side(1 - ny, 1));
+            let (near_z, far_z) = (side(nz, 2), side(1 - nz, 2));
+            for c in Bits(hull.meets(&n.side[0], &n.side[1])) {
+                let slab = |side: f32, inv: W, o: W| W::splat(side).mul(inv).sub(o);
+                let t0 = slab(near_x[c], ix, ox)
+                    .max(slab(near_y[c], iy, oy))
+                    .max(slab(near_z[c], iz, oz))
+                    .max(tmin);
+                let t1 = slab(far_x[c], ix, ox)
+                    .min(slab(far_y[c], iy, oy))
+                    .min(slab(far_z[c], iz, oz))
+                    .min(far);
+                let entered = t0.le(t1).bits() & rays;
+                if entered == 0 {
+                    continue;
+                }
+                let next = (n.child[c], entered);
+                if self.cur.is_none() {
+                    self.cur = Some(next);
+                } else {
+                    self.stack.push(next);
+                }
+            }
         }
     }
 }
