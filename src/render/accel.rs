@@ -572,9 +572,7 @@ impl Accel {
     /// The mask of the rays of `lanes` that something blocks, each traced
     /// on its own.
     fn one_by_one(&self, rays: &[Ray; LANES], lanes: u32, tmax: &Lanes) -> u32 {
-        Bits(lanes)
-            .filter(|&i| self.any_one(&rays[i], tmax[i]))
-            .fold(0, |m, i| m | 1 << i)
+        packet::keep(lanes, |i| self.any_one(&rays[i], tmax[i]))
     }
 
     /// The mask of the rays of `lanes` in packet `p` that something in
@@ -595,9 +593,9 @@ impl Accel {
             return self.blas_any::<W>(b, geo, p, lanes, tmax, hull);
         }
         let one_by_one = || {
-            Bits(lanes)
-                .filter(|&i| self.instance_any(k as usize, &p.rays[i], tmax[i]))
-                .fold(0, |m, i| m | 1 << i)
+            packet::keep(lanes, |i| {
+                self.instance_any(k as usize, &p.rays[i], tmax[i])
+            })
         };
         if lanes.count_ones() < MIN_BUNDLE {
             return one_by_one();
@@ -632,9 +630,9 @@ impl Accel {
         let mut blocked = 0;
         let mut walk = b.tree.bundle_walk(lanes);
         while let Some((code, rays)) = walk.next::<W>(&b.tree, hull, p, tmax) {
-            let done = Bits(rays)
-                .filter(|&i| blocks(b, geo, code, &p.rays[i], tmax[i], self.simd))
-                .fold(0, |m, i| m | 1 << i);
+            let done = packet::keep(rays, |i| {
+                blocks(b, geo, code, &p.rays[i], tmax[i], self.simd)
+            });
             walk.close(done);
             blocked |= done;
         }

@@ -97,3 +97,9 @@ impl Iterator for Bits {
         })
     }
 }
+
+/// The lanes of `mask` for which `keep` holds, as a mask.
+#[inline(always)]
+pub fn keep(mask: u32, mut keep: impl FnMut(usize) -> bool) -> u32 {
+    Bits(mask).filter(|&i| keep(i)).fold(0, |m, i| m | 1 << i)
+}

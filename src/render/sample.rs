@@ -141,6 +141,8 @@ pub struct Scratch {
     offsets: Vec<(f32, f32)>,
     queries: Vec<Query>,
     hits: Vec<Option<Hit>>,
+    /// Where each sample's ray meets a surface with a material.
+    points: Vec<Option<shade::Point>>,
     /// The hard shadow rays, as (light, ray), sample after sample.
     rays: Vec<(usize, Query)>,
     /// Where each sample's rays start, and where the last ends.
@@ -154,16 +156,23 @@ pub struct Scratch {
 }
 
 impl Scratch {
-    /// Casts the hard shadow rays of the samples' hits into `seen`:
-    /// together, light by light, so that a bundle holds the rays of one
-    /// light from neighbouring points.
+    /// Finds the samples' [`shade::Point`]s and casts their hard shadow
+    /// rays into `seen`: together, light by light, so that a bundle holds
+    /// the rays of one light from neighbouring points.
     fn shadows(&mut self, accel: &Accel, st: &Settings) {
+        self.points.clear();
+        self.points.extend(
+            self.queries
+                .iter()
+                .zip(&self.hits)
+                .map(|(q, hit)| shade::point(accel, hit.as_ref()?, q.origin, q.dir)),
+        );
         self.rays.clear();
         self.starts.clear();
-        for (q, hit) in self.queries.iter().zip(&self.hits) {
+        for pt in &self.points {
             self.starts.push(self.rays.len());
-            if let Some(hit) = hit {
-                shade::shadow_rays(accel, hit, q.origin, q.dir, st, &mut self.rays);
+            if let Some(pt) = pt {
+                shade::shadow_rays(accel, pt, st, &mut self.rays);
             }
         }
         self.starts.push(self.rays.len());
@@ -216,7 +225,7 @@ pub fn pixel(
     }));
     accel.cast_all(&sc.queries, &mut sc.hits);
     sc.shadows(accel, st);
-    let (offsets, queries, hits) = (&sc.offsets, &sc.queries, &sc.hits);
+    let (offsets, queries, hits, points) = (&sc.offsets, &sc.queries, &sc.hits, &sc.points);
     let (seen, starts) = (&sc.seen, &sc.starts);
     let mut sum = [0.0f32; 4];
     let mut wsum = 0.0f32;
@@ -228,18 +237,19 @@ pub fn pixel(
                 (-(dx * dx + dy * dy) / (2.0 * 0.25)).exp()
             }
         };
-        let c = match hit {
-            Some(hit) => shade::shade_seen(
+        let c = match (hit, &points[s]) {
+            (Some(_), Some(pt)) => shade::shade_seen(
                 accel,
-                hit,
-                q.origin,
+                pt,
                 q.dir,
                 st,
                 0,
                 random::key(key, Stream::Pixel, s as u64, 1),
                 &seen[starts[s]..starts[s + 1]],
             ),
-            None => shade::background(accel, q.dir),
+            // A surface without a material is black (as `shade_hit`).
+            (Some(_), None) => glam::Vec3::ZERO,
+            (None, _) => shade::background(accel, q.dir),
         };
         sum[0] += w * c.x;
         sum[1] += w * c.y;

@@ -73,12 +73,17 @@ pub fn shade_hit(
     depth: u32,
     key: u64,
 ) -> Vec3 {
-    shade_seen(accel, hit, o, d, st, depth, key, &[])
+    point(accel, hit, o, d).map_or(Vec3::ZERO, |pt| {
+        shade_seen(accel, &pt, d, st, depth, key, &[])
+    })
 }
 
-/// A point of a surface as shading sees it.
-struct Point<'a> {
-    m: &'a Material,
+/// A point of a surface as shading sees it (found once, for the shadow
+/// rays cast ahead and for the shading).
+#[derive(Debug, Clone, Copy)]
+pub struct Point {
+    /// The index of its material (one the scene has).
+    material: usize,
     p: Vec3A,
     /// The unit normal facing the incoming ray (bumped).
     n: Vec3A,
@@ -88,9 +93,10 @@ struct Point<'a> {
 }
 
 /// The point where the unit ray `o + t·d` meets `hit`; None without a
-/// material.
-fn point<'a>(accel: &'a Accel, hit: &Hit, o: Vec3A, d: Vec3A) -> Option<Point<'a>> {
-    let m = accel.scene.materials.get(hit.material as usize)?;
+/// material (such a point is black).
+pub fn point(accel: &Accel, hit: &Hit, o: Vec3A, d: Vec3A) -> Option<Point> {
+    let material = hit.material as usize;
+    let m = accel.scene.materials.get(material)?;
     let p = o + hit.t * d;
     let outside = hit.normal.dot(d) < 0.0;
     let mut n = if outside { hit.normal } else { -hit.normal };
@@ -101,7 +107,7 @@ fn point<'a>(accel: &'a Accel, hit: &Hit, o: Vec3A, d: Vec3A) -> Option<Point<'a
         Some(Texture::Cloud) | None => {}
     }
     Some(Point {
-        m,
+        material,
         p,
         n,
         diffuse,
@@ -128,26 +134,13 @@ fn toward(light: &Light, p: Vec3A) -> (Vec3A, f32) {
     }
 }
 
-/// The hard shadow rays that shading `hit` (met by the unit ray
-/// `o + t·d`) casts, as (light, ray), pushed onto `out`: one toward each
-/// point and directional light the surface faces (sphere lights sample
-/// their own). A pixel casts its samples' together
-/// ([`Accel::occluded_all`]) and gives the answers to [`shade_seen`].
-pub fn shadow_rays(
-    accel: &Accel,
-    hit: &Hit,
-    o: Vec3A,
-    d: Vec3A,
-    st: &Settings,
-    out: &mut Vec<(usize, Query)>,
-) {
-    if !st.shadows {
-        return;
-    }
-    let Some(pt) = point(accel, hit, o, d) else {
-        return;
-    };
-    if pt.m.texture == Some(Texture::Cloud) {
+/// The hard shadow rays that shading `pt` casts, as (light, ray),
+/// pushed onto `out`: one toward each point and directional light the
+/// surface faces (sphere lights sample their own). A pixel casts its
+/// samples' together ([`Accel::occluded_all`]) and gives the answers to
+/// [`shade_seen`].
+pub fn shadow_rays(accel: &Accel, pt: &Point, st: &Settings, out: &mut Vec<(usize, Query)>) {
+    if !st.shadows || accel.scene.materials[pt.material].texture == Some(Texture::Cloud) {
         return;
     }
     for (li, light) in accel.scene.lights.iter().enumerate() {
@@ -170,29 +163,26 @@ pub fn shadow_rays(
     }
 }
 
-/// [`shade_hit`], given whether the [`shadow_rays`] of some lights are
-/// blocked, as (light, blocked).
-#[allow(clippy::too_many_arguments)]
+/// [`shade_hit`] of the [`point`] `pt` met by the unit direction `d`,
+/// given whether the [`shadow_rays`] of some lights are blocked, as
+/// (light, blocked).
 pub fn shade_seen(
     accel: &Accel,
-    hit: &Hit,
-    o: Vec3A,
+    pt: &Point,
     d: Vec3A,
     st: &Settings,
     depth: u32,
     key: u64,
     seen: &[(usize, bool)],
 ) -> Vec3 {
-    let Some(Point {
-        m,
+    let &Point {
+        material,
         p,
         n,
         diffuse,
         outside,
-    }) = point(accel, hit, o, d)
-    else {
-        return Vec3::ZERO;
-    };
+    } = pt;
+    let m = &accel.scene.materials[material];
     // A cloud layer lets through what is behind it where it is thin; the
     // pass-through is bounded like any secondary ray.
     if m.texture == Some(Texture::Cloud) {
