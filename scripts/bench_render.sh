@@ -9,6 +9,13 @@ ENV=target/anchors-env
 [ -x "$ENV/bin/python" ] || sh "$ANCHORS/setup.sh" "$ENV"
 [ -f target/forest.obj ] || python3 "$ANCHORS/make_forest_obj.py" 16 11 target/forest.obj
 cargo build --release --quiet
+# An intrinsic left out of line (an AVX operation in a closure: closures do
+# not inherit #[target_feature]) made AVX2 packets 4x slower once; refuse to
+# time such a build.
+if nm -C target/release/lmfilm | grep -q 'core_arch::x86.*::_mm'; then
+    echo "target/release/lmfilm calls SIMD intrinsics out of line: see docs/performance.md" >&2
+    exit 1
+fi
 echo "== ray casting, one thread (primary + one shadow ray per hit), 640x480"
 RAYON_NUM_THREADS=1 cargo bench --quiet --bench render
 "$ENV/bin/python" "$ANCHORS/embree_rays.py" target/forest.obj 640 480

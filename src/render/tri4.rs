@@ -122,15 +122,12 @@ impl Tri4 {
         let (a, b, c) = (vertex(0), vertex(1), vertex(2));
         let [sx, sy, sz] = p.shear.each_ref().map(W::load);
         let [ox, oy, oz] = p.permuted_origin.each_ref().map(W::load);
-        let corner = |q: [f32; 3]| {
-            let z = W::splat(q[2]).sub(oz);
-            (
-                W::splat(q[0]).sub(ox).sub(sx.mul(z)),
-                W::splat(q[1]).sub(oy).sub(sy.mul(z)),
-                z,
-            )
-        };
-        let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) = (corner(a), corner(b), corner(c));
+        let (shear, origin) = ([sx, sy], [ox, oy, oz]);
+        let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) = (
+            corner(a, shear, origin),
+            corner(b, shear, origin),
+            corner(c, shear, origin),
+        );
         let mut u = cx.mul(by).sub(cy.mul(bx));
         let mut w = ax.mul(cy).sub(ay.mul(cx));
         let mut x = bx.mul(ay).sub(by.mul(ax));
@@ -138,7 +135,14 @@ impl Tri4 {
         let exact = rays & u.eq(zero).or(w.eq(zero)).or(x.eq(zero)).bits();
         if exact != 0 {
             // Exactly on an edge in f32: decided in f64, as the single test.
-            let [axs, ays, bxs, bys, cxs, cys] = [ax, ay, bx, by, cx, cy].map(W::store);
+            let [axs, ays, bxs, bys, cxs, cys] = [
+                ax.store(),
+                ay.store(),
+                bx.store(),
+                by.store(),
+                cx.store(),
+                cy.store(),
+            ];
             let (mut us, mut ws, mut xs) = (u.store(), w.store(), x.store());
             for i in Bits(exact) {
                 us[i] = edge_f64(cxs[i], bys[i], cys[i], bxs[i]);
@@ -170,6 +174,20 @@ impl Tri4 {
     pub fn count(&self) -> usize {
         4 - self.v[0][0].is_nan_mask().bitmask().count_ones() as usize
     }
+}
+
+/// A triangle corner `q` relative to the packet's origin, sheared (as
+/// [`Tri4::packet_lanes`] wants it). A function, not a closure: a closure
+/// does not inherit its caller's `#[target_feature]`, and one that the
+/// compiler left out of line called every AVX operation out of line.
+#[inline(always)]
+fn corner<W: Wide>(q: [f32; 3], [sx, sy]: [W; 2], [ox, oy, oz]: [W; 3]) -> (W, W, W) {
+    let z = W::splat(q[2]).sub(oz);
+    (
+        W::splat(q[0]).sub(ox).sub(sx.mul(z)),
+        W::splat(q[1]).sub(oy).sub(sy.mul(z)),
+        z,
+    )
 }
 
 /// The edge function `p·q − r·s` in f64, rounded once: for a lane whose
