@@ -641,7 +641,6 @@ impl BundleWalk {
             // The packet walk's slab test (a helper shared by both walks
             // made the frame 15 % slower: docs/performance.md).
             for c in Bits(hull.meets(&n.side[0], &n.side[1])) {
-                let slab = |side: f32, inv: W, o: W| W::splat(side).mul(inv).sub(o);
                 let t0 = slab(near_x[c], ix, ox)
                     .max(slab(near_y[c], iy, oy))
                     .max(slab(near_z[c], iz, oz))
@@ -720,7 +719,6 @@ impl PacketWalk {
             let mut kids = [(0u32, 0f32, [0f32; LANES]); 4];
             let mut count = 0;
             for c in 0..4 {
-                let slab = |side: f32, inv: W, o: W| W::splat(side).mul(inv).sub(o);
                 let t0 = slab(near_x[c], ix, ox)
                     .max(slab(near_y[c], iy, oy))
                     .max(slab(near_z[c], iz, oz))
@@ -755,6 +753,14 @@ impl PacketWalk {
             }
         }
     }
+}
+
+/// The distance along each ray of a packet to the plane `side` of an
+/// axis, from the ray's `inv` and `origin·inv` on that axis (a function,
+/// not a closure: see [`super::wide`]).
+#[inline(always)]
+fn slab<W: Wide>(side: f32, inv: W, o: W) -> W {
+    W::splat(side).mul(inv).sub(o)
 }
 
 #[cfg(test)]

@@ -177,9 +177,8 @@ impl Tri4 {
 }
 
 /// A triangle corner `q` relative to the packet's origin, sheared (as
-/// [`Tri4::packet_lanes`] wants it). A function, not a closure: a closure
-/// does not inherit its caller's `#[target_feature]`, and one that the
-/// compiler left out of line called every AVX operation out of line.
+/// [`Tri4::packet_lanes`] wants it; a function, not a closure: see
+/// [`super::wide`]).
 #[inline(always)]
 fn corner<W: Wide>(q: [f32; 3], [sx, sy]: [W; 2], [ox, oy, oz]: [W; 3]) -> (W, W, W) {
     let z = W::splat(q[2]).sub(oz);

@@ -5,6 +5,12 @@
 //! operation per lane, the same in every form — `max`/`min` are
 //! `maxps`/`minps` (`a > b ? a : b`, `a < b ? a : b`), no fused
 //! multiply-add — so every form computes the same bits (DESIGN §4).
+//!
+//! Code generic over `Wide` runs inside `#[target_feature]` functions, and
+//! its helpers must be `#[inline(always)]` functions, never closures: a
+//! closure does not inherit the target features, and one the compiler
+//! leaves out of line calls each AVX operation out of line (AVX2 packets
+//! ran 4× slower so; `scripts/bench_render.sh` refuses such a build).
 
 use super::packet::{Lanes, LANES};
 
