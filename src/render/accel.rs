@@ -662,11 +662,24 @@ impl Accel {
                 Simd::Avx512 => unsafe { self.closest_avx512(&rays, valid, &mut search) },
                 _ => self.closest::<Base>(&rays, valid, &mut search),
             }
-            out.extend(
-                search.best[..chunk.len()]
-                    .iter()
-                    .map(|c| c.map(|c: Closest| self.resolve(c.k, c.prim, c.hit))),
-            );
+            // A pixel's samples mostly meet one triangle: its details are
+            // found once (a triangle's do not depend on the hit point).
+            let mut last: Option<Hit> = None;
+            out.extend(search.best[..chunk.len()].iter().map(|c| {
+                let c = (*c)?;
+                let hit = match last {
+                    Some(h)
+                        if h.instance == c.k
+                            && h.prim == c.prim
+                            && matches!(c.prim, Prim::Triangle(_)) =>
+                    {
+                        Hit { t: c.hit.t, ..h }
+                    }
+                    _ => self.resolve(c.k, c.prim, c.hit),
+                };
+                last = Some(hit);
+                Some(hit)
+            }));
         }
     }
 
