@@ -135,6 +135,8 @@ impl Tri4 {
         let exact = rays & u.eq(zero).or(w.eq(zero)).or(x.eq(zero)).bits();
         if exact != 0 {
             // Exactly on an edge in f32: decided in f64, as the single test.
+            // Stored one by one: `.map(W::store)` was left out of line
+            // with its AVX stores (see `super::wide`).
             let [axs, ays, bxs, bys, cxs, cys] = [
                 ax.store(),
                 ay.store(),

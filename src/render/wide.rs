@@ -38,8 +38,8 @@ pub trait Wide: Copy {
     fn ne(self, o: Self) -> Self::Mask;
     /// Lane i of `a` where lane i of `m` is set, else of `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
-    /// The least lane, of lanes none of which is NaN (in any order: the
-    /// same value, but for the sign of a zero).
+    /// The least lane; no lane may be NaN (in any order: the same
+    /// value, but for the sign of a zero).
     #[inline(always)]
     fn least(self) -> f32 {
         self.store()
