@@ -80,6 +80,18 @@ fn together<W: Wide>(lanes: u32) -> bool {
 const SIDE: u32 = 1 << 30;
 
 impl Blas {
+    /// Starts fetching leaf `code`'s triangle packs into the cache (a
+    /// walk's `fetch`: see [`Bvh4::fetch`]).
+    #[inline(always)]
+    fn fetch(&self, code: u32) {
+        let (_, packs, _) = self.leaf(code);
+        let bytes = std::mem::size_of_val(packs);
+        let p = packs.as_ptr().cast::<u8>();
+        for off in (0..bytes).step_by(64) {
+            super::bvh4::prefetch(p.wrapping_add(off));
+        }
+    }
+
     /// The leaf with code `code`: the index of its first triangle pack,
     /// its packs and its shapes.
     #[inline(always)]
@@ -429,7 +441,7 @@ impl Accel {
         };
         let k = k as u32;
         let mut bound = tmax;
-        b.tree.traverse(&r, tmax, |l, tmax| {
+        b.tree.traverse(&r, tmax, |code| b.fetch(code), |l, tmax| {
             let (first, packs, shapes) = b.leaf(l);
             let incoming = *tmax;
             *tmax = tri4::nearest_each(packs, &r, incoming, self.simd, |j, t, lane| {
@@ -463,7 +475,7 @@ impl Accel {
             return false;
         };
         b.tree
-            .traverse_any(&r, tmax, |l, tmax| blocks(b, geo, l, &r, *tmax, self.simd))
+            .traverse_any(&r, tmax, |code| b.fetch(code), |l, tmax| blocks(b, geo, l, &r, *tmax, self.simd))
     }
 
     /// Instance `k`'s tree and geometry, and the ray in its space (same
@@ -491,7 +503,7 @@ impl Accel {
         if let Some(k) = self.single {
             self.instance_closest(k as usize, &r, tmax, &mut best);
         } else {
-            tlas.traverse(&r, tmax, |k, tmax| {
+            tlas.traverse(&r, tmax, |_| {}, |k, tmax| {
                 *tmax = self.instance_closest(k as usize, &r, *tmax, &mut best);
                 false
             });
@@ -512,7 +524,7 @@ impl Accel {
         if let Some(k) = self.single {
             return self.instance_any(k as usize, r, tmax);
         }
-        tlas.traverse_any(r, tmax, |k, tmax| self.instance_any(k as usize, r, *tmax))
+        tlas.traverse_any(r, tmax, |_| {}, |k, tmax| self.instance_any(k as usize, r, *tmax))
     }
 
     /// [`Accel::occluded`] of each query, the same answers, into `out`:
@@ -558,7 +570,7 @@ impl Accel {
                 Some(k) => blocked |= self.instance_bundle::<W>(k, &p, group, tmax, &hull),
                 None => {
                     let mut walk = tlas.bundle_walk(group);
-                    while let Some((k, lanes)) = walk.next::<W>(tlas, &hull, &p, tmax) {
+                    while let Some((k, lanes)) = walk.next::<W>(tlas, &hull, &p, tmax, |_| {}) {
                         let done = self.instance_bundle::<W>(k, &p, lanes, tmax, &hull);
                         walk.close(done);
                         blocked |= done;
@@ -629,7 +641,7 @@ impl Accel {
     ) -> u32 {
         let mut blocked = 0;
         let mut walk = b.tree.bundle_walk(lanes);
-        while let Some((code, rays)) = walk.next::<W>(&b.tree, hull, p, tmax) {
+        while let Some((code, rays)) = walk.next::<W>(&b.tree, hull, p, tmax, |code| b.fetch(code)) {
             let done = packet::keep(rays, |i| {
                 blocks(b, geo, code, &p.rays[i], tmax[i], self.simd)
             });
@@ -715,7 +727,7 @@ impl Accel {
                 continue;
             }
             let mut walk = tlas.packet_walk(&p, group);
-            while let Some((k, lanes)) = walk.next::<W>(tlas, &p, &search.tfar) {
+            while let Some((k, lanes)) = walk.next::<W>(tlas, &p, &search.tfar, |_| {}) {
                 self.instance_closest_packet::<W>(k, &p, lanes, search);
             }
         }
@@ -757,7 +769,7 @@ impl Accel {
         search: &mut Search,
     ) {
         let mut walk = b.tree.packet_walk(p, lanes);
-        while let Some((code, lanes)) = walk.next::<W>(&b.tree, p, &search.tfar) {
+        while let Some((code, lanes)) = walk.next::<W>(&b.tree, p, &search.tfar, |code| b.fetch(code)) {
             let (first, packs, shapes) = b.leaf(code);
             let triangle = |j: usize, lane: usize, t: f32| Closest {
                 k,

@@ -426,6 +426,21 @@ impl Bvh4 {
         self.bounds
     }
 
+    /// Starts fetching child `code` into the cache as a walk enters it,
+    /// so that its load overlaps the tests before its visit: a node's
+    /// two cache lines, or (through `leaf`, which knows their layout) a
+    /// leaf's primitives. On the forest most visits wait on such loads.
+    #[inline(always)]
+    fn fetch(&self, code: u32, leaf: &impl Fn(u32)) {
+        if code & LEAF == 0 {
+            let p = self.nodes.as_ptr().wrapping_add(code as usize).cast::<u8>();
+            prefetch(p);
+            prefetch(p.wrapping_add(64));
+        } else {
+            leaf(code & !LEAF);
+        }
+    }
+
     /// Levels of the tree (tests of deep scenes).
     pub fn depth(&self) -> usize {
         (self.stack_size - 1) / 3
@@ -434,10 +449,18 @@ impl Bvh4 {
     /// Visits the leaves the ray enters with t in (tmin, `tmax`), nearest
     /// box first, by their codes (see [`Self::set_leaf_codes`]).
     /// `leaf(code, &mut tmax)` may lower `tmax` (closest hit) or return
-    /// true to stop; the result is whether it stopped.
+    /// true to stop; the result is whether it stopped. `fetch(code)`
+    /// starts loading a leaf's data when the walk enters it (see
+    /// [`Self::fetch`]).
     #[inline]
-    pub fn traverse(&self, ray: &Ray, tmax: f32, leaf: impl FnMut(u32, &mut f32) -> bool) -> bool {
-        self.with_stack::<true>(ray, tmax, leaf)
+    pub fn traverse(
+        &self,
+        ray: &Ray,
+        tmax: f32,
+        fetch: impl Fn(u32),
+        leaf: impl FnMut(u32, &mut f32) -> bool,
+    ) -> bool {
+        self.with_stack::<true>(ray, tmax, fetch, leaf)
     }
 
     /// As [`Self::traverse`] but in no particular order (still the same
@@ -447,9 +470,10 @@ impl Bvh4 {
         &self,
         ray: &Ray,
         tmax: f32,
+        fetch: impl Fn(u32),
         leaf: impl FnMut(u32, &mut f32) -> bool,
     ) -> bool {
-        self.with_stack::<false>(ray, tmax, leaf)
+        self.with_stack::<false>(ray, tmax, fetch, leaf)
     }
 
     #[inline(always)]
@@ -457,14 +481,15 @@ impl Bvh4 {
         &self,
         ray: &Ray,
         tmax: f32,
+        fetch: impl Fn(u32),
         leaf: impl FnMut(u32, &mut f32) -> bool,
     ) -> bool {
         if self.stack_size <= INLINE_STACK {
             let mut stack = [(0u32, 0f32); INLINE_STACK];
-            self.walk::<NEAREST_FIRST>(&mut stack, ray, tmax, leaf)
+            self.walk::<NEAREST_FIRST>(&mut stack, ray, tmax, fetch, leaf)
         } else {
             let mut stack = vec![(0u32, 0f32); self.stack_size];
-            self.walk::<NEAREST_FIRST>(&mut stack, ray, tmax, leaf)
+            self.walk::<NEAREST_FIRST>(&mut stack, ray, tmax, fetch, leaf)
         }
     }
 
@@ -474,6 +499,7 @@ impl Bvh4 {
         stack: &mut [(u32, f32)],
         ray: &Ray,
         mut tmax: f32,
+        fetch: impl Fn(u32),
         mut leaf: impl FnMut(u32, &mut f32) -> bool,
     ) -> bool {
         let (inv, oinv) = (ray.inv, ray.origin_inv);
@@ -526,6 +552,7 @@ impl Bvh4 {
                     let mut lane = first;
                     loop {
                         let e = (n.child[lane], t0[lane]);
+                        self.fetch(e.0, &fetch);
                         let mut k = sp;
                         while NEAREST_FIRST && k > base && stack[k - 1].1 < e.1 {
                             stack[k] = stack[k - 1];
@@ -605,7 +632,8 @@ impl BundleWalk {
 
     /// The next leaf that some open ray of packet `p` enters before its
     /// `tmax`, with the mask of those rays; the tests run in the lane
-    /// form `W`.
+    /// form `W`. `fetch(code)` starts loading a leaf's data as the walk
+    /// enters it.
     #[inline(always)]
     pub fn next<W: Wide>(
         &mut self,
@@ -613,6 +641,7 @@ impl BundleWalk {
         hull: &Hull,
         p: &RayPacket,
         tmax: &Lanes,
+        fetch: impl Fn(u32),
     ) -> Option<(u32, u32)> {
         let [nx, ny, nz] = p.negative.map(usize::from);
         let [ix, iy, iz] = p.inv.each_ref().map(W::load);
@@ -654,6 +683,7 @@ impl BundleWalk {
                     continue;
                 }
                 let next = (n.child[c], entered);
+                tree.fetch(next.0, &fetch);
                 if self.cur.is_none() {
                     self.cur = Some(next);
                 } else {
@@ -684,13 +714,15 @@ pub struct PacketWalk {
 impl PacketWalk {
     /// The next leaf some ray enters within its `tfar` (which the caller
     /// lowers as it finds hits), with the mask of those rays; the tests
-    /// run in the lane form `W`.
+    /// run in the lane form `W`. `fetch(code)` starts loading a leaf's
+    /// data as the walk enters it.
     #[inline(always)]
     pub fn next<W: Wide>(
         &mut self,
         tree: &Bvh4,
         p: &RayPacket,
         tfar: &Lanes,
+        fetch: impl Fn(u32),
     ) -> Option<(u32, u32)> {
         let [nx, ny, nz] = p.negative.map(usize::from);
         let [ix, iy, iz] = p.inv.each_ref().map(W::load);
@@ -741,6 +773,7 @@ impl PacketWalk {
                     k -= 1;
                 }
                 kids[k] = (n.child[c], first, t0);
+                tree.fetch(n.child[c], &fetch);
                 count += 1;
             }
             if count > 0 {
@@ -753,6 +786,21 @@ impl PacketWalk {
             }
         }
     }
+}
+
+/// Starts fetching the cache line at `p` (a hint: it reads nothing and
+/// cannot fault).
+#[inline(always)]
+pub fn prefetch(p: *const u8) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing and cannot fault; SSE is part of
+    // the x86-64 baseline.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>(p.cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
 }
 
 /// The distance along each ray of a packet to the plane `side` of an
