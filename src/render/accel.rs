@@ -7,7 +7,7 @@ use std::sync::Arc;
 use crate::aabb;
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 
-use super::bvh4::{Bvh4, Ray};
+use super::bvh4::{prefetch, Bvh4, Ray};
 use super::hull::Hull;
 use super::intersect;
 use super::packet::{self, Bits, Lanes, RayPacket, LANES};
@@ -18,7 +18,7 @@ use super::wide::Wide;
 #[cfg(target_arch = "x86_64")]
 use super::wide::{Avx, Avx512, Sse as Base};
 use crate::scene::material::Texture;
-use crate::scene::{Geometry, Material, Scene};
+use crate::scene::{Geometry, Material, Scene, Triangle};
 
 /// Most primitives a bottom-level leaf may hold (the surface-area
 /// heuristic decides below that; measured best on the forest).
@@ -85,11 +85,11 @@ impl Blas {
     #[inline(always)]
     fn fetch(&self, code: u32) {
         let (_, packs, _) = self.leaf(code);
-        let bytes = std::mem::size_of_val(packs);
         let p = packs.as_ptr().cast::<u8>();
-        for off in (0..bytes).step_by(64) {
-            super::bvh4::prefetch(p.wrapping_add(off));
+        for off in (0..std::mem::size_of_val(packs)).step_by(64) {
+            prefetch(p.wrapping_add(off));
         }
+
     }
 
     /// The leaf with code `code`: the index of its first triangle pack,
@@ -138,6 +138,18 @@ fn bundle(rays: &[Ray; LANES], lanes: u32, tmax: &Lanes, scale: f32) -> Option<H
         along += r.direction.normalize_or_zero();
     }
     Hull::around(&ends[..n], along, scale)
+}
+
+/// Starts fetching the record of triangle `id` of `geo`, hit by a ray:
+/// [`Accel::resolve`] reads it if the hit stays the nearest, and the
+/// walk's remaining tests hide its load (on the forest, a cache miss per
+/// ray otherwise).
+#[inline(always)]
+fn fetch_triangle(geo: &Geometry, id: u32) {
+    let p = geo.triangles.as_ptr().wrapping_add(id as usize).cast::<u8>();
+    // Both lines a record may straddle.
+    prefetch(p);
+    prefetch(p.wrapping_add(std::mem::size_of::<Triangle>() - 1));
 }
 
 /// The largest coordinate of a tree's boxes.
@@ -450,7 +462,9 @@ impl Accel {
                     t,
                     normal: Vec3A::ZERO,
                 };
-                let prim = Prim::Triangle(b.ids[first + j][lane]);
+                let id = b.ids[first + j][lane];
+                fetch_triangle(geo, id);
+                let prim = Prim::Triangle(id);
                 offer(best, Closest { k, prim, hit });
                 limit(best, incoming)
             });
@@ -771,13 +785,17 @@ impl Accel {
         let mut walk = b.tree.packet_walk(p, lanes);
         while let Some((code, lanes)) = walk.next::<W>(&b.tree, p, &search.tfar, |code| b.fetch(code)) {
             let (first, packs, shapes) = b.leaf(code);
-            let triangle = |j: usize, lane: usize, t: f32| Closest {
-                k,
-                prim: Prim::Triangle(b.ids[first + j][lane]),
-                hit: intersect::LocalHit {
-                    t,
-                    normal: Vec3A::ZERO,
-                },
+            let triangle = |j: usize, lane: usize, t: f32| {
+                let id = b.ids[first + j][lane];
+                fetch_triangle(geo, id);
+                Closest {
+                    k,
+                    prim: Prim::Triangle(id),
+                    hit: intersect::LocalHit {
+                        t,
+                        normal: Vec3A::ZERO,
+                    },
+                }
             };
             if together::<W>(lanes) {
                 for (j, pack) in packs.iter().enumerate() {
