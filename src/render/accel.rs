@@ -89,7 +89,6 @@ impl Blas {
         for off in (0..std::mem::size_of_val(packs)).step_by(64) {
             prefetch(p.wrapping_add(off));
         }
-
     }
 
     /// The leaf with code `code`: the index of its first triangle pack,
@@ -146,7 +145,11 @@ fn bundle(rays: &[Ray; LANES], lanes: u32, tmax: &Lanes, scale: f32) -> Option<H
 /// ray otherwise).
 #[inline(always)]
 fn fetch_triangle(geo: &Geometry, id: u32) {
-    let p = geo.triangles.as_ptr().wrapping_add(id as usize).cast::<u8>();
+    let p = geo
+        .triangles
+        .as_ptr()
+        .wrapping_add(id as usize)
+        .cast::<u8>();
     // Both lines a record may straddle.
     prefetch(p);
     prefetch(p.wrapping_add(std::mem::size_of::<Triangle>() - 1));
@@ -453,31 +456,36 @@ impl Accel {
         };
         let k = k as u32;
         let mut bound = tmax;
-        b.tree.traverse(&r, tmax, |code| b.fetch(code), |l, tmax| {
-            let (first, packs, shapes) = b.leaf(l);
-            let incoming = *tmax;
-            *tmax = tri4::nearest_each(packs, &r, incoming, self.simd, |j, t, lane| {
-                // The normal is computed for the closest only.
-                let hit = intersect::LocalHit {
-                    t,
-                    normal: Vec3A::ZERO,
-                };
-                let id = b.ids[first + j][lane];
-                fetch_triangle(geo, id);
-                let prim = Prim::Triangle(id);
-                offer(best, Closest { k, prim, hit });
-                limit(best, incoming)
-            });
-            for s in shapes {
-                if let Some(hit) = s.hit(geo, &r, *tmax) {
-                    let prim = Prim::Shape(s.index);
+        b.tree.traverse(
+            &r,
+            tmax,
+            |code| b.fetch(code),
+            |l, tmax| {
+                let (first, packs, shapes) = b.leaf(l);
+                let incoming = *tmax;
+                *tmax = tri4::nearest_each(packs, &r, incoming, self.simd, |j, t, lane| {
+                    // The normal is computed for the closest only.
+                    let hit = intersect::LocalHit {
+                        t,
+                        normal: Vec3A::ZERO,
+                    };
+                    let id = b.ids[first + j][lane];
+                    fetch_triangle(geo, id);
+                    let prim = Prim::Triangle(id);
                     offer(best, Closest { k, prim, hit });
-                    *tmax = limit(best, *tmax);
+                    limit(best, incoming)
+                });
+                for s in shapes {
+                    if let Some(hit) = s.hit(geo, &r, *tmax) {
+                        let prim = Prim::Shape(s.index);
+                        offer(best, Closest { k, prim, hit });
+                        *tmax = limit(best, *tmax);
+                    }
                 }
-            }
-            bound = *tmax;
-            false
-        });
+                bound = *tmax;
+                false
+            },
+        );
         bound
     }
 
@@ -488,8 +496,12 @@ impl Accel {
         let Some((b, geo, r)) = self.instance(k, r) else {
             return false;
         };
-        b.tree
-            .traverse_any(&r, tmax, |code| b.fetch(code), |l, tmax| blocks(b, geo, l, &r, *tmax, self.simd))
+        b.tree.traverse_any(
+            &r,
+            tmax,
+            |code| b.fetch(code),
+            |l, tmax| blocks(b, geo, l, &r, *tmax, self.simd),
+        )
     }
 
     /// Instance `k`'s tree and geometry, and the ray in its space (same
@@ -517,10 +529,15 @@ impl Accel {
         if let Some(k) = self.single {
             self.instance_closest(k as usize, &r, tmax, &mut best);
         } else {
-            tlas.traverse(&r, tmax, |_| {}, |k, tmax| {
-                *tmax = self.instance_closest(k as usize, &r, *tmax, &mut best);
-                false
-            });
+            tlas.traverse(
+                &r,
+                tmax,
+                |_| {},
+                |k, tmax| {
+                    *tmax = self.instance_closest(k as usize, &r, *tmax, &mut best);
+                    false
+                },
+            );
         }
         let c = best?;
         Some(self.resolve(c.k, c.prim, c.hit))
@@ -538,7 +555,12 @@ impl Accel {
         if let Some(k) = self.single {
             return self.instance_any(k as usize, r, tmax);
         }
-        tlas.traverse_any(r, tmax, |_| {}, |k, tmax| self.instance_any(k as usize, r, *tmax))
+        tlas.traverse_any(
+            r,
+            tmax,
+            |_| {},
+            |k, tmax| self.instance_any(k as usize, r, *tmax),
+        )
     }
 
     /// [`Accel::occluded`] of each query, the same answers, into `out`:
@@ -655,7 +677,8 @@ impl Accel {
     ) -> u32 {
         let mut blocked = 0;
         let mut walk = b.tree.bundle_walk(lanes);
-        while let Some((code, rays)) = walk.next::<W>(&b.tree, hull, p, tmax, |code| b.fetch(code)) {
+        while let Some((code, rays)) = walk.next::<W>(&b.tree, hull, p, tmax, |code| b.fetch(code))
+        {
             let done = packet::keep(rays, |i| {
                 blocks(b, geo, code, &p.rays[i], tmax[i], self.simd)
             });
@@ -783,7 +806,9 @@ impl Accel {
         search: &mut Search,
     ) {
         let mut walk = b.tree.packet_walk(p, lanes);
-        while let Some((code, lanes)) = walk.next::<W>(&b.tree, p, &search.tfar, |code| b.fetch(code)) {
+        while let Some((code, lanes)) =
+            walk.next::<W>(&b.tree, p, &search.tfar, |code| b.fetch(code))
+        {
             let (first, packs, shapes) = b.leaf(code);
             let triangle = |j: usize, lane: usize, t: f32| {
                 let id = b.ids[first + j][lane];
