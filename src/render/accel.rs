@@ -569,10 +569,11 @@ impl Accel {
     /// a pixel's shadow rays toward one light run close together.
     pub fn occluded_all(&self, queries: &[Query], out: &mut Vec<bool>) {
         out.clear();
+        let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
         for chunk in queries.chunks(LANES) {
             let blocked = self
-                .chunk(chunk)
-                .map_or(0, |(rays, valid, tmax)| match self.simd {
+                .chunk(chunk, &mut rays)
+                .map_or(0, |(valid, tmax)| match self.simd {
                     // SAFETY: each is chosen only where the CPU has it.
                     #[cfg(target_arch = "x86_64")]
                     Simd::Avx => unsafe { self.any_avx(&rays, valid, &tmax) },
@@ -693,8 +694,9 @@ impl Accel {
     /// samples, share their node and triangle fetches and tests).
     pub fn cast_all(&self, queries: &[Query], out: &mut Vec<Option<Hit>>) {
         out.clear();
+        let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
         for chunk in queries.chunks(LANES) {
-            let Some((rays, valid, tmax)) = self.chunk(chunk) else {
+            let Some((valid, tmax)) = self.chunk(chunk, &mut rays) else {
                 out.extend(chunk.iter().map(|_| None));
                 continue;
             };
@@ -732,21 +734,20 @@ impl Accel {
         }
     }
 
-    /// The rays of up to [`LANES`] queries, the mask of those that can hit
-    /// anything, and their `tmax`; None when none can.
-    fn chunk(&self, queries: &[Query]) -> Option<([Ray; LANES], u32, Lanes)> {
+    /// The rays of up to [`LANES`] queries into `rays` (in place: a
+    /// returned array was copied twice, 2.5 KB each), the mask of those
+    /// that can hit anything, and their `tmax`; None when none can. The
+    /// other lanes keep the rays they held (masked out: any ray will do).
+    fn chunk(&self, queries: &[Query], rays: &mut [Ray; LANES]) -> Option<(u32, Lanes)> {
         let mut valid = 0;
-        // For the idle lanes (masked out: any ray will do).
-        let idle = Ray::new(Vec3A::ZERO, Vec3A::X, 0.0);
-        let rays = std::array::from_fn(|i| {
-            let r = queries
-                .get(i)
-                .and_then(|q| self.ray(q.origin, q.dir, q.tmin));
-            valid |= u32::from(r.is_some()) << i;
-            r.unwrap_or(idle)
-        });
+        for (i, q) in queries.iter().enumerate().take(LANES) {
+            if let Some(ray) = self.ray(q.origin, q.dir, q.tmin) {
+                rays[i] = ray;
+                valid |= 1 << i;
+            }
+        }
         let tmax = std::array::from_fn(|i| queries.get(i).map_or(0.0, |q| q.tmax));
-        (valid != 0).then_some((rays, valid, tmax))
+        (valid != 0).then_some((valid, tmax))
     }
 
     closest_with!(closest_avx512, "avx512f", Avx512);
