@@ -18,7 +18,7 @@ use super::wide::Wide;
 #[cfg(target_arch = "x86_64")]
 use super::wide::{Avx, Avx512, Sse as Base};
 use crate::scene::material::Texture;
-use crate::scene::{Geometry, Material, Scene, Triangle};
+use crate::scene::{Geometry, Material, Scene};
 
 /// Most primitives a bottom-level leaf may hold (the surface-area
 /// heuristic decides below that; measured best on the forest).
@@ -84,11 +84,7 @@ impl Blas {
     /// walk's `fetch`: see [`Bvh4::fetch`]).
     #[inline(always)]
     fn fetch(&self, code: u32) {
-        let (_, packs, _) = self.leaf(code);
-        let p = packs.as_ptr().cast::<u8>();
-        for off in (0..std::mem::size_of_val(packs)).step_by(64) {
-            prefetch(p.wrapping_add(off));
-        }
+        prefetch(self.leaf(code).1);
     }
 
     /// The leaf with code `code`: the index of its first triangle pack,
@@ -145,14 +141,9 @@ fn bundle(rays: &[Ray; LANES], lanes: u32, tmax: &Lanes, scale: f32) -> Option<H
 /// ray otherwise).
 #[inline(always)]
 fn fetch_triangle(geo: &Geometry, id: u32) {
-    let p = geo
-        .triangles
-        .as_ptr()
-        .wrapping_add(id as usize)
-        .cast::<u8>();
-    // Both lines a record may straddle.
-    prefetch(p);
-    prefetch(p.wrapping_add(std::mem::size_of::<Triangle>() - 1));
+    if let Some(t) = geo.triangles.get(id as usize) {
+        prefetch(t);
+    }
 }
 
 /// The largest coordinate of a tree's boxes.

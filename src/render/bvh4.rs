@@ -433,9 +433,9 @@ impl Bvh4 {
     #[inline(always)]
     fn fetch(&self, code: u32, leaf: &impl Fn(u32)) {
         if code & LEAF == 0 {
-            let p = self.nodes.as_ptr().wrapping_add(code as usize).cast::<u8>();
-            prefetch(p);
-            prefetch(p.wrapping_add(64));
+            if let Some(node) = self.nodes.get(code as usize) {
+                prefetch(node);
+            }
         } else {
             leaf(code & !LEAF);
         }
@@ -788,19 +788,26 @@ impl PacketWalk {
     }
 }
 
-/// Starts fetching the cache line at `p` (a hint: it reads nothing and
-/// cannot fault).
+/// Starts fetching every cache line `data` spans (a hint: it reads
+/// nothing and cannot fault): a node, a leaf's packs, a triangle's record.
 #[inline(always)]
-pub fn prefetch(p: *const u8) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch reads nothing and cannot fault; SSE is part of
-    // the x86-64 baseline.
-    unsafe {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        _mm_prefetch::<_MM_HINT_T0>(p.cast());
+pub fn prefetch<T: ?Sized>(data: &T) {
+    let start = (data as *const T).cast::<u8>();
+    let len = std::mem::size_of_val(data);
+    // From the line of the first byte to the line of the last.
+    let skip = start as usize % 64;
+    for off in (0..skip + len).step_by(64) {
+        let line = start.wrapping_sub(skip).wrapping_add(off);
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: a prefetch reads nothing and cannot fault; SSE is part
+        // of the x86-64 baseline.
+        unsafe {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            _mm_prefetch::<_MM_HINT_T0>(line.cast());
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = line;
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = p;
 }
 
 /// The distance along each ray of a packet to the plane `side` of an
