@@ -81,7 +81,9 @@ pub fn render(scene: impl Into<Arc<Scene>>, settings: &Settings) -> Image {
 }
 
 /// Renders with an already built acceleration structure; `progress(done,
-/// total)` is called as rows finish (from any thread, in any order).
+/// total)` is called as rows finish (from any thread, in any order). Each
+/// row is written straight into the image's layers: gathering the rows
+/// first held a second copy of the frame (8 MB at 640 × 360).
 pub fn render_with(
     accel: &Accel,
     settings: &Settings,
@@ -89,27 +91,26 @@ pub fn render_with(
 ) -> Image {
     let (w, h) = (settings.width, settings.height);
     let mut img = Image::new(w, h);
+    if img.is_empty() {
+        return img;
+    }
     let cam = sample::CameraRays::new(&accel.scene.camera, w, h);
     let done = AtomicU32::new(0);
-    let rows: Vec<Vec<sample::PixelOut>> = (0..h)
-        .into_par_iter()
-        .map(|y| {
+    let row = w as usize;
+    img.rgba
+        .par_chunks_mut(row)
+        .zip(img.depth.par_chunks_mut(row))
+        .zip(img.normal.par_chunks_mut(row))
+        .zip(img.object.par_chunks_mut(row))
+        .enumerate()
+        .for_each(|(y, (((rgba, depth), normal), object))| {
             let mut scratch = sample::Scratch::default();
-            let row = (0..w)
-                .map(|x| sample::pixel(&mut scratch, accel, &cam, settings, x, y))
-                .collect();
+            for x in 0..w {
+                let p = sample::pixel(&mut scratch, accel, &cam, settings, x, y as u32);
+                let i = x as usize;
+                (rgba[i], depth[i], normal[i], object[i]) = (p.rgba, p.depth, p.normal, p.object);
+            }
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, h);
-            row
-        })
-        .collect();
-    for (y, row) in rows.into_iter().enumerate() {
-        for (x, p) in row.into_iter().enumerate() {
-            let i = y * w as usize + x;
-            img.rgba[i] = p.rgba;
-            img.depth[i] = p.depth;
-            img.normal[i] = p.normal;
-            img.object[i] = p.object;
-        }
-    }
+        });
     img
 }
