@@ -15,6 +15,7 @@ use lmfilm::commands::sound::SoundInput;
 use lmfilm::commands::{self, trace::trace};
 use lmfilm::film::frames::{FrameRange, Shard};
 use lmfilm::lsys::Limits;
+use lmfilm::render::tri4::{Simd, SIMD_VAR};
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.
 ///
@@ -22,11 +23,19 @@ use lmfilm::lsys::Limits;
 /// context-sensitive L-systems in `.lm` definition files (see
 /// docs/language.md).
 #[derive(Parser)]
-#[command(name = "lmfilm", version, about, long_about)]
+#[command(name = "lmfilm", version, about, long_about, after_long_help = ENVIRONMENT)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
+
+/// What `--help` says of the environment.
+const ENVIRONMENT: &str = "Environment:
+  RAYON_NUM_THREADS  threads (the bytes are the same for any count)
+  LMFILM_SIMD        baseline, avx or avx512: the widest SIMD path the ray tracer may
+                     take (default: the widest this CPU has). Every path gives the same
+                     bytes; a farm checks its machines against each other so:
+                     LMFILM_SIMD=baseline lmfilm still scenes/examples/leaves.lm -o renders/base.png";
 
 #[derive(Subcommand)]
 enum Command {
@@ -317,6 +326,12 @@ enum FarmCommand {
 fn main() -> ExitCode {
     keep_freed_memory();
     let cli = Cli::parse();
+    if let Some(v) = std::env::var_os(SIMD_VAR) {
+        if v.to_str().and_then(Simd::parse).is_none() {
+            eprintln!("error: {SIMD_VAR}={v:?}: expected baseline, avx or avx512");
+            return ExitCode::from(2);
+        }
+    }
     let result = match cli.command {
         Command::Print { at, format } => {
             commands::frame::print(&at, matches!(format, PrintFormat::Full))

@@ -5,6 +5,8 @@
 //! +z, and the 2-D edge functions decide, so a ray through a shared edge
 //! or vertex of a closed mesh always finds one of its triangles.
 
+use std::sync::OnceLock;
+
 use glam::{Vec3, Vec3A, Vec4};
 
 use super::bvh4::Ray;
@@ -220,26 +222,54 @@ fn nearest(mut mask: u32, t: &[f32], bound: f32) -> Option<(f32, usize)> {
 /// AVX-512 (the same single-ray tests, packets in one register). Every
 /// lane of each computes the same IEEE operations in the same order (no
 /// fused multiply-add), so they give the same bits (DESIGN §4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Narrowest first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Simd {
     Baseline,
     Avx,
     Avx512,
 }
 
+/// The environment variable that caps the path renders take (a
+/// [`Simd::name`]): a farm checks that a wide machine gives an old one's
+/// bytes by rendering there with `baseline`.
+pub const SIMD_VAR: &str = "LMFILM_SIMD";
+
 impl Simd {
-    /// The widest this machine has.
+    /// The path renders take: the widest this machine has, at most
+    /// [`SIMD_VAR`]'s (read once; a value that is no name is ignored here,
+    /// the command line refuses it).
     pub fn detect() -> Simd {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                return Simd::Avx512;
-            }
-            if std::arch::is_x86_feature_detected!("avx") {
-                return Simd::Avx;
-            }
+        static CHOSEN: OnceLock<Simd> = OnceLock::new();
+        *CHOSEN.get_or_init(|| {
+            let widest = Simd::available().into_iter().max();
+            Simd::capped(
+                widest.unwrap_or(Simd::Baseline),
+                std::env::var(SIMD_VAR).ok().as_deref(),
+            )
+        })
+    }
+
+    /// `widest`, or the path named `cap` where that is narrower.
+    fn capped(widest: Simd, cap: Option<&str>) -> Simd {
+        cap.and_then(Simd::parse)
+            .map_or(widest, |cap| cap.min(widest))
+    }
+
+    /// The path named `baseline`, `avx` or `avx512`.
+    pub fn parse(name: &str) -> Option<Simd> {
+        [Simd::Baseline, Simd::Avx, Simd::Avx512]
+            .into_iter()
+            .find(|s| s.name() == name)
+    }
+
+    /// The path's name, as [`SIMD_VAR`] takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Simd::Baseline => "baseline",
+            Simd::Avx => "avx",
+            Simd::Avx512 => "avx512",
         }
-        Simd::Baseline
     }
 
     /// Every one this machine has, narrowest first (tests compare them).
@@ -425,6 +455,20 @@ pub fn triangle(v: &[Vec3; 3], o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Opti
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_environment_caps_the_path_by_name() {
+        for s in [Simd::Baseline, Simd::Avx, Simd::Avx512] {
+            assert_eq!(Simd::parse(s.name()), Some(s));
+        }
+        assert_eq!(Simd::parse("sse2"), None);
+        assert_eq!(Simd::capped(Simd::Avx512, Some("avx")), Simd::Avx);
+        assert_eq!(Simd::capped(Simd::Avx512, Some("baseline")), Simd::Baseline);
+        // Never wider than the machine's, whatever is asked.
+        assert_eq!(Simd::capped(Simd::Avx, Some("avx512")), Simd::Avx);
+        assert_eq!(Simd::capped(Simd::Avx, None), Simd::Avx);
+        assert_eq!(Simd::capped(Simd::Avx, Some("AVX")), Simd::Avx);
+    }
 
     #[test]
     fn equally_near_lanes_give_the_lowest_lane() {

@@ -128,3 +128,52 @@ fn outputs_do_not_depend_on_the_c_librarys_math_forms() {
     assert!(native.1 == plain.1, "the soundtrack differs");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every SIMD path this machine has (`LMFILM_SIMD` caps the widest the
+/// ray tracer takes) renders a still to the same bytes (DESIGN §4): the
+/// leaves of an imported OBJ (the triangle tests, single and in packets)
+/// and the gallery's shapes. A value that names no path is refused.
+#[test]
+fn every_simd_path_renders_the_same_still() {
+    use lmfilm::render::tri4::Simd;
+    let dir = std::env::temp_dir().join(format!("lmfilm-simd-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/examples");
+    let still = |simd: &str, scene: &str, time: &str| {
+        let png = dir.join(format!("{scene}.{simd}.png"));
+        let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .env("LMFILM_SIMD", simd)
+            .args(["still", &format!("{examples}/{scene}"), "--time", time])
+            .args(["--width", "160", "--height", "120", "-o"])
+            .arg(&png)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(png).unwrap()
+    };
+    for (scene, time) in [("leaves.lm", "9"), ("gallery.lm", "0")] {
+        let base = still("baseline", scene, time);
+        for simd in &Simd::available()[1..] {
+            assert!(still(simd.name(), scene, time) == base, "{scene}: {simd:?}");
+        }
+    }
+    let png = dir.join("refused.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .env("LMFILM_SIMD", "sse2")
+        .args(["still", &format!("{examples}/leaves.lm"), "-o"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("LMFILM_SIMD") && err.contains("avx512"),
+        "{err}"
+    );
+    assert!(!png.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
