@@ -77,6 +77,26 @@ fn export_is_identical_for_any_thread_count() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Runs lmfilm with `args` and one environment variable set to `value`.
+fn lmfilm_with(var: &str, value: &str, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .env(var, value)
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Reads the file `lmfilm_with` should have written.
+fn written(var: &str, value: &str, args: &[&str], file: &std::path::Path) -> Vec<u8> {
+    let out = lmfilm_with(var, value, args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::read(file).unwrap()
+}
+
 /// The C library's math (glibc picks `exp`, `log`, `powf`, `sinf` … by
 /// the CPU: SSE2, AVX, FMA forms) does not reach the bytes: a still and a
 /// soundtrack made with the FMA and AVX forms switched off are the bytes
@@ -87,43 +107,21 @@ fn export_is_identical_for_any_thread_count() {
 fn outputs_do_not_depend_on_the_c_librarys_math_forms() {
     let dir = std::env::temp_dir().join(format!("lmfilm-libm-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let root = env!("CARGO_MANIFEST_DIR");
-    let make = |tunables: &str, tag: &str| {
-        let png = dir.join(format!("{tag}.png"));
-        let wav = dir.join(format!("{tag}.wav"));
-        for args in [
-            vec![
-                "still".to_string(),
-                format!("{root}/scenes/examples/gallery.lm"),
-                "--width".into(),
-                "96".into(),
-                "--height".into(),
-                "72".into(),
-                "-o".into(),
-                png.display().to_string(),
-            ],
-            vec![
-                "sound".to_string(),
-                format!("{root}/scenes/examples/flyby.events"),
-                "-o".into(),
-                wav.display().to_string(),
-            ],
-        ] {
-            let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-                .env("GLIBC_TUNABLES", tunables)
-                .args(&args)
-                .output()
-                .unwrap();
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
-        }
-        (std::fs::read(png).unwrap(), std::fs::read(wav).unwrap())
+    let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/examples");
+    let make = |tunables: &str| {
+        let (png, wav) = (dir.join("still.png"), dir.join("sound.wav"));
+        let gallery = format!("{examples}/gallery.lm");
+        let still = ["still", &gallery, "--width", "96", "--height", "72", "-o"];
+        let still = [&still[..], &[png.to_str().unwrap()]].concat();
+        let events = format!("{examples}/flyby.events");
+        let sound = ["sound", &events, "-o", wav.to_str().unwrap()];
+        (
+            written("GLIBC_TUNABLES", tunables, &still, &png),
+            written("GLIBC_TUNABLES", tunables, &sound, &wav),
+        )
     };
-    let native = make("", "native");
-    let plain = make("glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-AVX512F", "plain");
+    let native = make("");
+    let plain = make("glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-AVX512F");
     assert!(native.0 == plain.0, "the still differs");
     assert!(native.1 == plain.1, "the soundtrack differs");
     std::fs::remove_dir_all(&dir).unwrap();
@@ -139,21 +137,14 @@ fn every_simd_path_renders_the_same_still() {
     let dir = std::env::temp_dir().join(format!("lmfilm-simd-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/examples");
+    let png = dir.join("still.png");
     let still = |simd: &str, scene: &str, time: &str| {
-        let png = dir.join(format!("{scene}.{simd}.png"));
-        let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-            .env("LMFILM_SIMD", simd)
-            .args(["still", &format!("{examples}/{scene}"), "--time", time])
-            .args(["--width", "160", "--height", "120", "-o"])
-            .arg(&png)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        std::fs::read(png).unwrap()
+        let scene = format!("{examples}/{scene}");
+        let args = [
+            "still", &scene, "--time", time, "--width", "160", "--height", "120", "-o",
+        ];
+        let args = [&args[..], &[png.to_str().unwrap()]].concat();
+        written("LMFILM_SIMD", simd, &args, &png)
     };
     for (scene, time) in [("leaves.lm", "9"), ("gallery.lm", "0")] {
         let base = still("baseline", scene, time);
@@ -161,13 +152,13 @@ fn every_simd_path_renders_the_same_still() {
             assert!(still(simd.name(), scene, time) == base, "{scene}: {simd:?}");
         }
     }
-    let png = dir.join("refused.png");
-    let out = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-        .env("LMFILM_SIMD", "sse2")
-        .args(["still", &format!("{examples}/leaves.lm"), "-o"])
-        .arg(&png)
-        .output()
-        .unwrap();
+    std::fs::remove_file(&png).unwrap();
+    let leaves = format!("{examples}/leaves.lm");
+    let out = lmfilm_with(
+        "LMFILM_SIMD",
+        "sse2",
+        &["still", &leaves, "-o", png.to_str().unwrap()],
+    );
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
