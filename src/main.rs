@@ -326,7 +326,8 @@ enum FarmCommand {
 fn main() -> ExitCode {
     keep_freed_memory();
     let cli = Cli::parse();
-    if let Some(v) = std::env::var_os(SIMD_VAR) {
+    // Empty is unset.
+    if let Some(v) = std::env::var_os(SIMD_VAR).filter(|v| !v.is_empty()) {
         if v.to_str().and_then(Simd::parse).is_none() {
             eprintln!("error: {SIMD_VAR}={v:?}: expected baseline, avx or avx512");
             return ExitCode::from(2);

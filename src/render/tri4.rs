@@ -237,8 +237,8 @@ pub const SIMD_VAR: &str = "LMFILM_SIMD";
 
 impl Simd {
     /// The path renders take: the widest this machine has, at most
-    /// [`SIMD_VAR`]'s (read once; a value that is no name is ignored here,
-    /// the command line refuses it).
+    /// [`SIMD_VAR`]'s (read once; empty or a value that is no name is
+    /// ignored here, and the command line refuses the latter).
     pub fn detect() -> Simd {
         static CHOSEN: OnceLock<Simd> = OnceLock::new();
         *CHOSEN.get_or_init(|| {

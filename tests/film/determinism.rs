@@ -151,6 +151,8 @@ fn every_simd_path_renders_the_same_still() {
         for simd in &Simd::available()[1..] {
             assert!(still(simd.name(), scene, time) == base, "{scene}: {simd:?}");
         }
+        // Empty is unset: the widest path.
+        assert!(still("", scene, time) == base, "{scene}");
     }
     std::fs::remove_file(&png).unwrap();
     let leaves = format!("{examples}/leaves.lm");
