@@ -41,9 +41,12 @@ fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film> {
     Ok(film)
 }
 
-/// The frame the film was run to, its warnings shown.
-fn shown(film: &Film) -> &Frame {
-    let frame = film.frame().expect("derive_to ran the film to its frame");
+/// The frame the film was run to, its warnings shown; the rest of the
+/// film is dropped.
+fn shown(film: Film) -> Frame {
+    let frame = film
+        .into_frame()
+        .expect("derive_to ran the film to its frame");
     for m in frame.warnings() {
         eprintln!("{m}");
     }
@@ -75,8 +78,7 @@ pub fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<()> {
         segment_width,
         limits: at.limits.limits(),
     };
-    let film = derive_to(at, opts)?;
-    let frame = shown(&film);
+    let frame = shown(derive_to(at, opts)?);
     // Shapes become many triangles each: the count is the export's.
     let (count, max) = (
         mesh::expanded_count(frame.scene()),
@@ -140,8 +142,7 @@ pub fn still(at: &FrameArgs, output: &Path, args: &StillArgs) -> Result<()> {
         segment_width: args.segment_width,
         limits,
     };
-    let film = derive_to(at, opts)?;
-    let frame = shown(&film);
+    let frame = shown(derive_to(at, opts)?);
     let camera = &frame.scene().camera;
     let w = args.size.0.unwrap_or(camera.width);
     let h = args.size.1.unwrap_or(camera.height);

@@ -332,6 +332,13 @@ impl Film {
         self.frame.as_ref()
     }
 
+    /// The frame the loop handed out last, the rest of the film dropped:
+    /// a still renders it without holding the words that made it (20 MB
+    /// on the instanced forest, whose BVH and image then reuse them).
+    pub fn into_frame(self) -> Option<Frame> {
+        self.frame
+    }
+
     /// The frame loop (DESIGN §1), the only one: hands out the next frame,
     /// or None past the film's end. The frame before, if any, first goes
     /// on to this one (steps 6–7); then this frame is interpreted into its
