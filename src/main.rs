@@ -35,7 +35,7 @@ const ENVIRONMENT: &str = "Environment:
   LMFILM_SIMD        baseline, avx or avx512: the widest SIMD path the ray tracer may
                      take (default: the widest this CPU has). Every path gives the same
                      bytes; a farm checks its machines against each other so:
-                     LMFILM_SIMD=baseline lmfilm still scenes/examples/leaves.lm -o renders/base.png";
+                     LMFILM_SIMD=baseline lmfilm still scenes/examples/gallery.lm -o renders/base.png";
 
 #[derive(Subcommand)]
 enum Command {
