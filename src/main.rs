@@ -329,7 +329,11 @@ fn main() -> ExitCode {
     // Empty is unset.
     if let Some(v) = std::env::var_os(SIMD_VAR).filter(|v| !v.is_empty()) {
         if v.to_str().and_then(Simd::parse).is_none() {
-            eprintln!("error: {SIMD_VAR}={v:?}: expected baseline, avx or avx512");
+            let names: Vec<_> = Simd::ALL.iter().map(|s| s.name()).collect();
+            eprintln!(
+                "error: {SIMD_VAR}={v:?}: expected one of {}",
+                names.join(", ")
+            );
             return ExitCode::from(2);
         }
     }

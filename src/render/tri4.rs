@@ -236,6 +236,9 @@ pub enum Simd {
 pub const SIMD_VAR: &str = "LMFILM_SIMD";
 
 impl Simd {
+    /// Every path, narrowest first.
+    pub const ALL: [Simd; 3] = [Simd::Baseline, Simd::Avx, Simd::Avx512];
+
     /// The path renders take: the widest this machine has, at most
     /// [`SIMD_VAR`]'s (read once; empty or a value that is no name is
     /// ignored here, and the command line refuses the latter).
@@ -258,9 +261,7 @@ impl Simd {
 
     /// The path named `baseline`, `avx` or `avx512`.
     pub fn parse(name: &str) -> Option<Simd> {
-        [Simd::Baseline, Simd::Avx, Simd::Avx512]
-            .into_iter()
-            .find(|s| s.name() == name)
+        Simd::ALL.into_iter().find(|s| s.name() == name)
     }
 
     /// The path's name, as [`SIMD_VAR`] takes it.
@@ -458,7 +459,7 @@ mod tests {
 
     #[test]
     fn the_environment_caps_the_path_by_name() {
-        for s in [Simd::Baseline, Simd::Avx, Simd::Avx512] {
+        for s in Simd::ALL {
             assert_eq!(Simd::parse(s.name()), Some(s));
         }
         assert_eq!(Simd::parse("sse2"), None);
