@@ -755,7 +755,7 @@ impl Accel {
                 self.instance_closest_packet::<W>(k, &p, group, search);
                 continue;
             }
-            let mut walk = tlas.packet_walk(&p, group);
+            let mut walk = tlas.packet_walk::<W>(&p, group);
             while let Some((k, lanes)) = walk.next::<W>(tlas, &p, &search.tfar, |_| {}) {
                 self.instance_closest_packet::<W>(k, &p, lanes, search);
             }
@@ -797,7 +797,7 @@ impl Accel {
         lanes: u32,
         search: &mut Search,
     ) {
-        let mut walk = b.tree.packet_walk(p, lanes);
+        let mut walk = b.tree.packet_walk::<W>(p, lanes);
         while let Some((code, lanes)) =
             walk.next::<W>(&b.tree, p, &search.tfar, |code| b.fetch(code))
         {

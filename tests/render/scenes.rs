@@ -521,9 +521,10 @@ fn every_simd_path_gives_the_same_hits_and_bytes() {
 /// pixel's samples) find what each cast alone finds, bit for bit, in every
 /// lane form the machine has: bundles of 16 nearly parallel rays (packets
 /// in full, leaves tested together) and scattered ones (packets split by
-/// direction signs), into a soup of triangles with copies (equally near
-/// hits) under turned and scaled instances, and a sphere; rays that cannot
-/// hit anything and bounds that stop short among them.
+/// direction signs), from one point or from points apart, into a soup of
+/// triangles with copies (equally near hits) under turned and scaled
+/// instances, and a sphere; rays that cannot hit anything and bounds that
+/// stop short among them.
 #[test]
 fn packets_find_what_single_rays_find() {
     use lmfilm::render::accel::Query;
@@ -549,8 +550,14 @@ fn packets_find_what_single_rays_find() {
             } else {
                 f32::INFINITY
             };
+            // Every fifth bundle's rays leave from points apart.
+            let origin = if bundle % 5 == 1 {
+                o + Vec3A::from(rng.vec(0.5))
+            } else {
+                o
+            };
             queries.push(Query {
-                origin: o,
+                origin,
                 dir,
                 tmin: if lane == 2 { 0.1 } else { 0.0 },
                 tmax,
