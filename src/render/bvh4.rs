@@ -835,10 +835,12 @@ impl Span {
     /// coordinate is `scale`.
     #[inline(always)]
     fn of<W: Wide>(p: &RayPacket, scale: f32) -> Span {
-        let inv = p.inv.each_ref().map(range::<W>);
-        let mut origin = [[0.0; 2]; 3];
-        for (j, &a) in p.axes.iter().enumerate() {
-            origin[a] = range::<W>(&p.permuted_origin[j]);
+        // Loops, not `map`: its closure would call the lane form's
+        // instructions out of line (see `super::wide`).
+        let (mut inv, mut origin) = ([[0.0; 2]; 3], [[0.0; 2]; 3]);
+        for a in 0..3 {
+            inv[a] = range::<W>(&p.inv[a]);
+            origin[p.axes[a].min(2)] = range::<W>(&p.permuted_origin[a]);
         }
         let pad = std::array::from_fn(|a| {
             let i = inv[a][0].abs().max(inv[a][1].abs());
