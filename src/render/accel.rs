@@ -146,12 +146,6 @@ fn fetch_triangle(geo: &Geometry, id: u32) {
     }
 }
 
-/// The largest coordinate of a tree's boxes.
-fn scale_of(tree: &Bvh4) -> f32 {
-    let b = tree.bounds();
-    b.min.abs().max(b.max.abs()).max_element()
-}
-
 /// The nearest surface a ray meets.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
@@ -584,7 +578,7 @@ impl Accel {
     #[inline(always)]
     fn any_bundle<W: Wide>(&self, rays: &[Ray; LANES], valid: u32, tmax: &Lanes) -> u32 {
         let Some(tlas) = &self.tlas else { return 0 };
-        let Some(hull) = bundle(rays, valid, tmax, scale_of(tlas)) else {
+        let Some(hull) = bundle(rays, valid, tmax, tlas.scale()) else {
             return self.one_by_one(rays, valid, tmax);
         };
         let mut blocked = 0;
@@ -641,7 +635,7 @@ impl Accel {
             return one_by_one();
         }
         let local = self.local_rays(k, p.rays, lanes);
-        let Some(hull) = bundle(&local, lanes, tmax, scale_of(&b.tree)) else {
+        let Some(hull) = bundle(&local, lanes, tmax, b.tree.scale()) else {
             return one_by_one();
         };
         // A transform may turn the rays apart: one packet per key. (A

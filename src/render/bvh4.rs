@@ -426,6 +426,15 @@ impl Bvh4 {
         self.bounds
     }
 
+    /// The largest coordinate of the tree's boxes.
+    pub fn scale(&self) -> f32 {
+        self.bounds
+            .min
+            .abs()
+            .max(self.bounds.max.abs())
+            .max_element()
+    }
+
     /// Starts fetching child `code` into the cache as a walk enters it,
     /// so that its load overlaps the tests before its visit: a node's
     /// two cache lines, or (through `leaf`, which knows their layout) a
@@ -604,14 +613,9 @@ impl Bvh4 {
             stack: Vec::with_capacity(self.stack_size),
             cur: (self.root, f32::NEG_INFINITY, live),
             pop: false,
-            span: Span::of::<W>(p, scale_of(&self.bounds)),
+            span: Span::of::<W>(p, self.scale()),
         }
     }
-}
-
-/// The largest coordinate magnitude of a box.
-fn scale_of(b: &Aabb) -> f32 {
-    b.min.abs().max(b.max.abs()).max_element()
 }
 
 /// The leaves that a packet's rays enter before their `tmax`, in no
@@ -991,7 +995,11 @@ mod tests {
                 let c = r.origin + r.direction * unit() * 30.0 + off;
                 let size = Vec3A::new(unit(), unit(), unit()) * [0.0, 0.01, 3.0][k % 3];
                 let size = if k % 6 == 3 { size * Vec3A::X } else { size };
-                let (lo, hi) = (c - size, (c + size).min(Vec3A::splat(25.0)));
+                // Within the scale given to the span.
+                let (lo, hi) = (
+                    (c - size).clamp(Vec3A::splat(-25.0), Vec3A::splat(25.0)),
+                    (c + size).clamp(Vec3A::splat(-25.0), Vec3A::splat(25.0)),
+                );
                 let [nx, ny, nz] = p.negative.map(usize::from);
                 let sides = [lo.to_array(), hi.to_array()];
                 let near = [sides[nx][0], sides[ny][1], sides[nz][2]];
