@@ -652,9 +652,6 @@ impl BundleWalk {
         fetch: impl Fn(u32),
     ) -> Option<(u32, u32)> {
         let [nx, ny, nz] = p.negative.map(usize::from);
-        let [ix, iy, iz] = p.inv.each_ref().map(W::load);
-        let [ox, oy, oz] = p.origin_inv.each_ref().map(W::load);
-        let (tmin, far) = (W::load(&p.tmin), W::load(tmax));
         loop {
             if self.open == 0 {
                 return None;
@@ -675,18 +672,10 @@ impl BundleWalk {
             let (near_x, far_x) = (side(nx, 0), side(1 - nx, 0));
             let (near_y, far_y) = (side(ny, 1), side(1 - ny, 1));
             let (near_z, far_z) = (side(nz, 2), side(1 - nz, 2));
-            // The packet walk's slab test (a helper shared by both walks
-            // made the frame 15 % slower: docs/performance.md).
             for c in Bits(hull.meets(&n.side[0], &n.side[1])) {
-                let t0 = slab(near_x[c], ix, ox)
-                    .max(slab(near_y[c], iy, oy))
-                    .max(slab(near_z[c], iz, oz))
-                    .max(tmin);
-                let t1 = slab(far_x[c], ix, ox)
-                    .min(slab(far_y[c], iy, oy))
-                    .min(slab(far_z[c], iz, oz))
-                    .min(far);
-                let entered = t0.le(t1).bits() & rays;
+                let near = [near_x[c], near_y[c], near_z[c]];
+                let far = [far_x[c], far_y[c], far_z[c]];
+                let entered = enters::<W>(p, near, far, tmax) & rays;
                 if entered == 0 {
                     continue;
                 }
