@@ -408,6 +408,11 @@ impl Accel {
         self
     }
 
+    /// The instructions its tests run.
+    pub(super) fn simd(&self) -> Simd {
+        self.simd
+    }
+
     /// The ray in instance `k`'s geometry space (same t).
     fn local_ray(&self, k: usize, r: &Ray) -> Ray {
         let Some(inv) = &self.inst_inv[k] else {
@@ -500,7 +505,7 @@ impl Accel {
 
     /// The ray, or None when it cannot hit anything. Negative zeros in the
     /// direction are made positive so the slab tests see one sign.
-    fn ray(&self, origin: Vec3A, dir: Vec3A, tmin: f32) -> Option<Ray> {
+    pub(super) fn ray(&self, origin: Vec3A, dir: Vec3A, tmin: f32) -> Option<Ray> {
         let ok = self.tlas.is_some() && origin.is_finite() && dir.is_finite() && dir != Vec3A::ZERO;
         ok.then(|| Ray::new(origin, dir + Vec3A::ZERO, tmin))
     }
@@ -576,7 +581,7 @@ impl Accel {
     /// The mask of the rays of `valid` that something but a cloud layer
     /// blocks before their `tmax`.
     #[inline(always)]
-    fn any_bundle<W: Wide>(&self, rays: &[Ray; LANES], valid: u32, tmax: &Lanes) -> u32 {
+    pub(super) fn any_bundle<W: Wide>(&self, rays: &[Ray; LANES], valid: u32, tmax: &Lanes) -> u32 {
         let Some(tlas) = &self.tlas else { return 0 };
         let Some(hull) = bundle(rays, valid, tmax, tlas.scale()) else {
             return self.one_by_one(rays, valid, tmax);

@@ -4,6 +4,7 @@
 //! The same [`accel::Accel::cast`] serves actor vision.
 
 pub mod accel;
+pub mod batch;
 pub mod bvh4;
 pub mod hull;
 pub mod intersect;
@@ -13,6 +14,7 @@ pub mod sample;
 pub mod shade;
 pub mod texture;
 pub mod tri4;
+pub mod v3;
 pub mod wide;
 
 use std::sync::atomic::{AtomicU32, Ordering};

@@ -1,10 +1,10 @@
 //! Camera rays and pixel sampling: stratified jitter whose offsets are a
 //! hash of (frame, pixel, sample) (DESIGN §4), box or Gaussian weights.
 
-use glam::Vec3A;
+use glam::{Vec3, Vec3A};
 
 use super::accel::{Accel, Hit, Query};
-use super::shade;
+use super::{batch, shade};
 use crate::random::{self, Stream};
 use crate::scene::Camera;
 
@@ -153,6 +153,8 @@ pub struct Scratch {
     answers: Vec<bool>,
     /// Whether each ray is blocked, as (light, blocked), in `rays`' order.
     seen: Vec<(usize, bool)>,
+    /// Each sample's colour.
+    colours: Vec<Vec3>,
 }
 
 impl Scratch {
@@ -192,6 +194,53 @@ impl Scratch {
             self.seen[i].1 = b;
         }
     }
+
+    /// Casts pixel (x, y)'s samples' camera rays together (a pixel's rays
+    /// are the most coherent there are); returns the pixel's key.
+    fn cast(&mut self, accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> u64 {
+        let key = random::key(
+            st.frame,
+            Stream::Pixel,
+            (u64::from(y) << 32) | u64::from(x),
+            0,
+        );
+        let n = st.spp.max(1);
+        self.offsets.clear();
+        self.offsets.extend((0..n).map(|s| offset(s, n, key)));
+        self.queries.clear();
+        self.queries
+            .extend(self.offsets.iter().map(|&(ox, oy)| Query {
+                origin: cam.eye(),
+                dir: cam.dir(x as f32 + ox, y as f32 + oy),
+                tmin: 0.0,
+                tmax: f32::INFINITY,
+            }));
+        accel.cast_all(&self.queries, &mut self.hits);
+        key
+    }
+
+    /// The samples' colours one at a time (scenes with sphere lights:
+    /// see [`batch::applies`]), after their shadow rays together.
+    fn colours_one_by_one(&mut self, accel: &Accel, st: &Settings, key: u64) {
+        self.shadows(accel, st);
+        self.colours.clear();
+        for (s, (q, hit)) in self.queries.iter().zip(&self.hits).enumerate() {
+            self.colours.push(match (hit, &self.points[s]) {
+                (Some(_), Some(pt)) => shade::shade_seen(
+                    accel,
+                    pt,
+                    q.dir,
+                    st,
+                    0,
+                    random::key(key, Stream::Pixel, s as u64, 1),
+                    &self.seen[self.starts[s]..self.starts[s + 1]],
+                ),
+                // A surface without a material is black (as `shade_hit`).
+                (Some(_), None) => Vec3::ZERO,
+                (None, _) => shade::background(accel, q.dir),
+            });
+        }
+    }
 }
 
 /// Renders pixel (x, y): colour from `spp` samples, the other layers from
@@ -204,52 +253,22 @@ pub fn pixel(
     x: u32,
     y: u32,
 ) -> PixelOut {
-    let key = random::key(
-        st.frame,
-        Stream::Pixel,
-        (u64::from(y) << 32) | u64::from(x),
-        0,
-    );
-    let n = st.spp.max(1);
-    // The samples' camera rays cast together (a pixel's rays are the most
-    // coherent there are), then shaded one by one, as `shade::trace`.
     let sc = scratch;
-    sc.offsets.clear();
-    sc.offsets.extend((0..n).map(|s| offset(s, n, key)));
-    sc.queries.clear();
-    sc.queries.extend(sc.offsets.iter().map(|&(ox, oy)| Query {
-        origin: cam.eye(),
-        dir: cam.dir(x as f32 + ox, y as f32 + oy),
-        tmin: 0.0,
-        tmax: f32::INFINITY,
-    }));
-    accel.cast_all(&sc.queries, &mut sc.hits);
-    sc.shadows(accel, st);
-    let (offsets, queries, hits, points) = (&sc.offsets, &sc.queries, &sc.hits, &sc.points);
-    let (seen, starts) = (&sc.seen, &sc.starts);
+    let key = sc.cast(accel, cam, st, x, y);
+    if batch::applies(accel) {
+        batch::shade(accel, st, &sc.queries, &sc.hits, key, &mut sc.colours);
+    } else {
+        sc.colours_one_by_one(accel, st, key);
+    }
     let mut sum = [0.0f32; 4];
     let mut wsum = 0.0f32;
-    for (s, ((&(ox, oy), q), hit)) in offsets.iter().zip(queries).zip(hits).enumerate() {
+    for ((&(ox, oy), c), hit) in sc.offsets.iter().zip(&sc.colours).zip(&sc.hits) {
         let w = match st.filter {
             Filter::Box => 1.0,
             Filter::Gaussian => {
                 let (dx, dy) = (ox - 0.5, oy - 0.5);
                 (-(dx * dx + dy * dy) / (2.0 * 0.25)).exp()
             }
-        };
-        let c = match (hit, &points[s]) {
-            (Some(_), Some(pt)) => shade::shade_seen(
-                accel,
-                pt,
-                q.dir,
-                st,
-                0,
-                random::key(key, Stream::Pixel, s as u64, 1),
-                &seen[starts[s]..starts[s + 1]],
-            ),
-            // A surface without a material is black (as `shade_hit`).
-            (Some(_), None) => glam::Vec3::ZERO,
-            (None, _) => shade::background(accel, q.dir),
         };
         sum[0] += w * c.x;
         sum[1] += w * c.y;
@@ -272,5 +291,86 @@ pub fn pixel(
         depth: centre.map_or(f32::INFINITY, |h| h.t),
         normal: centre.map_or([0.0; 3], |h| h.normal.to_array()),
         object: centre.map_or(u32::MAX, |h| h.object),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lsys::{Animation, NoSensors};
+    use crate::render::tri4::Simd;
+    use crate::scene::{Light, LightKind};
+    use crate::turtle::{build_scene, NoWorld, Options, Surfaces};
+
+    /// The samples shaded together ([`batch::shade`]) get the bits of
+    /// those shaded one at a time, on every SIMD path: the gallery's
+    /// shapes, textures, mirror and glass, with a sun and a second,
+    /// coloured point light added, shadows on and off, the final and the
+    /// preview presets, 20 samples a pixel (two chunks of lanes).
+    #[test]
+    fn batch_shading_gives_the_one_at_a_time_bits() {
+        let root = env!("CARGO_MANIFEST_DIR");
+        let file = format!("{root}/scenes/examples/gallery.lm");
+        let mut anim = Animation::load(&[file], &mut NoSensors).unwrap();
+        let surfaces = Surfaces::load(&anim).unwrap();
+        let (mut scene, _) = build_scene(
+            &mut anim,
+            &surfaces,
+            &mut Vec::new(),
+            &mut NoWorld,
+            Options::default(),
+        )
+        .unwrap();
+        scene.lights.push(Light {
+            position: Vec3::ZERO,
+            color: Vec3::new(0.3, 0.25, 0.2),
+            kind: LightKind::Directional {
+                direction: Vec3::new(-0.4, -1.0, -0.3),
+            },
+        });
+        scene.lights.push(Light::point(
+            Vec3::new(-6.0, 5.0, 4.0),
+            Vec3::new(0.5, 0.6, 0.7),
+        ));
+        let (w, h) = (40, 24);
+        let cam = CameraRays::new(&scene.camera, w, h);
+        let scene = std::sync::Arc::new(scene);
+        let (mut lit, mut textured) = (0, 0);
+        for simd in Simd::available() {
+            let accel = Accel::new(scene.clone()).with_simd(simd);
+            assert!(batch::applies(&accel));
+            for (shadows, mut st) in [
+                (true, Settings::final_quality(w, h)),
+                (false, Settings::final_quality(w, h)),
+                (true, Settings::preview(w, h)),
+            ] {
+                st.shadows = shadows;
+                st.spp = 20;
+                let mut sc = Scratch::default();
+                let mut together = Vec::new();
+                for (x, y) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
+                    let key = sc.cast(&accel, &cam, &st, x, y);
+                    batch::shade(&accel, &st, &sc.queries, &sc.hits, key, &mut together);
+                    sc.colours_one_by_one(&accel, &st, key);
+                    let bits = |c: &[Vec3]| {
+                        c.iter()
+                            .map(|c| c.to_array().map(f32::to_bits))
+                            .collect::<Vec<_>>()
+                    };
+                    assert_eq!(bits(&together), bits(&sc.colours), "{simd:?} ({x}, {y})");
+                    lit += sc.seen.iter().filter(|s| !s.1).count();
+                    textured += sc
+                        .points
+                        .iter()
+                        .flatten()
+                        .filter(|p| scene.materials[p.material].texture.is_some())
+                        .count();
+                }
+            }
+        }
+        assert!(
+            lit > 10_000 && textured > 1000,
+            "{lit} lit, {textured} textured"
+        );
     }
 }

@@ -13,7 +13,7 @@ use crate::scene::{Light, LightKind, Material};
 
 /// Offset of secondary rays from the surface, relative to the scene size
 /// of ordinary scenes (metres).
-const EPS: f32 = 1e-4;
+pub(super) const EPS: f32 = 1e-4;
 
 /// Extra passes a ray may make through cloud layers beyond `max_depth`.
 const CLOUD_PASSES: u32 = 4;
@@ -83,13 +83,13 @@ pub fn shade_hit(
 #[derive(Debug, Clone, Copy)]
 pub struct Point {
     /// The index of its material (one the scene has).
-    material: usize,
-    p: Vec3A,
+    pub material: usize,
+    pub p: Vec3A,
     /// The unit normal facing the incoming ray (bumped).
-    n: Vec3A,
-    diffuse: Vec3,
+    pub n: Vec3A,
+    pub diffuse: Vec3,
     /// Whether the ray comes from outside the surface.
-    outside: bool,
+    pub outside: bool,
 }
 
 /// The point where the unit ray `o + t·d` meets `hit`; None without a
@@ -122,7 +122,7 @@ fn lift(p: Vec3A, n: Vec3A) -> Vec3A {
 
 /// The unit direction from `p` to `light`'s centre and its distance (∞
 /// for a directional light).
-fn toward(light: &Light, p: Vec3A) -> (Vec3A, f32) {
+pub(super) fn toward(light: &Light, p: Vec3A) -> (Vec3A, f32) {
     match light.kind {
         LightKind::Directional { direction } => {
             (-Vec3A::from(direction).normalize_or_zero(), f32::INFINITY)
@@ -264,7 +264,28 @@ fn shade_surface(
         let spec = reflect(-l, n).dot(-d).max(0.0).powf(m.shininess.max(1.0));
         local += visible * light.color * (diffuse * ndl + m.specular * spec);
     }
-    let mut colour = local * (1.0 - m.transmit);
+    let colour = local * (1.0 - m.transmit);
+    bounces(accel, m, colour, p, n, d, lift, outside, st, depth, key)
+}
+
+/// `colour` (a point's local light) plus what material `m` mirrors and
+/// transmits there, traced to the depth limit, or the preview's one look
+/// ([`preview_bounce`]): the rest of [`shade_surface`], which
+/// [`super::batch`] calls for its samples on mirrors and glass.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn bounces(
+    accel: &Accel,
+    m: &Material,
+    mut colour: Vec3,
+    p: Vec3A,
+    n: Vec3A,
+    d: Vec3A,
+    lift: Vec3A,
+    outside: bool,
+    st: &Settings,
+    depth: u32,
+    key: u64,
+) -> Vec3 {
     if st.max_depth == 0 && depth == 0 {
         colour += preview_bounce(accel, m, p, n, d, lift, st, key);
     } else if depth < st.max_depth {

@@ -30,6 +30,8 @@ pub trait Wide: Copy {
     fn div(self, o: Self) -> Self;
     fn max(self, o: Self) -> Self;
     fn min(self, o: Self) -> Self;
+    /// The square root (correctly rounded, as `f32::sqrt`).
+    fn sqrt(self) -> Self;
     fn lt(self, o: Self) -> Self::Mask;
     fn le(self, o: Self) -> Self::Mask;
     fn gt(self, o: Self) -> Self::Mask;
@@ -38,6 +40,15 @@ pub trait Wide: Copy {
     fn ne(self, o: Self) -> Self::Mask;
     /// Lane i of `a` where lane i of `m` is set, else of `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// The flags of the bits of `bits`, lane i at bit i.
+    #[inline(always)]
+    fn flags(bits: u32) -> Self::Mask {
+        let mut a = [0.0; LANES];
+        for (i, v) in a.iter_mut().enumerate() {
+            *v = f32::from(u8::from(bits >> i & 1 != 0));
+        }
+        Self::splat(0.0).lt(Self::load(&a))
+    }
     /// The least lane; no lane may be NaN (in any order: the same
     /// value, but for the sign of a zero).
     #[inline(always)]
@@ -134,6 +145,10 @@ impl Wide for Scalar {
         self.map2(o, |a, b| if a < b { a } else { b })
     }
     #[inline(always)]
+    fn sqrt(self) -> Self {
+        Scalar(self.0.map(f32::sqrt))
+    }
+    #[inline(always)]
     fn lt(self, o: Self) -> u32 {
         self.test(o, |a, b| a < b)
     }
@@ -201,7 +216,7 @@ mod x86 {
     macro_rules! lanes {
         ($t:ident, $m:ident, $n:expr, $w:expr, $set1:path, $loadu:path, $storeu:path,
          $movemask:path, $select:path, $and:path, $or:path, $andnot:path,
-         [$($name:ident => $f:path),*], [$($cmp:ident => $g:path),*]
+         $sqrt:path, [$($name:ident => $f:path),*], [$($cmp:ident => $g:path),*]
          $(, least => $least:path)?) => {
             impl Wide for $t {
                 type Mask = $m;
@@ -221,6 +236,10 @@ mod x86 {
                         unsafe { $storeu(a[k * $w..].as_mut_ptr(), self.0[k]) };
                     }
                     a
+                }
+                #[inline(always)]
+                fn sqrt(self) -> Self {
+                    $t(std::array::from_fn(|k| unsafe { $sqrt(self.0[k]) }))
                 }
                 $(
                     #[inline(always)]
@@ -268,7 +287,7 @@ mod x86 {
     }
 
     lanes!(Sse, SseMask, 4, 4, _mm_set1_ps, _mm_loadu_ps, _mm_storeu_ps, _mm_movemask_ps,
-        select128, _mm_and_ps, _mm_or_ps, _mm_andnot_ps, [
+        select128, _mm_and_ps, _mm_or_ps, _mm_andnot_ps, _mm_sqrt_ps, [
         add => _mm_add_ps, sub => _mm_sub_ps, mul => _mm_mul_ps, div => _mm_div_ps,
         max => _mm_max_ps, min => _mm_min_ps
     ], [
@@ -277,7 +296,7 @@ mod x86 {
     ]);
 
     lanes!(Avx, AvxMask, 2, 8, _mm256_set1_ps, _mm256_loadu_ps, _mm256_storeu_ps,
-        _mm256_movemask_ps, select256, _mm256_and_ps, _mm256_or_ps, _mm256_andnot_ps, [
+        _mm256_movemask_ps, select256, _mm256_and_ps, _mm256_or_ps, _mm256_andnot_ps, sqrt256, [
         add => _mm256_add_ps, sub => _mm256_sub_ps, mul => _mm256_mul_ps, div => _mm256_div_ps,
         max => _mm256_max_ps, min => _mm256_min_ps
     ], [
@@ -315,6 +334,7 @@ mod x86 {
     }
     avx_fn! {
         select256(m, a, b) => _mm256_blendv_ps(b, a, m);
+        sqrt256(a) => _mm256_sqrt_ps(a);
         lt256(a, b) => _mm256_cmp_ps::<_CMP_LT_OQ>(a, b);
         le256(a, b) => _mm256_cmp_ps::<_CMP_LE_OQ>(a, b);
         gt256(a, b) => _mm256_cmp_ps::<_CMP_GT_OQ>(a, b);
@@ -361,6 +381,10 @@ mod x86 {
             lt => _CMP_LT_OQ, le => _CMP_LE_OQ, gt => _CMP_GT_OQ, eq => _CMP_EQ_OQ,
             ne => _CMP_NEQ_UQ);
         #[inline(always)]
+        fn sqrt(self) -> Self {
+            Avx512(unsafe { _mm512_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
         fn select(m: u32, a: Self, b: Self) -> Self {
             Avx512(unsafe { _mm512_mask_blend_ps(m as u16, b.0, a.0) })
         }
@@ -386,6 +410,7 @@ mod tests {
             x.div(y),
             x.max(y),
             x.min(y),
+            x.sqrt(),
             W::select(x.lt(y), x, y),
         ] {
             out.extend(v.store().map(f32::to_bits));
