@@ -14,10 +14,10 @@
 
 use glam::{Vec3, Vec3A};
 
-use super::accel::{Accel, Hit, Query};
+use super::accel::{Accel, Hit};
 use super::bvh4::Ray;
 use super::packet::{Bits, Lanes, LANES};
-use super::sample::Settings;
+use super::sample::{CameraRays, Settings};
 use super::shade::{self, EPS};
 use super::tri4::Simd;
 use super::v3::V3;
@@ -30,7 +30,7 @@ use crate::random::{self, Stream};
 use crate::scene::material::Texture;
 use crate::scene::{LightKind, Material};
 
-/// Whether [`shade`] serves the scene: it has no sphere light.
+/// Whether [`pixel`] serves the scene: it has no sphere light.
 pub fn applies(accel: &Accel) -> bool {
     !accel
         .scene
@@ -39,42 +39,50 @@ pub fn applies(accel: &Accel) -> bool {
         .any(|l| matches!(l.kind, LightKind::Sphere { .. }))
 }
 
-/// The colours of a pixel's samples into `out`: sample `s` casts
-/// `queries[s]`, which met `hits[s]`; `key` is the pixel's (each sample's
-/// own keys the bounces' soft shadows, as [`super::sample::pixel`] keys
-/// them). Only for scenes it [`applies`] to.
-pub fn shade(
+/// Pixel (x, y)'s samples, cast and shaded together, into `out` as
+/// (colour, whether the ray met a surface): sample `s` at `offsets[s]`
+/// in the pixel, `key` the pixel's (each sample's own keys the bounces'
+/// soft shadows, as [`super::sample::pixel`] keys them). Only for scenes
+/// it [`applies`] to.
+#[allow(clippy::too_many_arguments)]
+pub fn pixel(
     accel: &Accel,
+    cam: &CameraRays,
     st: &Settings,
-    queries: &[Query],
-    hits: &[Option<Hit>],
+    x: u32,
+    y: u32,
     key: u64,
-    out: &mut Vec<Vec3>,
+    offsets: &[(f32, f32)],
+    out: &mut Vec<(Vec3, bool)>,
 ) {
     out.clear();
-    for (c, (q, h)) in queries.chunks(LANES).zip(hits.chunks(LANES)).enumerate() {
-        let chunk = Chunk {
-            queries: q,
-            hits: h,
+    for (c, offsets) in offsets.chunks(LANES).enumerate() {
+        let mut chunk = Chunk {
+            eye: cam.eye(),
+            dir: [[0.0; LANES]; 3],
+            hits: [None; LANES],
             key,
             first: c * LANES,
         };
         let colours = match accel.simd() {
             // SAFETY: each is chosen only where the CPU has it.
             #[cfg(target_arch = "x86_64")]
-            Simd::Avx => unsafe { chunk.shade_avx(accel, st) },
+            Simd::Avx => unsafe { chunk.pixel_avx(accel, cam, st, x, y, offsets) },
             #[cfg(target_arch = "x86_64")]
-            Simd::Avx512 => unsafe { chunk.shade_avx512(accel, st) },
-            _ => chunk.shade::<Base>(accel, st),
+            Simd::Avx512 => unsafe { chunk.pixel_avx512(accel, cam, st, x, y, offsets) },
+            _ => chunk.pixel::<Base>(accel, cam, st, x, y, offsets),
         };
-        out.extend_from_slice(&colours[..q.len()]);
+        let hits = chunk.hits.iter().map(Option::is_some);
+        out.extend(colours.into_iter().zip(hits).take(offsets.len()));
     }
 }
 
 /// Up to [`LANES`] samples of a pixel, from its sample `first` on.
-struct Chunk<'a> {
-    queries: &'a [Query],
-    hits: &'a [Option<Hit>],
+struct Chunk {
+    eye: Vec3A,
+    /// The samples' ray directions, a lane each.
+    dir: [Lanes; 3],
+    hits: [Option<Hit>; LANES],
     key: u64,
     first: usize,
 }
@@ -87,41 +95,79 @@ struct Materials<W> {
     transmit: W,
 }
 
-/// `Chunk::shade` compiled for the instructions of a lane form, to be
+/// `Chunk::pixel` compiled for the instructions of a lane form, to be
 /// called where the CPU has them (chosen at run time).
-macro_rules! shade_with {
+macro_rules! pixel_with {
     ($name:ident, $feature:literal, $form:ty) => {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
-        unsafe fn $name(&self, accel: &Accel, st: &Settings) -> [Vec3; LANES] {
-            self.shade::<$form>(accel, st)
+        unsafe fn $name(
+            &mut self,
+            accel: &Accel,
+            cam: &CameraRays,
+            st: &Settings,
+            x: u32,
+            y: u32,
+            offsets: &[(f32, f32)],
+        ) -> [Vec3; LANES] {
+            self.pixel::<$form>(accel, cam, st, x, y, offsets)
         }
     };
 }
 
-impl Chunk<'_> {
-    shade_with!(shade_avx512, "avx512f", Avx512);
-    shade_with!(shade_avx, "avx", Avx);
+impl Chunk {
+    pixel_with!(pixel_avx512, "avx512f", Avx512);
+    pixel_with!(pixel_avx, "avx", Avx);
 
     /// Sample `i`'s key for its soft shadows.
     fn key(&self, i: usize) -> u64 {
         random::key(self.key, Stream::Pixel, (self.first + i) as u64, 1)
     }
 
-    /// The samples' colours (lanes past the chunk's samples are zero).
+    /// The colours of the samples at `offsets` (the other lanes' are
+    /// zero); their hits into `self.hits`.
     #[inline(always)]
-    fn shade<W: Wide>(&self, accel: &Accel, st: &Settings) -> [Vec3; LANES] {
+    fn pixel<W: Wide>(
+        &mut self,
+        accel: &Accel,
+        cam: &CameraRays,
+        st: &Settings,
+        x: u32,
+        y: u32,
+        offsets: &[(f32, f32)],
+    ) -> [Vec3; LANES] {
+        let (mut ox, mut oy) = ([0.5; LANES], [0.5; LANES]);
+        for (i, &(a, b)) in offsets.iter().enumerate() {
+            (ox[i], oy[i]) = (a, b);
+        }
+        let px = W::splat(x as f32).add(W::load(&ox));
+        let py = W::splat(y as f32).add(W::load(&oy));
+        let d = cam.dirs(px, py);
+        self.dir = d.store();
+        let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
+        let lanes = (1u32 << offsets.len()) - 1;
+        let valid = ray_lanes(V3::splat(self.eye), d, 0.0, lanes, &mut rays);
+        accel.closest_hits::<W>(&rays, valid, &mut self.hits);
+        self.shade::<W>(accel, st, d)
+    }
+
+    /// The colours of the samples along `d` (lane by lane
+    /// `shade::shade_seen` of their hits; the lanes past the chunk's
+    /// samples are zero).
+    #[inline(always)]
+    fn shade<W: Wide>(&self, accel: &Accel, st: &Settings, d: V3<W>) -> [Vec3; LANES] {
         let mut colour = [Vec3::ZERO; LANES];
         let materials = &accel.scene.materials;
-        // The samples taken here (`fast`), their rays, hits and materials.
-        // Other lanes hold a harmless ray and hit.
-        let (mut o, mut d, mut normal) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+        // The samples taken here (`fast`), their hits and materials.
+        // Other lanes hold a harmless hit.
+        let mut normal = [[0.0; LANES]; 3];
         let mut t = [0.0; LANES];
         let mut material = [0usize; LANES];
         let mut fast = 0u32;
-        for (i, (q, hit)) in self.queries.iter().zip(self.hits).enumerate() {
+        for (i, hit) in self.hits.iter().enumerate() {
+            let dir = at(&self.dir, i);
             let Some(hit) = hit else {
-                colour[i] = shade::background(accel, q.dir);
+                colour[i] = shade::background(accel, dir);
                 continue;
             };
             let Some(m) = materials.get(hit.material as usize) else {
@@ -129,16 +175,14 @@ impl Chunk<'_> {
                 continue;
             };
             if m.texture == Some(Texture::Cloud) {
-                if let Some(pt) = shade::point(accel, hit, q.origin, q.dir) {
-                    colour[i] = shade::shade_seen(accel, &pt, q.dir, st, 0, self.key(i), &[]);
+                if let Some(pt) = shade::point(accel, hit, self.eye, dir) {
+                    colour[i] = shade::shade_seen(accel, &pt, dir, st, 0, self.key(i), &[]);
                 }
                 continue;
             }
             fast |= 1 << i;
-            for a in 0..3 {
-                o[a][i] = q.origin[a];
-                d[a][i] = q.dir[a];
-                normal[a][i] = hit.normal[a];
+            for (lanes, c) in normal.iter_mut().zip(hit.normal.to_array()) {
+                lanes[i] = c;
             }
             t[i] = hit.t;
             material[i] = hit.material as usize;
@@ -148,9 +192,9 @@ impl Chunk<'_> {
         }
         let zero = W::splat(0.0);
         let one = W::splat(1.0);
-        let (o, d, normal) = (V3::<W>::load(&o), V3::<W>::load(&d), V3::<W>::load(&normal));
+        let normal = V3::<W>::load(&normal);
         // `shade::point`: the point, and the normal facing the ray.
-        let p = o + d.scale(W::load(&t));
+        let p = V3::splat(self.eye) + d.scale(W::load(&t));
         let outside = normal.dot(d).lt(zero);
         let mut n = V3::select(outside, normal, -normal);
         let mut m = self.materials::<W>(materials, &material, fast);
@@ -233,8 +277,8 @@ impl Chunk<'_> {
         }
         let (mut normal, mut diffuse) = (n.store(), m.diffuse.store());
         for i in Bits(textured) {
-            let (q, hit) = (&self.queries[i], &self.hits[i]);
-            if let Some(pt) = hit.and_then(|h| shade::point(accel, &h, q.origin, q.dir)) {
+            let dir = at(&self.dir, i);
+            if let Some(pt) = self.hits[i].and_then(|h| shade::point(accel, &h, self.eye, dir)) {
                 for a in 0..3 {
                     normal[a][i] = pt.n[a];
                     diffuse[a][i] = pt.diffuse[a];
@@ -258,15 +302,9 @@ impl Chunk<'_> {
         cast: u32,
         alone: u32,
     ) -> u32 {
-        let (from, dir, dist) = (lift.store(), l.store(), dist.store());
         let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
-        let mut valid = 0;
-        for i in Bits(cast) {
-            if let Some(r) = accel.ray(at(&from, i), at(&dir, i), 0.0) {
-                rays[i] = r;
-                valid |= 1 << i;
-            }
-        }
+        let valid = ray_lanes(lift, l, 0.0, cast, &mut rays);
+        let (from, dir, dist) = (lift.store(), l.store(), dist.store());
         let mut blocked = if valid == 0 {
             0
         } else {
@@ -323,4 +361,227 @@ impl Chunk<'_> {
 #[inline(always)]
 fn at(v: &[Lanes; 3], i: usize) -> Vec3A {
     Vec3A::new(v[0][i], v[1][i], v[2][i])
+}
+
+/// The rays from `origin` along `dir` of the lanes of `lanes` into
+/// `rays`, as `Accel::ray` makes them one at a time (the same bits:
+/// `Ray::new`'s operations lane by lane); returns the lanes whose origin
+/// and direction are finite and the direction not zero (the others are
+/// left as they were: a packet masks them out).
+#[inline(always)]
+fn ray_lanes<W: Wide>(
+    origin: V3<W>,
+    dir: V3<W>,
+    tmin: f32,
+    lanes: u32,
+    rays: &mut [Ray; LANES],
+) -> u32 {
+    let zero = W::splat(0.0);
+    // Negative zeros made positive, so the slab tests see one sign.
+    let d = dir + V3::splat(Vec3A::ZERO);
+    let valid = origin.finite().and(d.finite()).and(d.nonzero()).bits() & lanes;
+    if valid == 0 {
+        return 0;
+    }
+    let inv = d.recip_or_max();
+    let origin_inv = origin * inv;
+    let negative = [
+        d.x.lt(zero).bits(),
+        d.y.lt(zero).bits(),
+        d.z.lt(zero).bits(),
+    ];
+    // The axis of the largest component last (z), the frame kept
+    // right-handed (`Ray::new`'s choice, lane by lane).
+    let abs = d.abs();
+    let x_over_y = abs.x.gt(abs.y);
+    let x_over_z = abs.x.gt(abs.z);
+    let y_over_z = abs.y.gt(abs.z);
+    let masks = [x_over_y, x_over_z, y_over_z];
+    let flip = pick(masks, d.x, d.y, d.z).lt(zero);
+    let pd = permuted(d, masks, flip);
+    let po = permuted(origin, masks, flip);
+    let shear = V3 {
+        x: pd.x,
+        y: pd.y,
+        z: W::splat(1.0),
+    }
+    .over(pd.z);
+    // (Stored one by one: `array::map` would take the lane form's
+    // instructions out of line, see `super::wide`.)
+    let (o, d, inv) = (origin.store(), d.store(), inv.store());
+    let (origin_inv, shear, po) = (origin_inv.store(), shear.store(), po.store());
+    let (bits_xy, bits_xz, bits_yz, bits_flip) = (
+        x_over_y.bits(),
+        x_over_z.bits(),
+        y_over_z.bits(),
+        flip.bits(),
+    );
+    for i in Bits(valid) {
+        let bit = |m: u32| m >> i & 1 != 0;
+        let kz = if bit(bits_xy) {
+            if bit(bits_xz) {
+                0
+            } else {
+                2
+            }
+        } else if bit(bits_yz) {
+            1
+        } else {
+            2
+        };
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if bit(bits_flip) {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        rays[i] = Ray {
+            origin: at(&o, i),
+            direction: at(&d, i),
+            tmin,
+            inv: at(&inv, i),
+            origin_inv: at(&origin_inv, i),
+            negative: negative.map(bit),
+            axes: [kx, ky, kz],
+            shear: at(&shear, i),
+            permuted_origin: at(&po, i),
+        };
+    }
+    valid
+}
+
+/// Each lane's `(v[kx], v[ky], v[kz])` for the axes `Ray::new` picks
+/// from the comparisons of the direction's magnitudes (`masks`: |x| > |y|,
+/// |x| > |z|, |y| > |z|; `flip`: the largest component is negative, and x
+/// and y swap).
+#[inline(always)]
+fn permuted<W: Wide>(v: V3<W>, masks: [W::Mask; 3], flip: W::Mask) -> V3<W> {
+    // kz = 0: (y, z, x); kz = 1: (z, x, y); kz = 2: (x, y, z).
+    let x = pick(masks, v.y, v.z, v.x);
+    let y = pick(masks, v.z, v.x, v.y);
+    V3 {
+        x: W::select(flip, y, x),
+        y: W::select(flip, x, y),
+        z: pick(masks, v.x, v.y, v.z),
+    }
+}
+
+/// Each lane's `a`, `b` or `c` as its largest axis is x, y or z (see
+/// [`permuted`]).
+#[inline(always)]
+fn pick<W: Wide>([x_over_y, x_over_z, y_over_z]: [W::Mask; 3], a: W, b: W, c: W) -> W {
+    W::select(
+        x_over_y,
+        W::select(x_over_z, a, c),
+        W::select(y_over_z, b, c),
+    )
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+    use crate::render::wide::{Scalar, Sse};
+
+    fn lanes<W: Wide>(o: &[Lanes; 3], d: &[Lanes; 3], lanes: u32) -> (u32, [Ray; LANES]) {
+        let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
+        let valid = ray_lanes(V3::<W>::load(o), V3::<W>::load(d), 0.5, lanes, &mut rays);
+        (valid, rays)
+    }
+
+    #[target_feature(enable = "avx")]
+    unsafe fn avx(o: &[Lanes; 3], d: &[Lanes; 3], m: u32) -> (u32, [Ray; LANES]) {
+        lanes::<Avx>(o, d, m)
+    }
+
+    #[target_feature(enable = "avx512f")]
+    unsafe fn avx512(o: &[Lanes; 3], d: &[Lanes; 3], m: u32) -> (u32, [Ray; LANES]) {
+        lanes::<Avx512>(o, d, m)
+    }
+
+    /// A ray's every field, as bits.
+    fn bits(r: &Ray) -> Vec<u32> {
+        let v = |v: Vec3A| v.to_array().map(f32::to_bits);
+        let mut b = [r.origin, r.direction, r.inv, r.origin_inv, r.shear]
+            .into_iter()
+            .flat_map(v)
+            .collect::<Vec<_>>();
+        b.extend(v(r.permuted_origin));
+        b.push(r.tmin.to_bits());
+        b.extend(r.negative.map(u32::from));
+        b.extend(r.axes.map(|a| a as u32));
+        b
+    }
+
+    /// `ray_lanes` makes, lane by lane, the rays `Accel::ray` makes one
+    /// at a time (`Ray::new` of the direction with its zeros made
+    /// positive), and refuses the same ones, in every lane form: axis
+    /// directions, ties between the largest components, negative zeros,
+    /// components so small their reciprocal overflows, NaN and infinite
+    /// ones, zero directions.
+    #[test]
+    fn lanes_make_the_rays_made_one_at_a_time() {
+        let special = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.5,
+            -0.5,
+            1e-39,
+            -1e-39,
+            3.0e38,
+            -2.5,
+            f32::NAN,
+            f32::INFINITY,
+        ];
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut checked = 0;
+        for round in 0..3000 {
+            let (mut o, mut d) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+            for i in 0..LANES {
+                for a in 0..3 {
+                    let r = next();
+                    d[a][i] = if round % 2 == 0 {
+                        special[(r % special.len() as u64) as usize]
+                    } else {
+                        (r >> 40) as f32 / (1u64 << 23) as f32 - 1.0
+                    };
+                    o[a][i] = ((r >> 20) & 0xffff) as f32 / 256.0 - 128.0;
+                }
+            }
+            let mask = (next() as u32) | 1;
+            let want: Vec<Option<Vec<u32>>> = (0..LANES)
+                .map(|i| {
+                    let (o, d) = (
+                        Vec3A::new(o[0][i], o[1][i], o[2][i]),
+                        Vec3A::new(d[0][i], d[1][i], d[2][i]),
+                    );
+                    let ok =
+                        mask >> i & 1 != 0 && o.is_finite() && d.is_finite() && d != Vec3A::ZERO;
+                    ok.then(|| bits(&Ray::new(o, d + Vec3A::ZERO, 0.5)))
+                })
+                .collect();
+            let mut got = vec![lanes::<Scalar>(&o, &d, mask), lanes::<Sse>(&o, &d, mask)];
+            if std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: the CPU has AVX.
+                got.push(unsafe { avx(&o, &d, mask) });
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has AVX-512F.
+                got.push(unsafe { avx512(&o, &d, mask) });
+            }
+            for (form, (valid, rays)) in got.iter().enumerate() {
+                for (i, w) in want.iter().enumerate() {
+                    let g = (valid >> i & 1 != 0).then(|| bits(&rays[i]));
+                    assert_eq!(&g, w, "form {form}, lane {i}: {:?}", d.map(|a| a[i]));
+                    checked += usize::from(w.is_some());
+                }
+            }
+        }
+        assert!(checked > 50_000, "{checked}");
+    }
 }

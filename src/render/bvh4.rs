@@ -621,9 +621,10 @@ impl Bvh4 {
 /// The leaves that a packet's rays enter before their `tmax`, in no
 /// particular order (the same every time), one by one from
 /// [`BundleWalk::next`] (a loop, as [`PacketWalk`]). Each ray's box tests
-/// are its single walk's, made only in boxes that may meet a region
-/// around the rays (see [`Hull`]): a node's boxes cost one test for the
-/// bundle, and a ray's own test only where the region reaches.
+/// are its single walk's; given a region around the rays (see [`Hull`]),
+/// they are made only in boxes that may meet it: a node's boxes cost one
+/// test for the bundle, and a ray's own test only where the region
+/// reaches.
 pub struct BundleWalk {
     /// Nodes to visit, with the rays that entered them.
     stack: Vec<(u32, u32)>,
@@ -646,7 +647,7 @@ impl BundleWalk {
     pub fn next<W: Wide>(
         &mut self,
         tree: &Bvh4,
-        hull: &Hull,
+        hull: Option<&Hull>,
         p: &RayPacket,
         tmax: &Lanes,
         fetch: impl Fn(u32),
@@ -672,7 +673,11 @@ impl BundleWalk {
             let (near_x, far_x) = (side(nx, 0), side(1 - nx, 0));
             let (near_y, far_y) = (side(ny, 1), side(1 - ny, 1));
             let (near_z, far_z) = (side(nz, 2), side(1 - nz, 2));
-            for c in Bits(hull.meets(&n.side[0], &n.side[1])) {
+            let met = match hull {
+                Some(h) => h.meets(&n.side[0], &n.side[1]),
+                None => 0b1111,
+            };
+            for c in Bits(met) {
                 let near = [near_x[c], near_y[c], near_z[c]];
                 let far = [far_x[c], far_y[c], far_z[c]];
                 let entered = enters::<W>(p, near, far, tmax) & rays;

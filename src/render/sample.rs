@@ -4,6 +4,8 @@
 use glam::{Vec3, Vec3A};
 
 use super::accel::{Accel, Hit, Query};
+use super::v3::V3;
+use super::wide::Wide;
 use super::{batch, shade};
 use crate::random::{self, Stream};
 use crate::scene::Camera;
@@ -104,6 +106,18 @@ impl CameraRays {
         (self.forward + sx * self.right + sy * self.up).normalize()
     }
 
+    /// [`CameraRays::dir`] of each lane's (px, py), the same bits.
+    #[inline(always)]
+    pub fn dirs<W: Wide>(&self, px: W, py: W) -> V3<W> {
+        let (one, two) = (W::splat(1.0), W::splat(2.0));
+        let sx = two.mul(px).div(W::splat(self.w)).sub(one);
+        let sx = sx.mul(W::splat(self.tan)).mul(W::splat(self.aspect));
+        let sy = one.sub(two.mul(py).div(W::splat(self.h)));
+        let sy = sy.mul(W::splat(self.tan));
+        (V3::splat(self.forward) + V3::splat(self.right).scale(sx) + V3::splat(self.up).scale(sy))
+            .normalize()
+    }
+
     pub fn eye(&self) -> Vec3A {
         self.eye
     }
@@ -153,8 +167,8 @@ pub struct Scratch {
     answers: Vec<bool>,
     /// Whether each ray is blocked, as (light, blocked), in `rays`' order.
     seen: Vec<(usize, bool)>,
-    /// Each sample's colour.
-    colours: Vec<Vec3>,
+    /// Each sample's colour, and whether its ray met a surface.
+    colours: Vec<(Vec3, bool)>,
 }
 
 impl Scratch {
@@ -195,9 +209,8 @@ impl Scratch {
         }
     }
 
-    /// Casts pixel (x, y)'s samples' camera rays together (a pixel's rays
-    /// are the most coherent there are); returns the pixel's key.
-    fn cast(&mut self, accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> u64 {
+    /// Pixel (x, y)'s samples' offsets; returns the pixel's key.
+    fn offsets(&mut self, st: &Settings, x: u32, y: u32) -> u64 {
         let key = random::key(
             st.frame,
             Stream::Pixel,
@@ -207,6 +220,12 @@ impl Scratch {
         let n = st.spp.max(1);
         self.offsets.clear();
         self.offsets.extend((0..n).map(|s| offset(s, n, key)));
+        key
+    }
+
+    /// Casts pixel (x, y)'s samples' camera rays together (a pixel's rays
+    /// are the most coherent there are).
+    fn cast(&mut self, accel: &Accel, cam: &CameraRays, x: u32, y: u32) {
         self.queries.clear();
         self.queries
             .extend(self.offsets.iter().map(|&(ox, oy)| Query {
@@ -216,7 +235,6 @@ impl Scratch {
                 tmax: f32::INFINITY,
             }));
         accel.cast_all(&self.queries, &mut self.hits);
-        key
     }
 
     /// The samples' colours one at a time (scenes with sphere lights:
@@ -225,7 +243,7 @@ impl Scratch {
         self.shadows(accel, st);
         self.colours.clear();
         for (s, (q, hit)) in self.queries.iter().zip(&self.hits).enumerate() {
-            self.colours.push(match (hit, &self.points[s]) {
+            let colour = match (hit, &self.points[s]) {
                 (Some(_), Some(pt)) => shade::shade_seen(
                     accel,
                     pt,
@@ -238,7 +256,8 @@ impl Scratch {
                 // A surface without a material is black (as `shade_hit`).
                 (Some(_), None) => Vec3::ZERO,
                 (None, _) => shade::background(accel, q.dir),
-            });
+            };
+            self.colours.push((colour, hit.is_some()));
         }
     }
 }
@@ -254,15 +273,16 @@ pub fn pixel(
     y: u32,
 ) -> PixelOut {
     let sc = scratch;
-    let key = sc.cast(accel, cam, st, x, y);
+    let key = sc.offsets(st, x, y);
     if batch::applies(accel) {
-        batch::shade(accel, st, &sc.queries, &sc.hits, key, &mut sc.colours);
+        batch::pixel(accel, cam, st, x, y, key, &sc.offsets, &mut sc.colours);
     } else {
+        sc.cast(accel, cam, x, y);
         sc.colours_one_by_one(accel, st, key);
     }
     let mut sum = [0.0f32; 4];
     let mut wsum = 0.0f32;
-    for ((&(ox, oy), c), hit) in sc.offsets.iter().zip(&sc.colours).zip(&sc.hits) {
+    for (&(ox, oy), &(c, hit)) in sc.offsets.iter().zip(&sc.colours) {
         let w = match st.filter {
             Filter::Box => 1.0,
             Filter::Gaussian => {
@@ -273,7 +293,7 @@ pub fn pixel(
         sum[0] += w * c.x;
         sum[1] += w * c.y;
         sum[2] += w * c.z;
-        sum[3] += w * f32::from(u8::from(hit.is_some()));
+        sum[3] += w * f32::from(u8::from(hit));
         wsum += w;
     }
     let centre = if st.layers {
@@ -302,8 +322,9 @@ mod tests {
     use crate::scene::{Light, LightKind};
     use crate::turtle::{build_scene, NoWorld, Options, Surfaces};
 
-    /// The samples shaded together ([`batch::shade`]) get the bits of
-    /// those shaded one at a time, on every SIMD path: the gallery's
+    /// The samples cast and shaded together ([`batch::pixel`]) get the
+    /// bits of those cast and shaded one at a time, on every SIMD path
+    /// (so the camera rays in lanes are the same rays): the gallery's
     /// shapes, textures, mirror and glass, with a sun and a second,
     /// coloured point light added, shadows on and off, the final and the
     /// preview presets, 20 samples a pixel (two chunks of lanes).
@@ -349,12 +370,13 @@ mod tests {
                 let mut sc = Scratch::default();
                 let mut together = Vec::new();
                 for (x, y) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
-                    let key = sc.cast(&accel, &cam, &st, x, y);
-                    batch::shade(&accel, &st, &sc.queries, &sc.hits, key, &mut together);
+                    let key = sc.offsets(&st, x, y);
+                    batch::pixel(&accel, &cam, &st, x, y, key, &sc.offsets, &mut together);
+                    sc.cast(&accel, &cam, x, y);
                     sc.colours_one_by_one(&accel, &st, key);
-                    let bits = |c: &[Vec3]| {
+                    let bits = |c: &[(Vec3, bool)]| {
                         c.iter()
-                            .map(|c| c.to_array().map(f32::to_bits))
+                            .map(|(c, hit)| (c.to_array().map(f32::to_bits), *hit))
                             .collect::<Vec<_>>()
                     };
                     assert_eq!(bits(&together), bits(&sc.colours), "{simd:?} ({x}, {y})");

@@ -69,6 +69,17 @@ impl<W: Wide> V3<W> {
         self.dot(self).sqrt()
     }
 
+    /// `Vec3A::normalize`: divided by the length.
+    #[inline(always)]
+    pub fn normalize(self) -> Self {
+        let length = self.length();
+        V3 {
+            x: self.x.div(length),
+            y: self.y.div(length),
+            z: self.z.div(length),
+        }
+    }
+
     /// `Vec3A::normalize_or_zero`: times the reciprocal length where
     /// that is finite and positive, else zero.
     #[inline(always)]
@@ -85,6 +96,47 @@ impl<W: Wide> V3<W> {
         }
     }
 
+    /// Each lane's vector divided by that lane's `s`.
+    #[inline(always)]
+    pub fn over(self, s: W) -> Self {
+        V3 {
+            x: self.x.div(s),
+            y: self.y.div(s),
+            z: self.z.div(s),
+        }
+    }
+
+    /// Where every component is finite (`v.is_finite()`).
+    #[inline(always)]
+    pub fn finite(self) -> W::Mask {
+        // `c − c` is 0, but NaN for ±∞ and NaN.
+        let zero = W::splat(0.0);
+        let (x, y, z) = (self.x.sub(self.x), self.y.sub(self.y), self.z.sub(self.z));
+        x.eq(zero).and(y.eq(zero)).and(z.eq(zero))
+    }
+
+    /// The magnitudes (`v.abs()` for components that are not NaN).
+    #[inline(always)]
+    pub fn abs(self) -> Self {
+        let zero = W::splat(0.0);
+        V3 {
+            x: self.x.max(zero.sub(self.x)),
+            y: self.y.max(zero.sub(self.y)),
+            z: self.z.max(zero.sub(self.z)),
+        }
+    }
+
+    /// `Ray::new`'s reciprocal: `1 / c`, or ±`f32::MAX` with the sign of
+    /// `c` where that is not finite (`c` neither −0 nor NaN).
+    #[inline(always)]
+    pub fn recip_or_max(self) -> Self {
+        V3 {
+            x: recip_or_max(self.x),
+            y: recip_or_max(self.y),
+            z: recip_or_max(self.z),
+        }
+    }
+
     /// Where any component is not 0 (`v != Vec3A::ZERO`).
     #[inline(always)]
     pub fn nonzero(self) -> W::Mask {
@@ -95,13 +147,8 @@ impl<W: Wide> V3<W> {
     /// `v.abs().max_element()` for finite components.
     #[inline(always)]
     pub fn max_abs(self) -> W {
-        let zero = W::splat(0.0);
-        let (x, y, z) = (
-            self.x.max(zero.sub(self.x)),
-            self.y.max(zero.sub(self.y)),
-            self.z.max(zero.sub(self.z)),
-        );
-        x.max(z).max(y)
+        let a = self.abs();
+        a.x.max(a.z).max(a.y)
     }
 
     /// Lane by lane, `a` where `m` is set, else `b`.
@@ -113,6 +160,15 @@ impl<W: Wide> V3<W> {
             z: W::select(m, a.z, b.z),
         }
     }
+}
+
+/// See [`V3::recip_or_max`].
+#[inline(always)]
+fn recip_or_max<W: Wide>(c: W) -> W {
+    let (zero, max) = (W::splat(0.0), W::splat(f32::MAX));
+    let r = W::splat(1.0).div(c);
+    let huge = W::select(c.lt(zero), zero.sub(max), max);
+    W::select(r.sub(r).eq(zero), r, huge)
 }
 
 impl<W: Wide> Add for V3<W> {
