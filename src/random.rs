@@ -40,7 +40,21 @@ pub fn key(seed: u64, stream: Stream, a: u64, b: u64) -> u64 {
 /// Uniform value in [0, 1) for slot `slot` of a key.
 #[inline]
 pub fn unit(key: u64, slot: u64) -> f64 {
-    let h = mix(key ^ mix(slot.wrapping_add(0x632b_e59b_d9b4_e019)));
+    unit_of(key, slot_hash(slot))
+}
+
+/// The part of [`unit`] that depends on the slot alone: a caller drawing
+/// the same slots of many keys (a pixel's sample offsets) hashes them
+/// once.
+#[inline]
+pub fn slot_hash(slot: u64) -> u64 {
+    mix(slot.wrapping_add(0x632b_e59b_d9b4_e019))
+}
+
+/// [`unit`] of a slot given its [`slot_hash`].
+#[inline]
+pub fn unit_of(key: u64, slot_hash: u64) -> f64 {
+    let h = mix(key ^ slot_hash);
     (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 

@@ -131,21 +131,27 @@ pub struct PixelOut {
     pub object: u32,
 }
 
-/// Offset of sample `s` of `n` within the pixel: cell s of a near-square
-/// grid, jittered by the hash of (frame, pixel, sample).
-fn offset(s: u32, n: u32, key: u64) -> (f32, f32) {
+/// The offsets of `n` samples within the pixel of key `key` into `out`:
+/// sample s in cell s of a near-square grid, jittered by the hash of
+/// (frame, pixel, sample): [`random::unit`] of the pixel's key, slots 2s
+/// and 2s + 1, whose [`random::slot_hash`]es are `slots`.
+fn offsets(n: u32, key: u64, slots: &[u64], out: &mut Vec<(f32, f32)>) {
+    out.clear();
     if n == 1 {
-        return (0.5, 0.5);
+        out.push((0.5, 0.5));
+        return;
     }
     let cols = (n as f32).sqrt().ceil() as u32;
     let rows = n.div_ceil(cols);
-    let (cx, cy) = (s % cols, s / cols);
-    let jx = random::unit(key, 2 * u64::from(s)) as f32;
-    let jy = random::unit(key, 2 * u64::from(s) + 1) as f32;
-    (
-        (cx as f32 + jx) / cols as f32,
-        (cy as f32 + jy) / rows as f32,
-    )
+    out.extend((0..n).zip(slots.chunks_exact(2)).map(|(s, slot)| {
+        let (cx, cy) = (s % cols, s / cols);
+        let jx = random::unit_of(key, slot[0]) as f32;
+        let jy = random::unit_of(key, slot[1]) as f32;
+        (
+            (cx as f32 + jx) / cols as f32,
+            (cy as f32 + jy) / rows as f32,
+        )
+    }));
 }
 
 /// The buffers of a pixel's samples and their shadow rays, kept from
@@ -153,6 +159,9 @@ fn offset(s: u32, n: u32, key: u64) -> (f32, f32) {
 #[derive(Default)]
 pub struct Scratch {
     offsets: Vec<(f32, f32)>,
+    /// The [`random::slot_hash`]es of the offsets' slots (the same for
+    /// every pixel).
+    slots: Vec<u64>,
     queries: Vec<Query>,
     hits: Vec<Option<Hit>>,
     /// Where each sample's ray meets a surface with a material.
@@ -218,8 +227,10 @@ impl Scratch {
             0,
         );
         let n = st.spp.max(1);
-        self.offsets.clear();
-        self.offsets.extend((0..n).map(|s| offset(s, n, key)));
+        if self.slots.len() != 2 * n as usize {
+            self.slots = (0..2 * u64::from(n)).map(random::slot_hash).collect();
+        }
+        offsets(n, key, &self.slots, &mut self.offsets);
         key
     }
 
