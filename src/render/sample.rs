@@ -285,6 +285,8 @@ pub fn pixel(
 ) -> PixelOut {
     let sc = scratch;
     let key = sc.offsets(st, x, y);
+    // Cast and shaded together, a sample per lane; one at a time where
+    // that does not serve (sphere lights). The same bits either way.
     if batch::applies(accel) {
         batch::pixel(accel, cam, st, x, y, key, &sc.offsets, &mut sc.colours);
     } else {
