@@ -83,13 +83,13 @@ pub fn shade_hit(
 #[derive(Debug, Clone, Copy)]
 pub struct Point {
     /// The index of its material (one the scene has).
-    pub material: usize,
-    pub p: Vec3A,
+    pub(super) material: usize,
+    p: Vec3A,
     /// The unit normal facing the incoming ray (bumped).
-    pub n: Vec3A,
-    pub diffuse: Vec3,
+    pub(super) n: Vec3A,
+    pub(super) diffuse: Vec3,
     /// Whether the ray comes from outside the surface.
-    pub outside: bool,
+    outside: bool,
 }
 
 /// The point where the unit ray `o + t·d` meets `hit`; None without a
