@@ -60,6 +60,27 @@ impl RayPacket<'_> {
     }
 }
 
+/// Rays to trace together: one packet, or rays that may need several.
+/// (It lives on the stack for one pixel; boxing the packet would
+/// allocate per pixel.)
+#[allow(clippy::large_enum_variant)]
+pub enum Rays<'a> {
+    /// Rays of one key, their packet made.
+    Packet(RayPacket<'a>),
+    /// Rays to split into packets by key ([`groups`]).
+    Mixed(&'a [Ray; LANES]),
+}
+
+impl<'a> Rays<'a> {
+    /// The rays, one per lane.
+    pub fn rays(&self) -> &'a [Ray; LANES] {
+        match self {
+            Rays::Packet(p) => p.rays,
+            Rays::Mixed(r) => r,
+        }
+    }
+}
+
 /// The lanes of `mask` split into groups of one [`Ray::key`] each, in
 /// order of their lowest lane.
 pub fn groups(rays: &[Ray; LANES], mut mask: u32) -> impl Iterator<Item = u32> + '_ {
