@@ -53,36 +53,56 @@ pub fn pixel(
     y: u32,
     key: u64,
     offsets: &[(f32, f32)],
+    buffers: &mut Buffers,
     out: &mut Vec<(Vec3, bool)>,
 ) {
     out.clear();
+    let rays = &mut buffers.rays;
     for (c, offsets) in offsets.chunks(LANES).enumerate() {
         let mut chunk = Chunk {
             eye: cam.eye(),
             dir: [[0.0; LANES]; 3],
-            hits: [None; LANES],
+            hits: &mut buffers.hits,
             key,
             first: c * LANES,
         };
         let colours = match accel.simd() {
             // SAFETY: each is chosen only where the CPU has it.
             #[cfg(target_arch = "x86_64")]
-            Simd::Avx => unsafe { chunk.pixel_avx(accel, cam, st, x, y, offsets) },
+            Simd::Avx => unsafe { chunk.pixel_avx(accel, cam, st, x, y, offsets, rays) },
             #[cfg(target_arch = "x86_64")]
-            Simd::Avx512 => unsafe { chunk.pixel_avx512(accel, cam, st, x, y, offsets) },
-            _ => chunk.pixel::<Base>(accel, cam, st, x, y, offsets),
+            Simd::Avx512 => unsafe { chunk.pixel_avx512(accel, cam, st, x, y, offsets, rays) },
+            _ => chunk.pixel::<Base>(accel, cam, st, x, y, offsets, rays),
         };
         let hits = chunk.hits.iter().map(Option::is_some);
         out.extend(colours.into_iter().zip(hits).take(offsets.len()));
     }
 }
 
+/// The lanes' rays and hits, kept from pixel to pixel: made anew, each
+/// pixel's placeholder rays (2.3 KB per cast) and hits cost about 3 % of
+/// the forest's render. The lanes a cast does not use keep earlier rays,
+/// which a packet masks out.
+pub struct Buffers {
+    rays: [Ray; LANES],
+    hits: [Option<Hit>; LANES],
+}
+
+impl Default for Buffers {
+    fn default() -> Self {
+        Buffers {
+            rays: [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES],
+            hits: [None; LANES],
+        }
+    }
+}
+
 /// Up to [`LANES`] samples of a pixel, from its sample `first` on.
-struct Chunk {
+struct Chunk<'a> {
     eye: Vec3A,
     /// The samples' ray directions, a lane each.
     dir: [Lanes; 3],
-    hits: [Option<Hit>; LANES],
+    hits: &'a mut [Option<Hit>; LANES],
     key: u64,
     first: usize,
 }
@@ -101,6 +121,7 @@ macro_rules! pixel_with {
     ($name:ident, $feature:literal, $form:ty) => {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
+        #[allow(clippy::too_many_arguments)]
         unsafe fn $name(
             &mut self,
             accel: &Accel,
@@ -109,13 +130,14 @@ macro_rules! pixel_with {
             x: u32,
             y: u32,
             offsets: &[(f32, f32)],
+            rays: &mut [Ray; LANES],
         ) -> [Vec3; LANES] {
-            self.pixel::<$form>(accel, cam, st, x, y, offsets)
+            self.pixel::<$form>(accel, cam, st, x, y, offsets, rays)
         }
     };
 }
 
-impl Chunk {
+impl Chunk<'_> {
     pixel_with!(pixel_avx512, "avx512f", Avx512);
     pixel_with!(pixel_avx, "avx", Avx);
 
@@ -125,8 +147,9 @@ impl Chunk {
     }
 
     /// The colours of the samples at `offsets` (the other lanes' are
-    /// zero); their hits into `self.hits`.
+    /// zero); their hits into `self.hits`. `rays` holds the rays cast.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn pixel<W: Wide>(
         &mut self,
         accel: &Accel,
@@ -135,6 +158,7 @@ impl Chunk {
         x: u32,
         y: u32,
         offsets: &[(f32, f32)],
+        rays: &mut [Ray; LANES],
     ) -> [Vec3; LANES] {
         let (mut ox, mut oy) = ([0.5; LANES], [0.5; LANES]);
         for (i, &(a, b)) in offsets.iter().enumerate() {
@@ -144,18 +168,23 @@ impl Chunk {
         let py = W::splat(y as f32).add(W::load(&oy));
         let d = cam.dirs(px, py);
         self.dir = d.store();
-        let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
         let lanes = (1u32 << offsets.len()) - 1;
-        let (valid, rays) = ray_lanes(V3::splat(self.eye), d, 0.0, lanes, &mut rays);
-        accel.closest_hits::<W>(rays, valid, &mut self.hits);
-        self.shade::<W>(accel, st, d)
+        let (valid, cast) = ray_lanes(V3::splat(self.eye), d, 0.0, lanes, rays);
+        accel.closest_hits::<W>(cast, valid, self.hits);
+        self.shade::<W>(accel, st, d, rays)
     }
 
     /// The colours of the samples along `d` (lane by lane
     /// `shade::shade_seen` of their hits; the lanes past the chunk's
-    /// samples are zero).
+    /// samples are zero). `rays` holds the shadow rays cast.
     #[inline(always)]
-    fn shade<W: Wide>(&self, accel: &Accel, st: &Settings, d: V3<W>) -> [Vec3; LANES] {
+    fn shade<W: Wide>(
+        &self,
+        accel: &Accel,
+        st: &Settings,
+        d: V3<W>,
+        rays: &mut [Ray; LANES],
+    ) -> [Vec3; LANES] {
         let mut colour = [Vec3::ZERO; LANES];
         let materials = &accel.scene.materials;
         // The samples taken here (`fast`), their hits and materials.
@@ -222,7 +251,7 @@ impl Chunk {
             let lit = ndl.le(zero).andnot(facing).bits() & fast;
             let visible = if st.shadows {
                 let cast = ndl.gt(zero).and(facing).bits() & fast;
-                lit & !self.blocked::<W>(accel, lift, l, dist, cast, lit & !cast)
+                lit & !self.blocked::<W>(accel, lift, l, dist, cast, lit & !cast, rays)
             } else {
                 lit
             };
@@ -290,9 +319,10 @@ impl Chunk {
     }
 
     /// Which samples' hard shadow rays from `lift` along `l` are blocked
-    /// within `dist`: those of `cast` as one bundle, those of `alone` one
-    /// by one.
+    /// within `dist`: those of `cast` as one bundle (made in `rays`),
+    /// those of `alone` one by one.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn blocked<W: Wide>(
         &self,
         accel: &Accel,
@@ -301,10 +331,10 @@ impl Chunk {
         dist: W,
         cast: u32,
         alone: u32,
+        rays: &mut [Ray; LANES],
     ) -> u32 {
-        let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
         let (from, dir, dist) = (lift.store(), l.store(), dist.store());
-        let (valid, rays) = ray_lanes(lift, l, 0.0, cast, &mut rays);
+        let (valid, rays) = ray_lanes(lift, l, 0.0, cast, rays);
         let mut blocked = if valid == 0 {
             0
         } else {

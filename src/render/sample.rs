@@ -178,6 +178,8 @@ pub struct Scratch {
     seen: Vec<(usize, bool)>,
     /// Each sample's colour, and whether its ray met a surface.
     colours: Vec<(Vec3, bool)>,
+    /// The lanes of [`batch::pixel`].
+    lanes: batch::Buffers,
 }
 
 impl Scratch {
@@ -288,7 +290,17 @@ pub fn pixel(
     // Cast and shaded together, a sample per lane; one at a time where
     // that does not serve (sphere lights). The same bits either way.
     if batch::applies(accel) {
-        batch::pixel(accel, cam, st, x, y, key, &sc.offsets, &mut sc.colours);
+        batch::pixel(
+            accel,
+            cam,
+            st,
+            x,
+            y,
+            key,
+            &sc.offsets,
+            &mut sc.lanes,
+            &mut sc.colours,
+        );
     } else {
         sc.cast(accel, cam, x, y);
         sc.colours_one_by_one(accel, st, key);
@@ -384,7 +396,17 @@ mod tests {
                 let mut together = Vec::new();
                 for (x, y) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
                     let key = sc.offsets(&st, x, y);
-                    batch::pixel(&accel, &cam, &st, x, y, key, &sc.offsets, &mut together);
+                    batch::pixel(
+                        &accel,
+                        &cam,
+                        &st,
+                        x,
+                        y,
+                        key,
+                        &sc.offsets,
+                        &mut sc.lanes,
+                        &mut together,
+                    );
                     sc.cast(&accel, &cam, x, y);
                     sc.colours_one_by_one(&accel, &st, key);
                     let bits = |c: &[(Vec3, bool)]| {
