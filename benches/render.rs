@@ -21,7 +21,7 @@ use glam::{Vec3, Vec3A};
 use lmfilm::actors::vision::{self, View};
 use lmfilm::lsys::{Animation, NoSensors};
 use lmfilm::render::accel::Query;
-use lmfilm::render::sample::CameraRays;
+use lmfilm::render::camera::CameraRays;
 use lmfilm::render::{render_with, Accel, Settings};
 use lmfilm::turtle::{build_scene, NoWorld, Options, Surfaces};
 

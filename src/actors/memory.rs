@@ -14,14 +14,14 @@
 //! that shows the nearer object, so it is never counted.
 //!
 //! The view is a [`DepthView`], what an actor's vision window produces: the
-//! camera model is the renderer's ([`crate::render::sample::CameraRays`]
+//! camera model is the renderer's ([`crate::render::camera::CameraRays`]
 //! with a square window), so the point a pixel's centre ray hits projects
 //! back to that pixel.
 
 use glam::Vec3;
 
 use super::octree::{Cube, Octree, Voxel};
-use crate::render::sample::CameraRays;
+use crate::render::camera::CameraRays;
 use crate::scene::Camera;
 
 /// One image of a vision window, as the forgetting needs it: a square

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::memory::DepthView;
 use crate::render::accel::Hit;
-use crate::render::sample::Settings;
+use crate::render::Settings;
 use crate::render::{shade, Accel};
 use crate::scene::material::chromatic_distance;
 use crate::scene::shape::OVERLAY;

@@ -16,8 +16,9 @@ use glam::{Vec3, Vec3A};
 
 use super::accel::{Accel, Hit};
 use super::bvh4::Ray;
+use super::camera::CameraRays;
 use super::packet::{Bits, Lanes, RayPacket, Rays, LANES};
-use super::sample::{CameraRays, Settings};
+use super::settings::Settings;
 use super::shade::{self, EPS};
 use super::tri4::Simd;
 use super::v3::V3;

@@ -6,11 +6,13 @@
 pub mod accel;
 pub mod batch;
 pub mod bvh4;
+pub mod camera;
 pub mod hull;
 pub mod intersect;
 pub mod output;
 pub mod packet;
 pub mod sample;
+pub mod settings;
 pub mod shade;
 pub mod texture;
 pub mod tri4;
@@ -26,7 +28,7 @@ use crate::aabb::{self, Aabb, MAX_COORDINATE};
 use crate::scene::Scene;
 pub use accel::{Accel, Hit};
 pub use output::Image;
-pub use sample::{Filter, Settings};
+pub use settings::{Filter, Settings};
 
 /// Refuses a scene the ray tracer cannot hold (snapshots come from
 /// disk): a primitive or an instance whose bounds are not finite or reach
@@ -96,7 +98,7 @@ pub fn render_with(
     if img.is_empty() {
         return img;
     }
-    let cam = sample::CameraRays::new(&accel.scene.camera, w, h);
+    let cam = camera::CameraRays::new(&accel.scene.camera, w, h);
     let done = AtomicU32::new(0);
     let row = w as usize;
     img.rgba

@@ -1,127 +1,13 @@
-//! Camera rays and pixel sampling: stratified jitter whose offsets are a
-//! hash of (frame, pixel, sample) (DESIGN §4), box or Gaussian weights.
+//! Pixel sampling: stratified jitter whose offsets are a hash of
+//! (frame, pixel, sample) (DESIGN §4), box or Gaussian weights.
 
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 
 use super::accel::{Accel, Hit, Query};
-use super::v3::V3;
-use super::wide::Wide;
+use super::camera::CameraRays;
+use super::settings::{Filter, Settings};
 use super::{batch, shade};
 use crate::random::{self, Stream};
-use crate::scene::Camera;
-
-/// How pixel samples are weighted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Filter {
-    Box,
-    /// Weights exp(−r²/2σ²), σ = 0.5 pixel, over the samples of the pixel.
-    Gaussian,
-}
-
-/// What a render does.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Settings {
-    pub width: u32,
-    pub height: u32,
-    /// Samples per pixel.
-    pub spp: u32,
-    pub filter: Filter,
-    pub shadows: bool,
-    /// Reflection and refraction bounces.
-    pub max_depth: u32,
-    /// Shadow rays toward each sphere light (soft shadows).
-    pub light_samples: u32,
-    /// Whether the depth, normal and object id layers are wanted (EXR):
-    /// they cost one more ray through each pixel centre.
-    pub layers: bool,
-    /// Frame number, part of the sample key.
-    pub frame: u64,
-}
-
-impl Settings {
-    /// `preview`: one sample, no shadows, no traced bounces (mirrors and
-    /// glass get a one-look approximation, see `shade::preview_bounce`).
-    pub fn preview(width: u32, height: u32) -> Self {
-        Settings {
-            width,
-            height,
-            spp: 1,
-            filter: Filter::Box,
-            shadows: false,
-            max_depth: 0,
-            light_samples: 1,
-            layers: true,
-            frame: 0,
-        }
-    }
-
-    /// `final`: 16 samples, shadows (4 rays per sphere light), 5 bounces.
-    pub fn final_quality(width: u32, height: u32) -> Self {
-        Settings {
-            width,
-            height,
-            spp: 16,
-            filter: Filter::Box,
-            shadows: true,
-            max_depth: 5,
-            light_samples: 4,
-            layers: true,
-            frame: 0,
-        }
-    }
-}
-
-/// The pinhole camera as ray generator for an image of w × h.
-pub struct CameraRays {
-    eye: Vec3A,
-    right: Vec3A,
-    up: Vec3A,
-    forward: Vec3A,
-    tan: f32,
-    aspect: f32,
-    w: f32,
-    h: f32,
-}
-
-impl CameraRays {
-    pub fn new(c: &Camera, w: u32, h: u32) -> Self {
-        let (right, up, forward) = c.basis();
-        CameraRays {
-            eye: c.eye.into(),
-            right: right.into(),
-            up: up.into(),
-            forward: forward.into(),
-            tan: (c.fov_y.clamp(0.01, 179.0).to_radians() / 2.0).tan(),
-            aspect: w as f32 / h.max(1) as f32,
-            w: w as f32,
-            h: h as f32,
-        }
-    }
-
-    /// Unit direction through image position (px, py), in pixels from the
-    /// top-left corner.
-    pub fn dir(&self, px: f32, py: f32) -> Vec3A {
-        let sx = (2.0 * px / self.w - 1.0) * self.tan * self.aspect;
-        let sy = (1.0 - 2.0 * py / self.h) * self.tan;
-        (self.forward + sx * self.right + sy * self.up).normalize()
-    }
-
-    /// [`CameraRays::dir`] of each lane's (px, py), the same bits.
-    #[inline(always)]
-    pub fn dirs<W: Wide>(&self, px: W, py: W) -> V3<W> {
-        let (one, two) = (W::splat(1.0), W::splat(2.0));
-        let sx = two.mul(px).div(W::splat(self.w)).sub(one);
-        let sx = sx.mul(W::splat(self.tan)).mul(W::splat(self.aspect));
-        let sy = one.sub(two.mul(py).div(W::splat(self.h)));
-        let sy = sy.mul(W::splat(self.tan));
-        (V3::splat(self.forward) + V3::splat(self.right).scale(sx) + V3::splat(self.up).scale(sy))
-            .normalize()
-    }
-
-    pub fn eye(&self) -> Vec3A {
-        self.eye
-    }
-}
 
 /// One pixel's values.
 pub struct PixelOut {

@@ -5,7 +5,7 @@
 use glam::{Vec3, Vec3A};
 
 use super::accel::{Accel, Hit, Query};
-use super::sample::Settings;
+use super::settings::Settings;
 use super::texture;
 use crate::random;
 use crate::scene::material::Texture;

@@ -1,0 +1,63 @@
+//! What a render is asked for: size, samples, filter, shadows and
+//! bounces, and the two presets (`preview`, `final`).
+
+/// How pixel samples are weighted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Filter {
+    Box,
+    /// Weights exp(−r²/2σ²), σ = 0.5 pixel, over the samples of the pixel.
+    Gaussian,
+}
+
+/// What a render does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    pub filter: Filter,
+    pub shadows: bool,
+    /// Reflection and refraction bounces.
+    pub max_depth: u32,
+    /// Shadow rays toward each sphere light (soft shadows).
+    pub light_samples: u32,
+    /// Whether the depth, normal and object id layers are wanted (EXR):
+    /// they cost one more ray through each pixel centre.
+    pub layers: bool,
+    /// Frame number, part of the sample key.
+    pub frame: u64,
+}
+
+impl Settings {
+    /// `preview`: one sample, no shadows, no traced bounces (mirrors and
+    /// glass get a one-look approximation, see `shade::preview_bounce`).
+    pub fn preview(width: u32, height: u32) -> Self {
+        Settings {
+            width,
+            height,
+            spp: 1,
+            filter: Filter::Box,
+            shadows: false,
+            max_depth: 0,
+            light_samples: 1,
+            layers: true,
+            frame: 0,
+        }
+    }
+
+    /// `final`: 16 samples, shadows (4 rays per sphere light), 5 bounces.
+    pub fn final_quality(width: u32, height: u32) -> Self {
+        Settings {
+            width,
+            height,
+            spp: 16,
+            filter: Filter::Box,
+            shadows: true,
+            max_depth: 5,
+            light_samples: 4,
+            layers: true,
+            frame: 0,
+        }
+    }
+}
