@@ -671,15 +671,14 @@ impl BundleWalk {
                 Some(h) => h.meets(&n.side[0], &n.side[1]),
                 None => 0b1111,
             };
-            // All four boxes tested first, then the entered ones pushed:
+            // The boxes tested first, then the entered ones pushed:
             // a branch per entered box rather than per test, whose outcome
             // is hard to predict (2–4 % of the forest's render).
             let mut entered = [0u32; 4];
-            for (c, e) in entered.iter_mut().enumerate() {
+            for c in Bits(met) {
                 let near = [near_x[c], near_y[c], near_z[c]];
                 let far = [far_x[c], far_y[c], far_z[c]];
-                let met = (met >> c & 1).wrapping_neg();
-                *e = enters::<W>(p, near, far, tmax) & rays & met;
+                entered[c] = enters::<W>(p, near, far, tmax) & rays;
             }
             let pushed = u32::from(entered[0] != 0)
                 | u32::from(entered[1] != 0) << 1
