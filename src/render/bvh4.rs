@@ -673,7 +673,7 @@ impl BundleWalk {
             };
             // The boxes tested first, then the entered ones pushed:
             // a branch per entered box rather than per test, whose outcome
-            // is hard to predict (2–4 % of the forest's render).
+            // is hard to predict (4–10 % of the forest's render in paired runs).
             let mut entered = [0u32; 4];
             for c in Bits(met) {
                 let near = [near_x[c], near_y[c], near_z[c]];
