@@ -111,10 +111,15 @@ impl Blas {
 #[inline(always)]
 fn blocks(b: &Blas, geo: &Geometry, code: u32, r: &Ray, tmax: f32, simd: Simd) -> bool {
     let (_, packs, shapes) = b.leaf(code);
-    tri4::any_hit(packs, r, tmax, simd)
-        || shapes
-            .iter()
-            .any(|s| s.shadows && s.hit(geo, r, tmax).is_some())
+    tri4::any_hit(packs, r, tmax, simd) || shapes_block(shapes, geo, r, tmax)
+}
+
+/// Whether one of `shapes` that casts shadows is on the ray before `tmax`.
+#[inline(always)]
+fn shapes_block(shapes: &[ShapeLeaf], geo: &Geometry, r: &Ray, tmax: f32) -> bool {
+    shapes
+        .iter()
+        .any(|s| s.shadows && s.hit(geo, r, tmax).is_some())
 }
 
 /// [`blocks`] for the rays of `rays` in packet `p` at once, a triangle
@@ -139,9 +144,7 @@ fn blocks_together<W: Wide>(
         }
     }
     hit | packet::keep(rays & !hit, |i| {
-        shapes
-            .iter()
-            .any(|s| s.shadows && s.hit(geo, &p.rays[i], tmax[i]).is_some())
+        shapes_block(shapes, geo, &p.rays[i], tmax[i])
     })
 }
 
