@@ -144,7 +144,7 @@ fn blocks_together<W: Wide>(
         }
     }
     hit | packet::keep(rays & !hit, |i| {
-        shapes_block(shapes, geo, &p.rays[i], tmax[i])
+        shapes_block(shapes, geo, &p.ray(i), tmax[i])
     })
 }
 
@@ -153,12 +153,12 @@ const MIN_BUNDLE: u32 = 4;
 
 /// The region around the segments (tmin, tmax) of the rays of `lanes`,
 /// along their mean direction; None where a segment is unbounded.
-fn bundle(rays: &[Ray; LANES], lanes: u32, tmax: &Lanes, scale: f32) -> Option<Hull> {
+fn bundle(rays: &Rays, lanes: u32, tmax: &Lanes, scale: f32) -> Option<Hull> {
     let mut ends = [Vec3A::ZERO; 2 * LANES];
     let mut n = 0;
     let mut along = Vec3A::ZERO;
     for i in Bits(lanes) {
-        let r = &rays[i];
+        let r = &rays.ray(i);
         ends[n] = r.origin + r.tmin * r.direction;
         ends[n + 1] = r.origin + tmax[i] * r.direction;
         n += 2;
@@ -457,14 +457,15 @@ impl Accel {
         )
     }
 
-    /// The rays of `lanes` in instance `k`'s geometry space (the other
-    /// lanes are left as they are).
-    fn local_rays(&self, k: u32, rays: &[Ray; LANES], lanes: u32) -> [Ray; LANES] {
+    /// The rays of `lanes` of packet `p` in instance `k`'s geometry space
+    /// (the other lanes are left as they are).
+    fn local_rays(&self, k: u32, p: &RayPacket, lanes: u32) -> [Ray; LANES] {
         std::array::from_fn(|i| {
+            let r = p.ray(i);
             if lanes >> i & 1 != 0 {
-                self.local_ray(k as usize, &rays[i])
+                self.local_ray(k as usize, &r)
             } else {
-                rays[i]
+                r
             }
         })
     }
@@ -620,9 +621,9 @@ impl Accel {
         // `instance_bundle`).
         let hull = match self.single {
             Some(_) => None,
-            None => match bundle(rays.rays(), valid, tmax, tlas.scale()) {
+            None => match bundle(&rays, valid, tmax, tlas.scale()) {
                 Some(hull) => Some(hull),
-                None => return self.one_by_one(rays.rays(), valid, tmax),
+                None => return self.one_by_one(&rays, valid, tmax),
             },
         };
         let hull = hull.as_ref();
@@ -630,12 +631,12 @@ impl Accel {
             Rays::Packet(p) if valid.count_ones() >= MIN_BUNDLE => {
                 self.any_packet::<W>(&p, valid, tmax, hull)
             }
-            Rays::Packet(p) => self.one_by_one(p.rays, valid, tmax),
+            Rays::Packet(_) => self.one_by_one(&rays, valid, tmax),
             Rays::Mixed(rays) => {
                 let mut blocked = 0;
                 for group in packet::groups(rays, valid) {
                     blocked |= if group.count_ones() < MIN_BUNDLE {
-                        self.one_by_one(rays, group, tmax)
+                        self.one_by_one(&Rays::Mixed(rays), group, tmax)
                     } else {
                         self.any_packet::<W>(&RayPacket::new(rays, group), group, tmax, hull)
                     };
@@ -670,8 +671,8 @@ impl Accel {
 
     /// The mask of the rays of `lanes` that something blocks, each traced
     /// on its own.
-    fn one_by_one(&self, rays: &[Ray; LANES], lanes: u32, tmax: &Lanes) -> u32 {
-        packet::keep(lanes, |i| self.any_one(&rays[i], tmax[i]))
+    fn one_by_one(&self, rays: &Rays, lanes: u32, tmax: &Lanes) -> u32 {
+        packet::keep(lanes, |i| self.any_one(&rays.ray(i), tmax[i]))
     }
 
     /// The mask of the rays of `lanes` in packet `p` that something in
@@ -695,18 +696,15 @@ impl Accel {
         if self.inst_inv[k as usize].is_none() {
             return self.blas_any::<W>(b, geo, p, lanes, tmax, hull);
         }
-        let one_by_one = || {
-            packet::keep(lanes, |i| {
-                self.instance_any(k as usize, &p.rays[i], tmax[i])
-            })
-        };
+        let one_by_one =
+            || packet::keep(lanes, |i| self.instance_any(k as usize, &p.ray(i), tmax[i]));
         if lanes.count_ones() < MIN_BUNDLE {
             return one_by_one();
         }
-        let local = self.local_rays(k, p.rays, lanes);
+        let local = self.local_rays(k, p, lanes);
         let hull = match hull {
             None => None,
-            Some(_) => match bundle(&local, lanes, tmax, b.tree.scale()) {
+            Some(_) => match bundle(&Rays::Mixed(&local), lanes, tmax, b.tree.scale()) {
                 Some(hull) => Some(hull),
                 None => return one_by_one(),
             },
@@ -742,7 +740,7 @@ impl Accel {
                 blocks_together::<W>(b, geo, code, p, rays, tmax)
             } else {
                 packet::keep(rays, |i| {
-                    blocks(b, geo, code, &p.rays[i], tmax[i], self.simd)
+                    blocks(b, geo, code, &p.ray(i), tmax[i], self.simd)
                 })
             };
             walk.close(done);
@@ -883,7 +881,7 @@ impl Accel {
         if self.inst_inv[k as usize].is_none() {
             return self.blas_closest::<W>(b, geo, k, p, lanes, search);
         }
-        let local = self.local_rays(k, p.rays, lanes);
+        let local = self.local_rays(k, p, lanes);
         // A transform may turn the rays apart: one packet per key.
         for group in packet::groups(&local, lanes) {
             let lp = RayPacket::new(&local, group);
@@ -932,14 +930,14 @@ impl Accel {
             } else {
                 for i in Bits(lanes) {
                     let tfar = search.tfar[i];
-                    tri4::nearest_each(packs, &p.rays[i], tfar, self.simd, |j, t, lane| {
+                    tri4::nearest_each(packs, &p.ray(i), tfar, self.simd, |j, t, lane| {
                         search.offer(i, triangle(j, lane, t))
                     });
                 }
             }
             for s in shapes {
                 for i in Bits(lanes) {
-                    if let Some(hit) = s.hit(geo, &p.rays[i], search.tfar[i]) {
+                    if let Some(hit) = s.hit(geo, &p.ray(i), search.tfar[i]) {
                         let prim = Prim::Shape(s.index);
                         search.offer(i, Closest { k, prim, hit });
                     }

@@ -394,14 +394,15 @@ fn at(v: &[Lanes; 3], i: usize) -> Vec3A {
     Vec3A::new(v[0][i], v[1][i], v[2][i])
 }
 
-/// The rays from `origin` along `dir` of the lanes of `lanes` into
-/// `rays`, as `Accel::ray` makes them one at a time (the same bits:
-/// `Ray::new`'s operations lane by lane); returns the lanes whose origin
-/// and direction are finite and the direction not zero (the others are
-/// left as they were: a packet masks them out), and, where those share
-/// one [`Ray::key`] (a pixel's rays mostly do), their packet, made from
-/// the lanes rather than gathered from the rays (`RayPacket::new` and
-/// the split by key took 5 % of the forest's render).
+/// The rays from `origin` along `dir` of the lanes of `lanes`, as
+/// `Accel::ray` makes them one at a time (the same bits: `Ray::new`'s
+/// operations lane by lane); returns the lanes whose origin and direction
+/// are finite and the direction not zero (the others are masked out),
+/// and the rays: where those share one [`Ray::key`] (a pixel's rays
+/// mostly do), their packet, made from the lanes rather than gathered
+/// from single rays (`RayPacket::new` and the split by key took 5 % of
+/// the forest's render); otherwise the single rays, made into `rays`
+/// (its other lanes left as they were).
 #[inline(always)]
 fn ray_lanes<'a, W: Wide>(
     origin: V3<W>,
@@ -442,7 +443,7 @@ fn ray_lanes<'a, W: Wide>(
     .over(pd.z);
     // (Stored one by one: `array::map` would take the lane form's
     // instructions out of line, see `super::wide`.)
-    let (o, d, mut inv) = (origin.store(), d.store(), inv.store());
+    let (mut o, mut d, mut inv) = (origin.store(), d.store(), inv.store());
     let (mut origin_inv, mut shear, mut po) = (origin_inv.store(), shear.store(), po.store());
     let (bits_xy, bits_xz, bits_yz, bits_flip) = (
         x_over_y.bits(),
@@ -450,57 +451,65 @@ fn ray_lanes<'a, W: Wide>(
         y_over_z.bits(),
         flip.bits(),
     );
-    for i in Bits(valid) {
-        let bit = |m: u32| m >> i & 1 != 0;
-        let kz = if bit(bits_xy) {
-            if bit(bits_xz) {
-                0
-            } else {
-                2
-            }
-        } else if bit(bits_yz) {
-            1
-        } else {
-            2
-        };
-        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        if bit(bits_flip) {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        rays[i] = Ray {
-            origin: at(&o, i),
-            direction: at(&d, i),
-            tmin,
-            inv: at(&inv, i),
-            origin_inv: at(&origin_inv, i),
-            negative: negative.map(bit),
-            axes: [kx, ky, kz],
-            shear: at(&shear, i),
-            permuted_origin: at(&po, i),
-        };
-    }
     // One key: each of the choices `Ray::new` makes alike in every lane.
     let alike = |m: u32| m & valid == 0 || m & valid == valid;
     let one_key = negative.iter().all(|&m| alike(m))
         && [bits_xy, bits_xz, bits_yz, bits_flip]
             .into_iter()
             .all(alike);
+    // Lane i's signs and axes, as its `Ray::new` chooses them.
+    let key = |i: usize| {
+        let bit = |m: u32| m >> i & 1 != 0;
+        let kz = match (bit(bits_xy), bit(bits_xz), bit(bits_yz)) {
+            (true, true, _) => 0,
+            (false, _, true) => 1,
+            _ => 2,
+        };
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if bit(bits_flip) {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        (negative.map(bit), [kx, ky, kz])
+    };
     if !one_key {
+        // The rays made one by one, to be split by key.
+        for i in Bits(valid) {
+            let (negative, axes) = key(i);
+            rays[i] = Ray {
+                origin: at(&o, i),
+                direction: at(&d, i),
+                tmin,
+                inv: at(&inv, i),
+                origin_inv: at(&origin_inv, i),
+                negative,
+                axes,
+                shear: at(&shear, i),
+                permuted_origin: at(&po, i),
+            };
+        }
         return (valid, Rays::Mixed(rays));
     }
     // The lanes outside the packet repeat one of its rays (see `RayPacket`).
     let first = valid.trailing_zeros() as usize;
     for i in Bits(!valid & ((1 << LANES) - 1) as u32) {
-        for v in [&mut inv, &mut origin_inv, &mut shear, &mut po] {
+        for v in [
+            &mut o,
+            &mut d,
+            &mut inv,
+            &mut origin_inv,
+            &mut shear,
+            &mut po,
+        ] {
             for lanes in v.iter_mut() {
                 lanes[i] = lanes[first];
             }
         }
     }
-    let r = &rays[first];
-    let (negative, axes) = (r.negative, r.axes);
+    // Its single rays are made only where a test needs one (`RayPacket::ray`).
+    let (negative, axes) = key(first);
     let packet = RayPacket {
-        rays,
+        origin: o,
+        direction: d,
         inv,
         origin_inv,
         tmin: [tmin; LANES],
@@ -544,18 +553,18 @@ mod tests {
     use super::*;
     use crate::render::wide::{Scalar, Sse};
 
-    /// What `ray_lanes` made: the mask, the rays, and its packet's bits
-    /// where it made one.
+    /// What `ray_lanes` made: the mask, the rays (a packet's made from
+    /// its lanes), and its packet's bits where it made one.
     type Made = (u32, [Ray; LANES], Option<Vec<u32>>);
 
     fn lanes<W: Wide>(o: &[Lanes; 3], d: &[Lanes; 3], lanes: u32) -> Made {
         let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
         let (valid, made) = ray_lanes(V3::<W>::load(o), V3::<W>::load(d), 0.5, lanes, &mut rays);
-        let packet = match made {
-            Rays::Packet(p) => Some(packet_bits(&p)),
-            Rays::Mixed(_) => None,
+        let (singles, packet) = match made {
+            Rays::Packet(p) => (std::array::from_fn(|i| p.ray(i)), Some(packet_bits(&p))),
+            Rays::Mixed(r) => (*r, None),
         };
-        (valid, rays, packet)
+        (valid, singles, packet)
     }
 
     #[target_feature(enable = "avx")]
@@ -571,7 +580,14 @@ mod tests {
     /// A packet's every lane, as bits.
     fn packet_bits(p: &RayPacket) -> Vec<u32> {
         let mut b = vec![];
-        for v in [&p.inv, &p.origin_inv, &p.shear, &p.permuted_origin] {
+        for v in [
+            &p.origin,
+            &p.direction,
+            &p.inv,
+            &p.origin_inv,
+            &p.shear,
+            &p.permuted_origin,
+        ] {
             b.extend(v.iter().flatten().map(|x| x.to_bits()));
         }
         b.extend(p.tmin.map(f32::to_bits));
