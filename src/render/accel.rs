@@ -629,7 +629,7 @@ impl Accel {
         let hull = hull.as_ref();
         match rays {
             Rays::Packet(p) if valid.count_ones() >= MIN_BUNDLE => {
-                self.any_packet::<W>(&p, valid, tmax, hull)
+                self.any_packet::<W>(p, valid, tmax, hull)
             }
             Rays::Packet(_) => self.one_by_one(&rays, valid, tmax),
             Rays::Mixed(rays) => {
@@ -796,7 +796,7 @@ impl Accel {
             best: [None; LANES],
         };
         match rays {
-            Rays::Packet(p) => self.closest_packet::<W>(&p, valid, &mut search),
+            Rays::Packet(p) => self.closest_packet::<W>(p, valid, &mut search),
             Rays::Mixed(rays) => self.closest::<W>(rays, valid, &mut search),
         }
         self.resolve_into(&search.best, out);

@@ -58,7 +58,7 @@ pub fn pixel(
     out: &mut Vec<(Vec3, bool)>,
 ) {
     out.clear();
-    let rays = &mut buffers.rays;
+    let rays = &mut buffers.cast;
     for (c, offsets) in offsets.chunks(LANES).enumerate() {
         let mut chunk = Chunk {
             eye: cam.eye(),
@@ -82,18 +82,28 @@ pub fn pixel(
 
 /// The lanes' rays and hits, kept from pixel to pixel: made anew, each
 /// pixel's placeholder rays (2.3 KB per cast) and hits cost about 3 % of
-/// the forest's render. The lanes a cast does not use keep earlier rays,
-/// which a packet masks out.
+/// the forest's render.
+#[derive(Default)]
 pub struct Buffers {
-    rays: [Ray; LANES],
+    cast: Cast,
     hits: [Option<Hit>; LANES],
 }
 
-impl Default for Buffers {
+/// Where [`ray_lanes`] makes a cast's rays: their packet, written in
+/// place (returned, its 1.7 KB were copied per cast), or the single rays
+/// of mixed keys. The lanes a cast does not use keep earlier rays, which
+/// it masks out.
+pub struct Cast {
+    rays: [Ray; LANES],
+    packet: RayPacket,
+}
+
+impl Default for Cast {
     fn default() -> Self {
-        Buffers {
-            rays: [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES],
-            hits: [None; LANES],
+        let rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
+        Cast {
+            packet: RayPacket::new(&rays, 1),
+            rays,
         }
     }
 }
@@ -131,7 +141,7 @@ macro_rules! pixel_with {
             x: u32,
             y: u32,
             offsets: &[(f32, f32)],
-            rays: &mut [Ray; LANES],
+            rays: &mut Cast,
         ) -> [Vec3; LANES] {
             self.pixel::<$form>(accel, cam, st, x, y, offsets, rays)
         }
@@ -159,7 +169,7 @@ impl Chunk<'_> {
         x: u32,
         y: u32,
         offsets: &[(f32, f32)],
-        rays: &mut [Ray; LANES],
+        rays: &mut Cast,
     ) -> [Vec3; LANES] {
         let (mut ox, mut oy) = ([0.5; LANES], [0.5; LANES]);
         for (i, &(a, b)) in offsets.iter().enumerate() {
@@ -184,7 +194,7 @@ impl Chunk<'_> {
         accel: &Accel,
         st: &Settings,
         d: V3<W>,
-        rays: &mut [Ray; LANES],
+        rays: &mut Cast,
     ) -> [Vec3; LANES] {
         let mut colour = [Vec3::ZERO; LANES];
         let materials = &accel.scene.materials;
@@ -332,7 +342,7 @@ impl Chunk<'_> {
         dist: W,
         cast: u32,
         alone: u32,
-        rays: &mut [Ray; LANES],
+        rays: &mut Cast,
     ) -> u32 {
         let (from, dir, dist) = (lift.store(), l.store(), dist.store());
         let (valid, rays) = ray_lanes(lift, l, 0.0, cast, rays);
@@ -398,19 +408,20 @@ fn at(v: &[Lanes; 3], i: usize) -> Vec3A {
 /// `Accel::ray` makes them one at a time (the same bits: `Ray::new`'s
 /// operations lane by lane); returns the lanes whose origin and direction
 /// are finite and the direction not zero (the others are masked out),
-/// and the rays: where those share one [`Ray::key`] (a pixel's rays
-/// mostly do), their packet, made from the lanes rather than gathered
-/// from single rays (`RayPacket::new` and the split by key took 5 % of
-/// the forest's render); otherwise the single rays, made into `rays`
-/// (its other lanes left as they were).
+/// and the rays, made in `cast`: where those share one [`Ray::key`] (a
+/// pixel's rays mostly do), their packet, made from the lanes rather than
+/// gathered from single rays (`RayPacket::new` and the split by key took
+/// 5 % of the forest's render); otherwise the single rays (the other
+/// lanes left as they were).
 #[inline(always)]
 fn ray_lanes<'a, W: Wide>(
     origin: V3<W>,
     dir: V3<W>,
     tmin: f32,
     lanes: u32,
-    rays: &'a mut [Ray; LANES],
+    cast: &'a mut Cast,
 ) -> (u32, Rays<'a>) {
+    let Cast { rays, packet: p } = cast;
     let zero = W::splat(0.0);
     // Negative zeros made positive, so the slab tests see one sign.
     let d = dir + V3::splat(Vec3A::ZERO);
@@ -441,10 +452,11 @@ fn ray_lanes<'a, W: Wide>(
         z: W::splat(1.0),
     }
     .over(pd.z);
-    // (Stored one by one: `array::map` would take the lane form's
-    // instructions out of line, see `super::wide`.)
-    let (mut o, mut d, mut inv) = (origin.store(), d.store(), inv.store());
-    let (mut origin_inv, mut shear, mut po) = (origin_inv.store(), shear.store(), po.store());
+    // Stored in the packet one by one: `array::map` would take the lane
+    // form's instructions out of line (see `super::wide`).
+    (p.origin, p.direction, p.inv) = (origin.store(), d.store(), inv.store());
+    (p.origin_inv, p.shear, p.permuted_origin) = (origin_inv.store(), shear.store(), po.store());
+    p.tmin = [tmin; LANES];
     let (bits_xy, bits_xz, bits_yz, bits_flip) = (
         x_over_y.bits(),
         x_over_z.bits(),
@@ -474,18 +486,8 @@ fn ray_lanes<'a, W: Wide>(
     if !one_key {
         // The rays made one by one, to be split by key.
         for i in Bits(valid) {
-            let (negative, axes) = key(i);
-            rays[i] = Ray {
-                origin: at(&o, i),
-                direction: at(&d, i),
-                tmin,
-                inv: at(&inv, i),
-                origin_inv: at(&origin_inv, i),
-                negative,
-                axes,
-                shear: at(&shear, i),
-                permuted_origin: at(&po, i),
-            };
+            (p.negative, p.axes) = key(i);
+            rays[i] = p.ray(i);
         }
         return (valid, Rays::Mixed(rays));
     }
@@ -493,12 +495,12 @@ fn ray_lanes<'a, W: Wide>(
     let first = valid.trailing_zeros() as usize;
     for i in Bits(!valid & ((1 << LANES) - 1) as u32) {
         for v in [
-            &mut o,
-            &mut d,
-            &mut inv,
-            &mut origin_inv,
-            &mut shear,
-            &mut po,
+            &mut p.origin,
+            &mut p.direction,
+            &mut p.inv,
+            &mut p.origin_inv,
+            &mut p.shear,
+            &mut p.permuted_origin,
         ] {
             for lanes in v.iter_mut() {
                 lanes[i] = lanes[first];
@@ -506,19 +508,8 @@ fn ray_lanes<'a, W: Wide>(
         }
     }
     // Its single rays are made only where a test needs one (`RayPacket::ray`).
-    let (negative, axes) = key(first);
-    let packet = RayPacket {
-        origin: o,
-        direction: d,
-        inv,
-        origin_inv,
-        tmin: [tmin; LANES],
-        shear,
-        permuted_origin: po,
-        negative,
-        axes,
-    };
-    (valid, Rays::Packet(packet))
+    (p.negative, p.axes) = key(first);
+    (valid, Rays::Packet(p))
 }
 
 /// Each lane's `(v[kx], v[ky], v[kz])` for the axes `Ray::new` picks
@@ -558,10 +549,10 @@ mod tests {
     type Made = (u32, [Ray; LANES], Option<Vec<u32>>);
 
     fn lanes<W: Wide>(o: &[Lanes; 3], d: &[Lanes; 3], lanes: u32) -> Made {
-        let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::X, 0.0); LANES];
-        let (valid, made) = ray_lanes(V3::<W>::load(o), V3::<W>::load(d), 0.5, lanes, &mut rays);
+        let mut cast = Cast::default();
+        let (valid, made) = ray_lanes(V3::<W>::load(o), V3::<W>::load(d), 0.5, lanes, &mut cast);
         let (singles, packet) = match made {
-            Rays::Packet(p) => (std::array::from_fn(|i| p.ray(i)), Some(packet_bits(&p))),
+            Rays::Packet(p) => (std::array::from_fn(|i| p.ray(i)), Some(packet_bits(p))),
             Rays::Mixed(r) => (*r, None),
         };
         (valid, singles, packet)

@@ -85,12 +85,10 @@ impl RayPacket {
 }
 
 /// Rays to trace together: one packet, or rays that may need several.
-/// (It lives on the stack for one pixel; boxing the packet would
-/// allocate per pixel.)
-#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy)]
 pub enum Rays<'a> {
     /// Rays of one key, their packet made.
-    Packet(RayPacket),
+    Packet(&'a RayPacket),
     /// Rays to split into packets by key ([`groups`]).
     Mixed(&'a [Ray; LANES]),
 }
