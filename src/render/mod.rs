@@ -1,6 +1,6 @@
 //! The ray tracer (DESIGN §1 step 4): a two-level 4-wide BVH built by obvhs, with exact
 //! shapes, Whitted shading as Rayshade did it, stratified supersampling
-//! keyed by (frame, pixel, sample), tiles on rayon, EXR and PNG output.
+//! keyed by (frame, pixel, sample), rows on rayon, EXR and PNG output.
 //! The same [`accel::Accel::cast`] serves actor vision.
 
 pub mod accel;

@@ -64,6 +64,13 @@ impl RayPacket {
         p
     }
 
+    /// Lane `i`'s origin, direction and `tmin`.
+    #[inline(always)]
+    pub fn segment(&self, i: usize) -> (Vec3A, Vec3A, f32) {
+        let at = |v: &[Lanes; 3]| Vec3A::new(v[0][i], v[1][i], v[2][i]);
+        (at(&self.origin), at(&self.direction), self.tmin[i])
+    }
+
     /// Lane `i`'s ray, made where a test needs it alone: the ray the
     /// lane was made from, the same bits. (Making all sixteen with the
     /// lanes, most unused, was 4 % of the forest's render.)
@@ -100,6 +107,15 @@ impl Rays<'_> {
         match self {
             Rays::Packet(p) => p.ray(i),
             Rays::Mixed(r) => r[i],
+        }
+    }
+
+    /// Lane `i`'s origin, direction and `tmin`.
+    #[inline(always)]
+    pub fn segment(&self, i: usize) -> (Vec3A, Vec3A, f32) {
+        match self {
+            Rays::Packet(p) => p.segment(i),
+            Rays::Mixed(r) => (r[i].origin, r[i].direction, r[i].tmin),
         }
     }
 }
