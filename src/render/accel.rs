@@ -177,6 +177,23 @@ fn local(inv: &Affine3A, origin: Vec3A, direction: Vec3A, tmin: f32) -> Ray {
     )
 }
 
+/// The rays of `lanes` (not empty) of packet `p` in the space that
+/// `inv` maps world space to; the other lanes repeat the first of
+/// them. (Made from the lanes' origins and directions: a whole single
+/// ray per lane first cost the instanced forest 7 %.)
+fn local_rays(inv: &Affine3A, p: &RayPacket, lanes: u32) -> [Ray; LANES] {
+    let ray = |i: usize| {
+        let (origin, direction, tmin) = p.segment(i);
+        local(inv, origin, direction, tmin)
+    };
+    let first = lanes.trailing_zeros() as usize;
+    let mut out = [ray(first); LANES];
+    for i in Bits(lanes & !(1 << first)) {
+        out[i] = ray(i);
+    }
+    out
+}
+
 /// Starts fetching the record of triangle `id` of `geo`, hit by a ray:
 /// [`Accel::resolve`] reads it if the hit stays the nearest, and the
 /// walk's remaining tests hide its load (on the forest, a cache miss per
@@ -463,24 +480,6 @@ impl Accel {
         }
     }
 
-    /// The rays of `lanes` (not empty) of packet `p` in the space of
-    /// instance `k`, which has a transform; the other lanes repeat the
-    /// first of them. (Made from the lanes' origins and directions: a
-    /// whole single ray per lane first cost the instanced forest 7 %.)
-    fn local_rays(&self, k: u32, p: &RayPacket, lanes: u32) -> [Ray; LANES] {
-        let inv = self.inst_inv[k as usize].unwrap_or(Affine3A::IDENTITY);
-        let ray = |i: usize| {
-            let (origin, direction, tmin) = p.segment(i);
-            local(&inv, origin, direction, tmin)
-        };
-        let first = lanes.trailing_zeros() as usize;
-        let mut out = [ray(first); LANES];
-        for i in Bits(lanes & !(1 << first)) {
-            out[i] = ray(i);
-        }
-        out
-    }
-
     /// Closest hit within instance `k` under `tmax`, offered to `best`;
     /// returns the new bound.
     #[inline]
@@ -704,15 +703,15 @@ impl Accel {
         let g = self.scene.instances[k as usize].geometry as usize;
         let Some(b) = &self.blas[g] else { return 0 };
         let geo = &self.scene.geometries[g];
-        if self.inst_inv[k as usize].is_none() {
+        let Some(inv) = &self.inst_inv[k as usize] else {
             return self.blas_any::<W>(b, geo, p, lanes, tmax, hull);
-        }
+        };
         let one_by_one =
             || packet::keep(lanes, |i| self.instance_any(k as usize, &p.ray(i), tmax[i]));
         if lanes.count_ones() < MIN_BUNDLE {
             return one_by_one();
         }
-        let local = self.local_rays(k, p, lanes);
+        let local = local_rays(inv, p, lanes);
         let hull = match hull {
             None => None,
             Some(_) => match bundle(&Rays::Mixed(&local), lanes, tmax, b.tree.scale()) {
@@ -889,10 +888,10 @@ impl Accel {
         let g = self.scene.instances[k as usize].geometry as usize;
         let Some(b) = &self.blas[g] else { return };
         let geo = &self.scene.geometries[g];
-        if self.inst_inv[k as usize].is_none() {
+        let Some(inv) = &self.inst_inv[k as usize] else {
             return self.blas_closest::<W>(b, geo, k, p, lanes, search);
-        }
-        let local = self.local_rays(k, p, lanes);
+        };
+        let local = local_rays(inv, p, lanes);
         // A transform may turn the rays apart: one packet per key.
         for group in packet::groups(&local, lanes) {
             let lp = RayPacket::new(&local, group);

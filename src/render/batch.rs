@@ -15,9 +15,9 @@
 use glam::{Vec3, Vec3A};
 
 use super::accel::{Accel, Hit};
-use super::bvh4::Ray;
+use super::bvh4::{frame, largest_axis, Ray};
 use super::camera::CameraRays;
-use super::packet::{Bits, Lanes, RayPacket, Rays, LANES};
+use super::packet::{at, Bits, Lanes, RayPacket, Rays, LANES};
 use super::settings::Settings;
 use super::shade::{self, EPS};
 use super::tri4::Simd;
@@ -398,12 +398,6 @@ impl Chunk<'_> {
     }
 }
 
-/// Lane `i`'s vector.
-#[inline(always)]
-fn at(v: &[Lanes; 3], i: usize) -> Vec3A {
-    Vec3A::new(v[0][i], v[1][i], v[2][i])
-}
-
 /// The rays from `origin` along `dir` of the lanes of `lanes`, as
 /// `Accel::ray` makes them one at a time (the same bits: `Ray::new`'s
 /// operations lane by lane); returns the lanes whose origin and direction
@@ -472,16 +466,8 @@ fn ray_lanes<'a, W: Wide>(
     // Lane i's signs and axes, as its `Ray::new` chooses them.
     let key = |i: usize| {
         let bit = |m: u32| m >> i & 1 != 0;
-        let kz = match (bit(bits_xy), bit(bits_xz), bit(bits_yz)) {
-            (true, true, _) => 0,
-            (false, _, true) => 1,
-            _ => 2,
-        };
-        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        if bit(bits_flip) {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        (negative.map(bit), [kx, ky, kz])
+        let kz = largest_axis(bit(bits_xy), bit(bits_xz), bit(bits_yz));
+        (negative.map(bit), frame(kz, bit(bits_flip)))
     };
     if !one_key {
         // The rays made one by one, to be split by key.

@@ -85,22 +85,8 @@ impl Ray {
         );
         let d = direction.to_array();
         let ad = direction.abs();
-        let kz = if ad.x > ad.y {
-            if ad.x > ad.z {
-                0
-            } else {
-                2
-            }
-        } else if ad.y > ad.z {
-            1
-        } else {
-            2
-        };
-        // Keep the frame right-handed so the edge functions' signs hold.
-        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        if d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
+        let kz = largest_axis(ad.x > ad.y, ad.x > ad.z, ad.y > ad.z);
+        let [kx, ky, kz] = frame(kz, d[kz] < 0.0);
         let o = origin.to_array();
         Ray {
             origin,
@@ -119,6 +105,29 @@ impl Ray {
     /// signs (a node's near sides) and axis order (a triangle's frame).
     pub fn key(&self) -> ([bool; 3], [usize; 3]) {
         (self.negative, self.axes)
+    }
+}
+
+/// The axis a ray's frame puts last (z), from the comparisons of its
+/// direction's magnitudes |x| > |y|, |x| > |z| and |y| > |z|: the largest
+/// (of equal ones, z before x and y, y before x).
+pub(super) fn largest_axis(x_over_y: bool, x_over_z: bool, y_over_z: bool) -> usize {
+    match (x_over_y, x_over_z, y_over_z) {
+        (true, true, _) => 0,
+        (false, _, true) => 1,
+        _ => 2,
+    }
+}
+
+/// The axes of a ray's frame with `kz` last, kept right-handed (x and y
+/// swapped where the direction's `kz` component is negative, `flip`) so
+/// the edge functions' signs hold.
+pub(super) fn frame(kz: usize, flip: bool) -> [usize; 3] {
+    let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+    if flip {
+        [ky, kx, kz]
+    } else {
+        [kx, ky, kz]
     }
 }
 

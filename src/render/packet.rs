@@ -10,6 +10,12 @@ use glam::Vec3A;
 
 use super::bvh4::Ray;
 
+/// Lane `i`'s vector of three lane values.
+#[inline(always)]
+pub fn at(v: &[Lanes; 3], i: usize) -> Vec3A {
+    Vec3A::new(v[0][i], v[1][i], v[2][i])
+}
+
 /// Rays a packet holds: one bit each of a `u32` mask.
 pub const LANES: usize = 16;
 
@@ -67,8 +73,7 @@ impl RayPacket {
     /// Lane `i`'s origin, direction and `tmin`.
     #[inline(always)]
     pub fn segment(&self, i: usize) -> (Vec3A, Vec3A, f32) {
-        let at = |v: &[Lanes; 3]| Vec3A::new(v[0][i], v[1][i], v[2][i]);
-        (at(&self.origin), at(&self.direction), self.tmin[i])
+        (at(&self.origin, i), at(&self.direction, i), self.tmin[i])
     }
 
     /// Lane `i`'s ray, made where a test needs it alone: the ray the
@@ -76,17 +81,16 @@ impl RayPacket {
     /// lanes, most unused, was 4 % of the forest's render.)
     #[inline(always)]
     pub fn ray(&self, i: usize) -> Ray {
-        let at = |v: &[Lanes; 3]| Vec3A::new(v[0][i], v[1][i], v[2][i]);
         Ray {
-            origin: at(&self.origin),
-            direction: at(&self.direction),
+            origin: at(&self.origin, i),
+            direction: at(&self.direction, i),
             tmin: self.tmin[i],
-            inv: at(&self.inv),
-            origin_inv: at(&self.origin_inv),
+            inv: at(&self.inv, i),
+            origin_inv: at(&self.origin_inv, i),
             negative: self.negative,
             axes: self.axes,
-            shear: at(&self.shear),
-            permuted_origin: at(&self.permuted_origin),
+            shear: at(&self.shear, i),
+            permuted_origin: at(&self.permuted_origin, i),
         }
     }
 }
