@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use criterion::Criterion;
 use glam::{Vec3, Vec3A};
-use lmfilm::actors::vision::{self, View};
+use lmfilm::actors::vision::{self, OwnBody, View};
 use lmfilm::lsys::{Animation, NoSensors};
 use lmfilm::render::accel::Query;
 use lmfilm::render::camera::CameraRays;
@@ -77,7 +77,7 @@ fn main() {
         b.iter(|| {
             views
                 .iter()
-                .map(|v| vision::see(&accel, v, 64))
+                .map(|v| vision::see(&accel, &OwnBody::default(), v, 64))
                 .collect::<Vec<_>>()
         })
     });

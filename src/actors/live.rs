@@ -17,7 +17,7 @@ use super::navigate::Navigation;
 use super::octree::Cube;
 use super::tennis::player::Player;
 use super::tennis::referee::Umpire;
-use super::vision::{self, Body, Interest, Percepts, View, Window, THESIS_THRESHOLD};
+use super::vision::{self, Body, Interest, OwnBody, Percepts, View, Window, THESIS_THRESHOLD};
 use super::{Actor, Table};
 use crate::lsys::automata::{Automata, AutomataCommand};
 use crate::render::Accel;
@@ -112,6 +112,15 @@ pub struct Living {
     /// Range of the memory's update (`vision_range`'s third number).
     memory_range: f32,
     pub display: MemoryDisplay,
+    /// What its `M` branch drew this frame, which its vision looks
+    /// through.
+    pub body: OwnBody,
+    /// Why it last gave a goal up, for `trace`; None once it heads for
+    /// another.
+    pub gave_up: Option<String>,
+    /// What it has to say to the film maker this frame (an automata
+    /// that cannot go on), taken by the frame loop as warnings.
+    pub notes: Vec<String>,
     /// What the actor saw at the last sense step, and made of it.
     pub window: Option<Window>,
     pub percepts: Option<Percepts>,
@@ -188,6 +197,9 @@ impl Living {
             memory: None,
             memory_range: f32::INFINITY,
             display: MemoryDisplay::default(),
+            body: OwnBody::default(),
+            gave_up: None,
+            notes: Vec::new(),
             window: None,
             percepts: None,
             stack: Vec::new(),
@@ -394,7 +406,8 @@ impl Living {
     fn sense(&mut self, accel: &Accel, frame: u64) {
         let Some(edge) = self.edge else { return };
         let view = View::new(self.eye, self.look_at, self.fov, self.near, self.far);
-        let window = vision::see(accel, &view, edge);
+        self.body.seal();
+        let window = vision::see(accel, &self.body, &view, edge);
         if let (Some(memory), true) = (&mut self.memory, self.memory_on) {
             let stamp = u32::try_from(frame).unwrap_or(u32::MAX);
             memory.integrate(&window.depth_view(), stamp);
@@ -409,6 +422,22 @@ impl Living {
         };
         self.percepts = Some(window.percepts(&body));
         self.window = Some(window);
+    }
+}
+
+impl Living {
+    /// A warning of this frame about this actor, naming its automata.
+    pub(crate) fn note(&mut self, what: &str) {
+        let automata = self.automata.map_or("no automata", |a| a.name());
+        self.notes
+            .push(format!("warning: actor {} ({automata}): {what}", self.id));
+    }
+
+    /// Gives its goal up for `why`, said once as a warning and kept for
+    /// `trace`.
+    pub(crate) fn give_up_goal(&mut self, why: String) {
+        self.note(&why);
+        self.gave_up = Some(why);
     }
 }
 

@@ -316,7 +316,15 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
         C::KeyframeDef { n, .. } => int_in(1, *n, 0, BIG, "the track number"),
         C::CollTestFunc(n) => heuristic_of(*n, Kind::Test, "a collision test"),
         C::Heuristic(n) => heuristic_of(*n, Kind::Search, "a search heuristic"),
-        C::RelSearchLevel(Some(x)) => positive(0, *x, "the relative voxel size"),
+        // The logarithmic level of B.6 / appendix G: 0 is the memory's
+        // own voxel, 1 twice its edge, …
+        C::RelSearchLevel(Some(x)) if (0.0..=20.0).contains(x) && x.fract() == 0.0 => Ok(()),
+        C::RelSearchLevel(Some(x)) => refuse(
+            0,
+            format!(
+                "the logarithmic relative search level must be a whole number 0..=20 (search voxels of 2^level memory voxels a side), found {x}"
+            ),
+        ),
         C::RelSearchLevel(None) => Ok(()),
         C::LocalGoal { index: i, .. } => index(3, *i),
         C::RgbInterest { rgb, active } => {

@@ -19,8 +19,9 @@ use super::heuristics::{self, collision_free, Heuristic};
 use super::live::state::{EXPLORE, SEARCH_NEW_PATH, WALK};
 use super::live::Living;
 use super::memory::DepthView;
-use super::octree::Voxel;
-use super::path::{self, Explorer, SearchGrid, Step};
+use super::footholds::map::{ground_layers, Region};
+use super::octree::{Octree, Voxel};
+use super::path::{self, Band, Explorer, SearchGrid, Step};
 use super::spline::{self, Piece};
 use super::vision::{Pixel, Window};
 use crate::lsys::automata::Automata;
@@ -48,7 +49,22 @@ pub struct Navigation {
     /// The explorer's last voxel was a dead end and the actor has looked
     /// around there: its candidates are taken once more, then it walks on.
     pub looked_around: bool,
+    /// The layers of a planar search laid on the ground it saw, fixed
+    /// from a search to the next (the explorer's voxels are of this grid).
+    pub band: Option<Band>,
+    /// Where it stood when it last moved, and how long it has not moved
+    /// on from there while heading for a goal.
+    pub still_at: Vec3,
+    pub still_for: f32,
 }
+
+/// Seconds a navigating actor may head for a goal without moving on by
+/// half a search voxel before it notices it is stuck.
+const STUCK_SECONDS: f32 = 3.0;
+
+/// The radius of the ground a planar search looks for under the eye, in
+/// search voxels.
+const GROUND_RANGE: f32 = 32.0;
 
 /// Whether heuristic `h` searches in the horizontal plane of the start
 /// (its candidates all have dy = 0): then the path keeps the eye's height.
@@ -106,6 +122,9 @@ impl Living {
             // Without a memory there is nothing to plan on (`init`).
             return self.pop();
         }
+        if self.stuck(dt) {
+            return self.unstick();
+        }
         if self.navigation.explorer.is_some() {
             return self.explore(dt);
         }
@@ -115,6 +134,47 @@ impl Living {
         self.search_new_path();
     }
 
+    /// Whether it has headed for a goal for [`STUCK_SECONDS`] without
+    /// moving on by half a search voxel: a plan that keeps failing the
+    /// collision test where it stands, a way that keeps being re-planned.
+    fn stuck(&mut self, dt: f32) -> bool {
+        let reach = self.half_search_voxel().unwrap_or(0.0);
+        let nav = &mut self.navigation;
+        if nav.destination.is_none() || self.eye.distance(nav.still_at) > reach {
+            nav.still_at = self.eye;
+            nav.still_for = 0.0;
+            return false;
+        }
+        nav.still_for += dt;
+        nav.still_for > STUCK_SECONDS
+    }
+
+    /// Stuck: the plans on its memory do not move it, so it explores
+    /// from where it stands (Algorithm 1 walked for real, which moves it
+    /// one free voxel at a time); stuck while exploring, it gives up.
+    fn unstick(&mut self) {
+        self.navigation.still_for = 0.0;
+        let Some(dest) = self.navigation.destination else {
+            return;
+        };
+        if self.navigation.explorer.is_some() {
+            let why = format!(
+                "stuck at ({}) for {STUCK_SECONDS} s while exploring toward its goal ({}): goal given up",
+                show(self.eye),
+                show(dest)
+            );
+            self.give_up_goal(why);
+            return self.give_up();
+        }
+        self.note(&format!(
+            "has not moved on from ({}) for {STUCK_SECONDS} s toward its goal ({}): it explores from there",
+            show(self.eye),
+            show(dest)
+        ));
+        self.path.clear();
+        self.start_exploring(dest);
+    }
+
     /// search_new_path: the destination (popped from the goal stack when
     /// there is none), then a plan to it on the memory.
     fn search_new_path(&mut self) {
@@ -122,7 +182,10 @@ impl Living {
         let dest = match self.navigation.destination {
             Some(d) => d,
             None => match self.goals.pop() {
-                Some(g) => *self.navigation.destination.insert(g),
+                Some(g) => {
+                    self.gave_up = None;
+                    *self.navigation.destination.insert(g)
+                }
                 None => return self.pop(),
             },
         };
@@ -133,29 +196,34 @@ impl Living {
         let Some(h) = heuristics::heuristic(self.heuristic as u32) else {
             return self.pop();
         };
-        let flat = planar(h);
-        let aim = if flat {
-            Vec3::new(dest.x, self.eye.y, dest.z)
-        } else {
-            dest
-        };
+        let aim = self.aim(h, dest);
         let memory = self.memory.as_ref().expect("checked").octree();
+        let cube = memory.cube();
         let to = |p: Vec3| p.as_dvec3().to_array();
-        let grid = SearchGrid::new(memory, self.rel_search_level);
+        if memory.voxel(to(aim)).is_none() || memory.voxel(to(self.eye)).is_none() {
+            let (what, p) = match memory.voxel(to(aim)) {
+                None => ("its goal", aim),
+                Some(_) => ("its eye", self.eye),
+            };
+            let why = format!(
+                "{what} ({}) lies outside its memory's cube ({} … {} on each axis, `init`), where it cannot plan: goal ({}) given up",
+                show(p),
+                cube.min,
+                cube.max,
+                show(dest)
+            );
+            self.give_up_goal(why);
+            return self.give_up();
+        }
+        self.navigation.band = self.ground_band(memory, h);
+        let grid = self.grid(memory);
         let from = match self.standing_voxel(&grid, h) {
-            Some(v) if !flat => glam::DVec3::from_array(grid.centre(v)).as_vec3(),
+            Some(v) if !planar(h) => glam::DVec3::from_array(grid.centre(v)).as_vec3(),
             _ => self.eye,
         };
-        let found = path::plan(
-            memory,
-            to(from),
-            to(aim),
-            h,
-            self.rel_search_level,
-            MAX_VISITED,
-        );
-        match found {
+        match path::plan_on(&grid, to(from), to(aim), h, MAX_VISITED) {
             Some(points) => {
+                let flat = planar(h);
                 let y = self.eye.y;
                 self.path = points
                     .iter()
@@ -178,18 +246,8 @@ impl Living {
                 self.navigation.failures = 0;
                 self.state = WALK;
             }
-            None if self.navigation.failures > 0 => {
-                // Observing did not show a way: explore (5.2.2).
-                let ends = grid.voxel(to(from)).zip(grid.voxel(to(aim)));
-                match ends {
-                    Some((start, end)) => {
-                        self.navigation.explorer = Some(Explorer::new(h, start, end));
-                        self.navigation.target = None;
-                        self.state = EXPLORE;
-                    }
-                    None => self.give_up(),
-                }
-            }
+            // Observing did not show a way: explore (5.2.2).
+            None if self.navigation.failures > 0 => self.start_exploring(dest),
             None => {
                 // Push itself and look around: the memory may then hold a
                 // way (5.2.4).
@@ -198,6 +256,73 @@ impl Living {
                 self.look_around();
             }
         }
+    }
+
+    /// Where a plan to `dest` ends: at the eye's height for a planar
+    /// heuristic.
+    fn aim(&self, h: &Heuristic, dest: Vec3) -> Vec3 {
+        if planar(h) {
+            Vec3::new(dest.x, self.eye.y, dest.z)
+        } else {
+            dest
+        }
+    }
+
+    /// The explore mode (5.2.2) from where it stands toward `dest`, on
+    /// the grid of its last search.
+    fn start_exploring(&mut self, dest: Vec3) {
+        let (Some(memory), Some(h)) = (
+            self.memory.as_ref(),
+            heuristics::heuristic(self.heuristic as u32),
+        ) else {
+            return;
+        };
+        let grid = self.grid(memory.octree());
+        let to = |p: Vec3| p.as_dvec3().to_array();
+        let start = self.standing_voxel(&grid, h);
+        match start.zip(grid.voxel(to(self.aim(h, dest)))) {
+            Some((start, end)) => {
+                self.navigation.explorer = Some(Explorer::new(h, start, end));
+                self.navigation.target = None;
+                self.navigation.looked_around = false;
+                self.state = EXPLORE;
+            }
+            None => {
+                let why = format!(
+                    "its goal ({}) or its eye ({}) lies outside its memory's cube: goal given up",
+                    show(dest),
+                    show(self.eye)
+                );
+                self.give_up_goal(why);
+                self.give_up();
+            }
+        }
+    }
+
+    /// The search grid of its memory at `rel_search_level`, laid on the
+    /// ground of its last search.
+    fn grid<'m>(&self, memory: &'m Octree) -> SearchGrid<'m> {
+        SearchGrid::new(memory, self.rel_search_level).on(self.navigation.band)
+    }
+
+    /// For a planar heuristic, the layers laid on the ground its memory
+    /// holds under its eye (docs/actors.md, "The ground of a planar
+    /// search"): the floor is never in the layer it walks in, whatever
+    /// its eye's height and the voxel sizes. None for a 3D heuristic, or
+    /// when it has seen nothing under its eye.
+    fn ground_band(&self, memory: &Octree, h: &Heuristic) -> Option<Band> {
+        if !planar(h) {
+            return None;
+        }
+        let eye = memory.voxel(self.eye.as_dvec3().to_array())?[1];
+        let side = 1u32 << self.rel_search_level.min(memory.levels());
+        let region = Region {
+            centre: self.eye,
+            range: GROUND_RANGE * side as f32 * memory.cube().voxel_edge as f32,
+            plane: self.eye.y,
+        };
+        let (lo, hi) = ground_layers(memory, &region, eye)?;
+        Some(Band::new(eye, lo, hi, side))
     }
 
     /// Pushes itself and runs `observe`, which pops it back.
@@ -252,7 +377,7 @@ impl Living {
     pub fn shown_path(&self) -> Vec<Vec3> {
         match (&self.navigation.explorer, &self.memory) {
             (Some(e), Some(memory)) => {
-                let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+                let grid = self.grid(memory.octree());
                 e.path().iter().map(|&v| self.key_point(&grid, v)).collect()
             }
             _ => self.path_ahead(),
@@ -279,7 +404,7 @@ impl Living {
         else {
             return;
         };
-        let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+        let grid = SearchGrid::new(memory.octree(), self.rel_search_level).on(self.navigation.band);
         let h = e.heuristic();
         if !self.navigation.looked_around
             && e.dead_end(|v| grid.is_empty(v))
@@ -310,7 +435,16 @@ impl Living {
                     self.state = WALK;
                 }
             }
-            Step::Enclosed => self.give_up(),
+            Step::Enclosed => {
+                let why = format!(
+                    "its goal ({}) is out of reach: exploring, it tried all {} search voxels heuristic {} reaches from where it began, within its memory's cube, and none leads to the goal's voxel: goal given up",
+                    self.navigation.destination.map_or("?".into(), show),
+                    e.visited(),
+                    self.heuristic
+                );
+                self.give_up_goal(why);
+                self.give_up();
+            }
         }
     }
 
@@ -461,10 +595,15 @@ impl Living {
     fn collision_test(&self) -> Option<impl Fn(Vec3) -> bool + '_> {
         let memory = self.memory.as_ref()?;
         let test = heuristics::heuristic(self.coll_test_func as u32)?;
-        let grid = SearchGrid::new(memory.octree(), self.rel_search_level);
+        let grid = self.grid(memory.octree());
         Some(move |p: Vec3| {
             grid.voxel(p.as_dvec3().to_array())
                 .is_some_and(|v| collision_free(test, v, |u| grid.is_empty(u)))
         })
     }
+}
+
+/// A point as the warnings write it: x, y, z to the centimetre.
+fn show(p: Vec3) -> String {
+    format!("{:.2}, {:.2}, {:.2}", p.x, p.y, p.z)
 }

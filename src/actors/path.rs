@@ -405,12 +405,51 @@ pub fn plan_voxels(
 
 /// The search voxels over a visual memory: `2^level` memory voxels on a
 /// side (`rel_search_level`, appendix G), empty when all of them are.
+///
+/// A planar search may stand on a [`Band`]: its layers are then laid
+/// around the ground instead of from the cube's floor, so that the floor
+/// is never in the layer the actor walks in, whatever the eye's height
+/// and the voxel sizes (docs/actors.md, "The ground of a planar search").
 #[derive(Debug, Clone, Copy)]
 pub struct SearchGrid<'a> {
     memory: &'a Octree,
     level: u32,
     /// Search voxels along an edge.
     edge: u32,
+    band: Option<Band>,
+}
+
+/// The layers of a planar search laid on the ground (memory layers,
+/// `lo..hi` half-open): the actor's layer from just above the ground to
+/// its eye, the ground's layer under it; the others are `2^level` memory
+/// layers thick, upward from the actor's and downward from the ground's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Band {
+    /// The search layer the actor walks in.
+    pub layer: u32,
+    /// Its memory layers: from just above the ground to the eye's.
+    pub lo: u32,
+    pub hi: u32,
+    /// The lowest memory layer of the ground's search layer (`layer` −
+    /// 1), which ends at `lo`.
+    pub ground: u32,
+}
+
+impl Band {
+    /// The band of an eye in memory layer `eye` over ground whose full
+    /// voxels lie in memory layers `ground_lo..=ground_hi` (a surface on a
+    /// layer boundary fills two), for search voxels of `side` layers.
+    pub fn new(eye: u32, ground_lo: u32, ground_hi: u32, side: u32) -> Band {
+        let lo = (ground_hi + 1).min(eye);
+        let hi = (eye + 1).max(lo + side);
+        let ground = ground_lo.min(lo.saturating_sub(side));
+        Band {
+            layer: ground.div_ceil(side) + 1,
+            lo,
+            hi,
+            ground,
+        }
+    }
 }
 
 impl<'a> SearchGrid<'a> {
@@ -423,41 +462,94 @@ impl<'a> SearchGrid<'a> {
             memory,
             level,
             edge,
+            band: None,
+        }
+    }
+
+    /// The grid with its layers laid on `band` (None: from the cube's
+    /// floor).
+    pub fn on(self, band: Option<Band>) -> Self {
+        SearchGrid { band, ..self }
+    }
+
+    /// Memory layers a search voxel is thick.
+    fn side(&self) -> u32 {
+        1 << self.level
+    }
+
+    /// The memory layers (half-open) of search layer j; empty past the
+    /// cube.
+    fn layers(&self, j: u32) -> (u32, u32) {
+        let side = self.side();
+        let limit = self.memory.voxels_per_edge();
+        let (lo, hi) = match self.band {
+            None => (j.saturating_mul(side), j.saturating_add(1).saturating_mul(side)),
+            Some(b) if j == b.layer => (b.lo, b.hi),
+            Some(b) if j == b.layer - 1 => (b.ground, b.lo),
+            Some(b) if j > b.layer => {
+                let k = j - b.layer;
+                (
+                    b.hi.saturating_add((k - 1).saturating_mul(side)),
+                    b.hi.saturating_add(k.saturating_mul(side)),
+                )
+            }
+            Some(b) => {
+                // Below the ground's layer: k layers under it.
+                let k = b.layer - 1 - j;
+                let top = i64::from(b.ground) - i64::from((k - 1) * side);
+                let bottom = top - i64::from(side);
+                (bottom.max(0) as u32, top.max(0) as u32)
+            }
+        };
+        (lo.min(limit), hi.min(limit))
+    }
+
+    /// The search layer holding memory layer m.
+    fn layer_of(&self, m: u32) -> u32 {
+        let side = self.side();
+        match self.band {
+            None => m >> self.level,
+            Some(b) if m >= b.hi => b.layer + 1 + (m - b.hi) / side,
+            Some(b) if m >= b.lo => b.layer,
+            Some(b) if m >= b.ground => b.layer - 1,
+            Some(b) => b.layer - 2 - (b.ground - 1 - m) / side,
         }
     }
 
     /// The search voxel holding world point p, None outside the cube.
     pub fn voxel(&self, p: [f64; 3]) -> Option<Voxel> {
-        self.memory.voxel(p).map(|v| v.map(|c| c >> self.level))
+        self.memory
+            .voxel(p)
+            .map(|v| [v[0] >> self.level, self.layer_of(v[1]), v[2] >> self.level])
     }
 
     /// The world centre of search voxel v.
     pub fn centre(&self, v: Voxel) -> [f64; 3] {
         let cube = self.memory.cube();
-        let side = f64::from(1u32 << self.level);
-        v.map(|c| cube.min + (f64::from(c) + 0.5) * side * cube.voxel_edge)
+        let side = f64::from(self.side());
+        let (lo, hi) = self.layers(v[1]);
+        let at = |c: u32| cube.min + (f64::from(c) + 0.5) * side * cube.voxel_edge;
+        let y = cube.min + f64::from(lo + hi) / 2.0 * cube.voxel_edge;
+        [at(v[0]), y, at(v[2])]
     }
 
     /// Whether no memory voxel of v is occupied; false past the cube
     /// (the cube's faces are walls to the search).
     pub fn is_empty(&self, v: Voxel) -> bool {
-        if v.iter().any(|&c| c >= self.edge) {
+        let (y0, y1) = self.layers(v[1]);
+        if v[0] >= self.edge || v[2] >= self.edge || y0 >= y1 {
             return false;
         }
         let limit = self.memory.voxels_per_edge();
         let range = |c: u32| (c << self.level)..((c + 1) << self.level).min(limit);
         range(v[0])
-            .all(|x| range(v[1]).all(|y| range(v[2]).all(|z| self.memory.get([x, y, z]).is_none())))
+            .all(|x| (y0..y1).all(|y| range(v[2]).all(|z| self.memory.get([x, y, z]).is_none())))
     }
 }
 
 /// The path from `start` to `end` (world points) through the free voxels
-/// of the memory octree under heuristic `h`, at `rel_search_level`, as
-/// the world centres of its search voxels, start first: Algorithm 1
-/// (giving up past `max_visited` voxels), then Algorithms 2–4. None when
-/// an end point is outside the cube, the end voxel is occupied (no
-/// candidate could reach it: the search would only exhaust the space), or
-/// no path exists under `h`.
+/// of the memory octree under heuristic `h`, at `rel_search_level`: see
+/// [`plan_on`].
 pub fn plan(
     memory: &Octree,
     start: [f64; 3],
@@ -466,7 +558,28 @@ pub fn plan(
     rel_search_level: u32,
     max_visited: usize,
 ) -> Option<Vec<[f64; 3]>> {
-    let grid = SearchGrid::new(memory, rel_search_level);
+    plan_on(
+        &SearchGrid::new(memory, rel_search_level),
+        start,
+        end,
+        h,
+        max_visited,
+    )
+}
+
+/// The path from `start` to `end` (world points) through the free search
+/// voxels of `grid` under heuristic `h`, as the world centres of its
+/// search voxels, start first: Algorithm 1 (giving up past `max_visited`
+/// voxels), then Algorithms 2–4. None when an end point is outside the
+/// cube, the end voxel is occupied (no candidate could reach it: the
+/// search would only exhaust the space), or no path exists under `h`.
+pub fn plan_on(
+    grid: &SearchGrid,
+    start: [f64; 3],
+    end: [f64; 3],
+    h: &Heuristic,
+    max_visited: usize,
+) -> Option<Vec<[f64; 3]>> {
     let (s, e) = (grid.voxel(start)?, grid.voxel(end)?);
     if s != e && !grid.is_empty(e) {
         return None;

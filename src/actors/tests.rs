@@ -162,6 +162,10 @@ fn refuses_what_no_actor_can_run() {
         "-1",
     );
     refused("NBR_actors 1\nactorNbr_automata 0 9 turtle 5", 2, "5");
+    // rel_search_level is a logarithmic level: 0, 1, 2, … (B.6).
+    refused("NBR_actors 1\nactorNbr_automata 0 4 rel_search_level -1", 2, "-1");
+    refused("NBR_actors 1\nactorNbr_automata 0 4 rel_search_level 0.5", 2, "0.5");
+    refused("NBR_actors 1\nactorNbr_automata 0 4 rel_search_level 21", 2, "21");
     refused("NBR_actors 1\nactorNbr_automata 0 9 interest 1 3", 2, "3");
     refused("NBR_actors 1\nactorNbr_automata 0 9 goal 1 2", 2, "goal");
     // walk_stepworthy's commands (docs/footholds.md).
@@ -189,7 +193,7 @@ fn refuses_what_no_actor_can_run() {
 #[test]
 fn both_arities_where_bnf_and_table_b6_disagree() {
     let t = scene(
-        "NBR_actors 1\nactorNbr_automata 0 9 local_goal 1 2 3 local_goal 2 1 2 3 eps_arrived 0.5 eps_arrived 1 0.5 rel_search_level rel_search_level 0.5",
+        "NBR_actors 1\nactorNbr_automata 0 9 local_goal 1 2 3 local_goal 2 1 2 3 eps_arrived 0.5 eps_arrived 1 0.5 rel_search_level rel_search_level 0",
     )
     .unwrap();
     let c: Vec<_> = t.get(0).unwrap().automata()[0]
@@ -218,7 +222,7 @@ fn both_arities_where_bnf_and_table_b6_disagree() {
                 distance: 0.5
             },
             C::RelSearchLevel(None),
-            C::RelSearchLevel(Some(0.5)),
+            C::RelSearchLevel(Some(0.0)),
         ]
     );
 }

@@ -131,13 +131,63 @@ fn ray(basis: (Vec3, Vec3, Vec3), tan: f32, edge: u32, px: f32, py: f32) -> Vec3
     forward + sx * right + sy * up
 }
 
+/// What an actor's `M` branch drew this frame: its own body, which its
+/// vision looks through (an eye inside its own sphere sees the room, not
+/// the sphere's inside). Other actors, the camera and shadows see it.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct OwnBody {
+    /// Identifiers of the symbols that drew its primitives, sorted.
+    symbols: Vec<u64>,
+    /// Object ids of the instances placed in its branch, sorted.
+    objects: Vec<u32>,
+}
+
+impl OwnBody {
+    /// Forgets the last frame's body (before a frame is interpreted).
+    pub fn clear(&mut self) {
+        self.symbols.clear();
+        self.objects.clear();
+    }
+
+    /// A primitive drawn by symbol `id` in the branch.
+    pub fn add_symbol(&mut self, id: u64) {
+        self.symbols.push(id);
+    }
+
+    /// An instance placed in the branch.
+    pub fn add_object(&mut self, object: u32) {
+        self.objects.push(object);
+    }
+
+    /// Sorts what was added, once the frame is interpreted.
+    pub fn seal(&mut self) {
+        self.symbols.sort_unstable();
+        self.symbols.dedup();
+        self.objects.sort_unstable();
+        self.objects.dedup();
+    }
+
+    /// Whether a hit is of the body (after [`seal`](Self::seal)).
+    fn holds(&self, h: &Hit) -> bool {
+        self.symbols.binary_search(&h.symbol).is_ok()
+            || self.objects.binary_search(&h.object).is_ok()
+    }
+}
+
 /// The closest hit an actor sees along a ray: what is drawn for the
-/// viewer only ([`OVERLAY`]) is looked through.
-fn cast_seen(accel: &Accel, eye: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<Hit> {
+/// viewer only ([`OVERLAY`]) and the actor's own body are looked through.
+fn cast_seen(
+    accel: &Accel,
+    body: &OwnBody,
+    eye: Vec3A,
+    d: Vec3A,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
     let mut from = tmin;
     loop {
         let h = accel.cast(eye, d, from, tmax)?;
-        if h.symbol != OVERLAY {
+        if h.symbol != OVERLAY && !body.holds(&h) {
             return Some(h);
         }
         // Just past it; an overlay in front of another is passed too.
@@ -146,9 +196,10 @@ fn cast_seen(accel: &Accel, eye: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Optio
 }
 
 /// Sees: casts the window's rays (one through each pixel centre) into
-/// `accel`, between the near and far planes, and shades each hit as the
-/// preview renderer does. Rows run in parallel on the current rayon pool.
-pub fn see(accel: &Accel, view: &View, edge: u32) -> Window {
+/// `accel`, between the near and far planes, through the actor's own
+/// `body`, and shades each hit as the preview renderer does. Rows run in
+/// parallel on the current rayon pool.
+pub fn see(accel: &Accel, body: &OwnBody, view: &View, edge: u32) -> Window {
     let edge = edge.max(1);
     let basis = view.basis();
     let tan = view.tan_half();
@@ -167,7 +218,7 @@ pub fn see(accel: &Accel, view: &View, edge: u32) -> Window {
                     let d = Vec3A::from(r / len);
                     // Depth z along the axis is distance / len.
                     let (tmin, tmax) = (view.near.max(0.0) * len, view.far * len);
-                    match cast_seen(accel, eye, d, tmin, tmax) {
+                    match cast_seen(accel, body, eye, d, tmin, tmax) {
                         Some(h) => Pixel {
                             distance: h.t,
                             depth: h.t / len,
@@ -192,8 +243,8 @@ pub fn see(accel: &Accel, view: &View, edge: u32) -> Window {
         })
         .collect();
     let forward = Vec3A::from(basis.2);
-    let centre =
-        cast_seen(accel, eye, forward, view.near.max(0.0), view.far).map_or(f32::INFINITY, |h| h.t);
+    let centre = cast_seen(accel, body, eye, forward, view.near.max(0.0), view.far)
+        .map_or(f32::INFINITY, |h| h.t);
     Window {
         view: *view,
         edge,

@@ -23,7 +23,14 @@ pub fn trace(
     if range.is_empty() {
         return Ok(());
     }
+    // The warnings `derive` gives, each once, as they come.
+    let mut warned = std::collections::BTreeSet::new();
     while let Some(frame) = film.next_frame()? {
+        for w in frame.warnings() {
+            if warned.insert(w.clone()) {
+                eprintln!("{w}");
+            }
+        }
         let k = frame.number();
         if range.contains(&k) {
             let line = Record::of(&film).expect("a frame was handed out").to_line();

@@ -43,6 +43,9 @@ pub struct ActorRecord {
     pub pos: [f32; 3],
     pub look_at: [f32; 3],
     pub goal: Option<[f32; 3]>,
+    /// Why it last gave a goal up (no way within its memory's cube, …).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gave_up: Option<String>,
     pub memory_voxels: u64,
     pub found: bool,
     pub pixels: u32,
@@ -83,6 +86,7 @@ impl ActorRecord {
             pos: l.eye.to_array(),
             look_at: l.look_at.to_array(),
             goal: l.actual_goal().map(|g| g.to_array()),
+            gave_up: l.gave_up.clone(),
             memory_voxels: l.memory.as_ref().map_or(0, |m| m.voxels()),
             found: thing.is_some(),
             pixels: thing.map_or(0, |t| t.pixels),

@@ -20,7 +20,9 @@ use crate::lsys::{Sensors, Who};
 use crate::physics::{Mode, Particle, Physics};
 use crate::sound::air::{self, Air, AMBIENT_SOURCE};
 use crate::source::FileRef;
-use crate::turtle::{ActorMapping, ActorPose, ParticleMapping, SoundRequest, TurtleWorld};
+use crate::turtle::{
+    ActorMapping, ActorPose, BodyPart, ParticleMapping, SoundRequest, TurtleWorld,
+};
 
 use super::tracks::Tracks;
 
@@ -360,6 +362,15 @@ impl TurtleWorld for Window<'_> {
 
     fn trace(&mut self, n: i64) -> Option<(DVec3, DVec3)> {
         self.tracks.as_deref()?.trace(n)
+    }
+
+    fn body(&mut self, actor: u32, part: BodyPart) {
+        if let Some(a) = self.living.get_mut(actor as usize) {
+            match part {
+                BodyPart::Symbol(id) => a.body.add_symbol(id),
+                BodyPart::Object(object) => a.body.add_object(object),
+            }
+        }
     }
 
     /// `I`: the film writes the traced actors' records after the frame.

@@ -384,6 +384,9 @@ impl Film {
         self.air.begin_frame(time).map_err(Error::input)?;
         self.sound_collisions()?;
         self.tracks.time = time;
+        for a in &mut self.living {
+            a.body.clear();
+        }
         let mut window = Window::new(&mut self.air, &mut self.physics, None, number);
         window.scripts = self.scripts.as_ref();
         window.living = &mut self.living;
@@ -432,6 +435,10 @@ impl Film {
                     self.physics.toss(at.as_dvec3(), velocity.as_dvec3());
                 }
             }
+        }
+        for a in &mut self.living {
+            let notes = std::mem::take(&mut a.notes);
+            frame.warn(notes.into_iter().map(|n| format!("frame {number}: {n}")).collect());
         }
         // Step 5. The camera may have moved (`l`): microphone 0 follows it.
         self.air.end_frame(eye).map_err(Error::input)?;

@@ -8,7 +8,7 @@ use glam::{Affine3A, DVec3, Vec3};
 use super::polygon::{newell, triangulate, PolygonStack};
 use super::special;
 use super::state::{bend, Turtle};
-use super::{ActorMapping, Builder, ParticleMapping, SoundRequest, TurtleWorld};
+use super::{ActorMapping, BodyPart, Builder, ParticleMapping, SoundRequest, TurtleWorld};
 use crate::lsys::step::ActorScope;
 use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Limits, Symbol, Who};
@@ -56,8 +56,9 @@ pub enum Placed {
 pub struct Structure {
     pub geometry: Geometry,
     /// What is placed where, with the turtle's current material then (the
-    /// colour of a surface's faces that name no material of their own).
-    pub placements: Vec<(Placed, Affine3A, u32)>,
+    /// colour of a surface's faces that name no material of their own),
+    /// and the actor whose `M` branch placed it (its body).
+    pub placements: Vec<(Placed, Affine3A, u32, Option<u32>)>,
     /// Named objects defined by this word.
     pub named: Vec<(i64, Geometry)>,
 }
@@ -239,6 +240,14 @@ impl Interpreter<'_> {
         self.add_shape(shape, s.ch);
     }
 
+    /// A primitive of `symbol` drawn in the current actor's `M` branch is
+    /// part of its body, which its own vision looks through.
+    fn own(&mut self, symbol: u64) {
+        if let (Some(a), false) = (self.actor, symbol == OVERLAY) {
+            self.world.body(a, BodyPart::Symbol(symbol));
+        }
+    }
+
     /// Adds `shape`, drawn by symbol `ch`, when its bounds lie within
     /// ±[`MAX_COORDINATE`] (else one warning per symbol kind) and the
     /// scene's primitive limit allows.
@@ -251,6 +260,7 @@ impl Interpreter<'_> {
             return;
         }
         if self.b.count(1) {
+            self.own(shape.symbol);
             self.geometry().shapes.push(shape);
         }
     }
@@ -285,6 +295,7 @@ impl Interpreter<'_> {
             return;
         }
         if self.b.count(1) {
+            self.own(s.id);
             self.geometry().triangles.push(Triangle {
                 v,
                 material,
@@ -676,7 +687,7 @@ impl Interpreter<'_> {
                 let g = self.growth(&s);
                 if g.iter().all(|v| v.is_finite() && *v != 0.0) {
                     let m = placed(&self.t, g[0], g[1], g[2]);
-                    let placement = (Placed::Surface(x as i64), m, self.material);
+                    let placement = (Placed::Surface(x as i64), m, self.material, self.actor);
                     self.out.placements.push(placement);
                 } else if g.iter().any(|v| !v.is_finite()) {
                     // A zero scale is a surface not grown yet: no warning.
@@ -788,7 +799,7 @@ impl Interpreter<'_> {
             return;
         };
         let now = placed(&self.t, 1.0, 1.0, 1.0) * def;
-        let placement = (Placed::Named(name), now, self.material);
+        let placement = (Placed::Named(name), now, self.material, self.actor);
         self.out.placements.push(placement);
     }
 
@@ -796,7 +807,7 @@ impl Interpreter<'_> {
     /// the object they modify).
     pub(super) fn transform_last_placement(&mut self, m: Affine3A) {
         match self.out.placements.last_mut() {
-            Some((_, t, _)) => *t = m * *t,
+            Some((_, t, _, _)) => *t = m * *t,
             None => self.warn(
                 "`D` par1 = 4, 8 or 9 transforms the object placed last, but none was placed",
             ),

@@ -72,6 +72,17 @@ pub trait TurtleWorld: Sensors {
     fn sound(&mut self, _request: SoundRequest) {}
     /// The `E` symbol: run script `number` with the integer growth values.
     fn command(&mut self, _number: i64, _values: [i64; 3]) {}
+    /// A part of actor `actor`'s body: drawn in its own `M` branch, so
+    /// its vision looks through it (other actors and the camera see it).
+    fn body(&mut self, _actor: u32, _part: BodyPart) {}
+}
+
+/// A primitive drawn in an actor's own `M` branch: by the symbol that
+/// drew it, or the instance a placement there made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BodyPart {
+    Symbol(u64),
+    Object(u32),
 }
 
 /// What a `C` symbol asks of the particle layer (C.4), in world
@@ -545,19 +556,19 @@ pub fn build_scene(
         }
         // Each placement's geometry, resolved once for all the copies.
         let mut placed = Vec::with_capacity(st.placements.len());
-        for (what, m, mat) in &st.placements {
+        for &(what, m, mat, owner) in &st.placements {
             let g = match what {
-                Placed::Named(n) => named.get(n).copied(),
+                Placed::Named(n) => named.get(&n).copied(),
                 Placed::Surface(n) => surfaces
                     .index
                     .iter()
-                    .find(|(l, sn, _)| *l == k && sn == n)
+                    .find(|(l, sn, _)| *l == k && *sn == n)
                     .map(|(_, _, gi)| {
-                        surface_in(*gi, *mat, surfaces, &mut geometries, &mut recoloured)
+                        surface_in(*gi, mat, surfaces, &mut geometries, &mut recoloured)
                     }),
             };
             match g {
-                Some(g) => placed.push((g, *m)),
+                Some(g) => placed.push((g, m, owner)),
                 None => b.warn(
                     &ls.def.name,
                     &format!(
@@ -573,13 +584,16 @@ pub fn build_scene(
                 transform: *r,
                 object,
             });
-            for (g, m) in &placed {
+            for (g, m, owner) in &placed {
                 let object = instances.len() as u32;
                 instances.push(Instance {
                     geometry: *g,
                     transform: *r * *m,
                     object,
                 });
+                if let Some(a) = owner {
+                    world.body(*a, BodyPart::Object(object));
+                }
             }
         }
     }

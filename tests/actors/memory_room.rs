@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 use glam::Vec3;
 use lmfilm::actors::memory::VisualMemory;
 use lmfilm::actors::octree::Cube;
-use lmfilm::actors::vision::{self, View};
+use lmfilm::actors::vision::{self, OwnBody, View};
 use lmfilm::render::Accel;
 use lmfilm::scene::ShapeKind;
 
@@ -48,7 +48,7 @@ fn cube() -> Cube {
 #[test]
 fn a_seen_point_projects_back_to_its_pixel() {
     let accel = room();
-    let window = vision::see(&accel, &view(1), 32);
+    let window = vision::see(&accel, &OwnBody::default(), &view(1), 32);
     let depth = window.depth_view();
     let mut hits = 0;
     for y in 0..32 {
@@ -74,7 +74,7 @@ fn turning_around_memorises_the_walls() {
     let accel = room();
     let mut memory = VisualMemory::with_thesis_rule(cube());
     for k in 0..12 {
-        let window = vision::see(&accel, &view(k), 64);
+        let window = vision::see(&accel, &OwnBody::default(), &view(k), 64);
         memory.integrate(&window.depth_view(), k);
     }
     let stored: BTreeSet<_> = memory

@@ -4,7 +4,7 @@
 use std::f32::consts::PI;
 
 use glam::{Affine3A, Vec3};
-use lmfilm::actors::vision::{self, Body, Interest, View, Window, NOTHING};
+use lmfilm::actors::vision::{self, Body, Interest, OwnBody, View, Window, NOTHING};
 use lmfilm::render::Accel;
 use lmfilm::scene::material::{self, Material};
 use lmfilm::scene::{Camera, Geometry, Instance, Light, Scene, Shape, ShapeKind};
@@ -73,7 +73,7 @@ fn ball(centre: Vec3, r: f32) -> Affine3A {
 }
 
 fn see(s: Scene, view: &View, edge: u32) -> Window {
-    vision::see(&Accel::new(s), view, edge)
+    vision::see(&Accel::new(s), &OwnBody::default(), view, edge)
 }
 
 #[test]
@@ -91,7 +91,7 @@ fn centre_distance_of_a_box_face() {
     let accel = Accel::new(s);
     for edge in [33, 64] {
         let v = View::new(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, 450, 0.1, 100.0);
-        let w = vision::see(&accel, &v, edge);
+        let w = vision::see(&accel, &OwnBody::default(), &v, edge);
         assert!(
             (w.centre_distance() - 7.0).abs() < 1e-4,
             "{edge}: {}",
@@ -110,15 +110,15 @@ fn centre_distance_of_a_box_face() {
             0.1,
             100.0,
         );
-        assert_eq!(vision::see(&accel, &away, edge).centre_distance(), NOTHING);
+        assert_eq!(vision::see(&accel, &OwnBody::default(), &away, edge).centre_distance(), NOTHING);
         let short = View { far: 6.9, ..v };
-        let w = vision::see(&accel, &short, edge);
+        let w = vision::see(&accel, &OwnBody::default(), &short, edge);
         assert_eq!(w.centre_distance(), NOTHING);
         assert!(w.pixels.iter().all(|p| !p.hit()));
         // The near plane clips by depth: past the front face, the eye
         // sees the back face from inside, 8 away.
         let near = View { near: 7.5, ..v };
-        let inside = vision::see(&accel, &near, edge).centre_distance();
+        let inside = vision::see(&accel, &OwnBody::default(), &near, edge).centre_distance();
         assert!((inside - 8.0).abs() < 1e-4, "{inside}");
     }
 }
@@ -278,8 +278,7 @@ fn flat_colours_identify_things_exactly() {
         Vec3::new(0.0, 10.0, 10.0),
     );
     let accel = Accel::new(s);
-    let w = vision::see(
-        &accel,
+    let w = vision::see(&accel, &OwnBody::default(),
         &View::new(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, 450, 0.1, 100.0),
         40,
     );
@@ -323,8 +322,7 @@ fn sphere_window(centre: Vec3, d: f32, look_at: Vec3, fov: i64, edge: u32) -> (W
         Vec3::new(0.0, 0.0, d),
     );
     let accel = Accel::new(s);
-    let w = vision::see(
-        &accel,
+    let w = vision::see(&accel, &OwnBody::default(),
         &View::new(Vec3::new(0.0, 0.0, d), look_at, fov, 0.1, 100.0),
         edge,
     );
@@ -425,7 +423,7 @@ fn identical_for_one_and_two_threads() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| vision::see(&accel, &view, 64))
+            .install(|| vision::see(&accel, &OwnBody::default(), &view, 64))
     };
     let (one, two) = (run(1), run(2));
     let hits = one.pixels.iter().filter(|p| p.hit()).count();

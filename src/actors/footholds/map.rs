@@ -232,6 +232,26 @@ pub fn busiest_layer(memory: &Octree, region: &Region, below: f32) -> Option<f32
     Some(layer_height(memory, *k))
 }
 
+/// The ground under an eye in memory layer `eye`: the memory layers,
+/// among those under it within the region's range, that hold the most
+/// full voxels (on a tie, the higher), with the layer over or under it
+/// when that holds a quarter as many (a floor on a layer boundary fills
+/// two); None when the memory holds nothing there.
+pub fn ground_layers(memory: &Octree, region: &Region, eye: u32) -> Option<(u32, u32)> {
+    let top = eye.checked_sub(1)?;
+    let mut counts: BTreeMap<u32, u64> = BTreeMap::new();
+    voxels_in(memory, region, 0, top, |v| {
+        *counts.entry(v[1]).or_default() += 1;
+    });
+    let (&g, &n) = counts
+        .iter()
+        .max_by(|a, b| a.1.cmp(b.1).then(a.0.cmp(b.0)))?;
+    let full = |k: Option<u32>| k.and_then(|k| counts.get(&k)).is_some_and(|&m| 4 * m >= n);
+    let lo = if full(g.checked_sub(1)) { g - 1 } else { g };
+    let hi = if full(g.checked_add(1)) { g + 1 } else { g };
+    Some((lo, hi))
+}
+
 /// How many of the map's full cells lie within `radius` of `at`: a
 /// foothold the memory still holds there, or no longer.
 pub fn cells_near(memory: &Octree, plane: f32, at: Vec3, radius: f32) -> u32 {
