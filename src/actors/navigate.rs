@@ -15,11 +15,11 @@
 use glam::Vec3;
 
 use super::behaviour::Script;
+use super::footholds::map::{ground_layers, Region};
 use super::heuristics::{self, collision_free, Heuristic};
 use super::live::state::{EXPLORE, SEARCH_NEW_PATH, WALK};
 use super::live::Living;
 use super::memory::DepthView;
-use super::footholds::map::{ground_layers, Region};
 use super::octree::{Octree, Voxel};
 use super::path::{self, Band, Explorer, SearchGrid, Step};
 use super::spline::{self, Piece};
@@ -216,46 +216,62 @@ impl Living {
             return self.give_up();
         }
         self.navigation.band = self.ground_band(memory, h);
-        let grid = self.grid(memory);
+        if self.plan_to(h, dest) {
+            return;
+        }
+        if self.navigation.failures > 0 {
+            // Observing did not show a way: explore (5.2.2).
+            return self.start_exploring(dest);
+        }
+        // Push itself and look around: the memory may then hold a way
+        // (5.2.4).
+        self.navigation.failures += 1;
+        self.path.clear();
+        self.look_around();
+    }
+
+    /// Plans a path to `dest` on the memory as it is now (Algorithms
+    /// 1–4 on the grid of its last search) and walks it: false when the
+    /// memory holds no way.
+    fn plan_to(&mut self, h: &Heuristic, dest: Vec3) -> bool {
+        let Some(memory) = self.memory.as_ref() else {
+            return false;
+        };
+        let grid = self.grid(memory.octree());
+        let aim = self.aim(h, dest);
+        let to = |p: Vec3| p.as_dvec3().to_array();
         let from = match self.standing_voxel(&grid, h) {
             Some(v) if !planar(h) => glam::DVec3::from_array(grid.centre(v)).as_vec3(),
             _ => self.eye,
         };
-        match path::plan_on(&grid, to(from), to(aim), h, MAX_VISITED) {
-            Some(points) => {
-                let flat = planar(h);
-                let y = self.eye.y;
-                self.path = points
-                    .iter()
-                    .skip(1)
-                    .map(|p| {
-                        let v = glam::DVec3::from_array(*p).as_vec3();
-                        if flat {
-                            Vec3::new(v.x, y, v.z)
-                        } else {
-                            v
-                        }
-                    })
-                    .collect();
-                // The last key point is the goal itself, not its voxel.
-                if let Some(last) = self.path.last_mut() {
-                    *last = aim;
+        let Some(points) = path::plan_on(&grid, to(from), to(aim), h, MAX_VISITED) else {
+            return false;
+        };
+        let flat = planar(h);
+        let y = self.eye.y;
+        self.path = points
+            .iter()
+            .skip(1)
+            .map(|p| {
+                let v = glam::DVec3::from_array(*p).as_vec3();
+                if flat {
+                    Vec3::new(v.x, y, v.z)
                 } else {
-                    self.path.push(aim);
+                    v
                 }
-                self.navigation.failures = 0;
-                self.state = WALK;
-            }
-            // Observing did not show a way: explore (5.2.2).
-            None if self.navigation.failures > 0 => self.start_exploring(dest),
-            None => {
-                // Push itself and look around: the memory may then hold a
-                // way (5.2.4).
-                self.navigation.failures += 1;
-                self.path.clear();
-                self.look_around();
-            }
+            })
+            .collect();
+        // The last key point is the goal itself, not its voxel.
+        if let Some(last) = self.path.last_mut() {
+            *last = aim;
+        } else {
+            self.path.push(aim);
         }
+        self.navigation.failures = 0;
+        self.navigation.explorer = None;
+        self.navigation.target = None;
+        self.state = WALK;
+        true
     }
 
     /// Where a plan to `dest` ends: at the eye's height for a planar
@@ -399,6 +415,15 @@ impl Living {
             if !self.walk_to(target, dt) {
                 return;
             }
+            // At each voxel, the memory may now hold a way (a door seen
+            // gone, a gap seen open): it walks that instead.
+            let dest = self.navigation.destination;
+            let h = heuristics::heuristic(self.heuristic as u32);
+            if let Some((h, dest)) = h.zip(dest) {
+                if self.plan_to(h, dest) {
+                    return;
+                }
+            }
         }
         let (Some(memory), Some(e)) = (self.memory.as_ref(), self.navigation.explorer.as_mut())
         else {
@@ -436,6 +461,11 @@ impl Living {
                 }
             }
             Step::Enclosed => {
+                let dest = self.navigation.destination;
+                if dest.is_some_and(|d| self.plan_to(h, d)) {
+                    return;
+                }
+                let e = self.navigation.explorer.as_ref().expect("exploring");
                 let why = format!(
                     "its goal ({}) is out of reach: exploring, it tried all {} search voxels heuristic {} reaches from where it began, within its memory's cube, and none leads to the goal's voxel: goal given up",
                     self.navigation.destination.map_or("?".into(), show),

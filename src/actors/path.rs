@@ -483,7 +483,10 @@ impl<'a> SearchGrid<'a> {
         let side = self.side();
         let limit = self.memory.voxels_per_edge();
         let (lo, hi) = match self.band {
-            None => (j.saturating_mul(side), j.saturating_add(1).saturating_mul(side)),
+            None => (
+                j.saturating_mul(side),
+                j.saturating_add(1).saturating_mul(side),
+            ),
             Some(b) if j == b.layer => (b.lo, b.hi),
             Some(b) if j == b.layer - 1 => (b.ground, b.lo),
             Some(b) if j > b.layer => {

@@ -163,9 +163,21 @@ fn refuses_what_no_actor_can_run() {
     );
     refused("NBR_actors 1\nactorNbr_automata 0 9 turtle 5", 2, "5");
     // rel_search_level is a logarithmic level: 0, 1, 2, … (B.6).
-    refused("NBR_actors 1\nactorNbr_automata 0 4 rel_search_level -1", 2, "-1");
-    refused("NBR_actors 1\nactorNbr_automata 0 4 rel_search_level 0.5", 2, "0.5");
-    refused("NBR_actors 1\nactorNbr_automata 0 4 rel_search_level 21", 2, "21");
+    refused(
+        "NBR_actors 1\nactorNbr_automata 0 4 rel_search_level -1",
+        2,
+        "-1",
+    );
+    refused(
+        "NBR_actors 1\nactorNbr_automata 0 4 rel_search_level 0.5",
+        2,
+        "0.5",
+    );
+    refused(
+        "NBR_actors 1\nactorNbr_automata 0 4 rel_search_level 21",
+        2,
+        "21",
+    );
     refused("NBR_actors 1\nactorNbr_automata 0 9 interest 1 3", 2, "3");
     refused("NBR_actors 1\nactorNbr_automata 0 9 goal 1 2", 2, "goal");
     // walk_stepworthy's commands (docs/footholds.md).

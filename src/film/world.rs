@@ -438,7 +438,12 @@ impl Film {
         }
         for a in &mut self.living {
             let notes = std::mem::take(&mut a.notes);
-            frame.warn(notes.into_iter().map(|n| format!("frame {number}: {n}")).collect());
+            frame.warn(
+                notes
+                    .into_iter()
+                    .map(|n| format!("frame {number}: {n}"))
+                    .collect(),
+            );
         }
         // Step 5. The camera may have moved (`l`): microphone 0 follows it.
         self.air.end_frame(eye).map_err(Error::input)?;

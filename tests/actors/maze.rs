@@ -20,7 +20,8 @@ const fn wall(x0: f64, x1: f64, z0: f64, z1: f64) -> Wall {
     }
 }
 
-/// The scene's walls (outer, south, north, pillar, pocket) and the door.
+/// The scene's walls (outer, south, north, pillar, pocket) and the door,
+/// as `c` draws them: x from the turtle along H, z centred on it.
 const WALLS: [Wall; 11] = [
     wall(-12.2, 12.2, 11.8, 12.2),
     wall(-12.2, 12.2, -12.2, -11.8),
@@ -29,8 +30,8 @@ const WALLS: [Wall; 11] = [
     wall(-8.0, 12.0, -4.2, -3.8),
     wall(-12.0, -2.0, 3.8, 4.2),
     wall(2.0, 8.0, 3.8, 4.2),
-    wall(-1.0, 1.0, 0.0, 2.0),
-    wall(7.8, 8.2, 4.0, 8.0),
+    wall(-1.0, 1.0, -1.0, 1.0),
+    wall(8.0, 8.4, 4.0, 8.0),
     wall(8.0, 12.0, 7.8, 8.2),
     // The door sinks away at T = 24.
     Wall {

@@ -110,7 +110,10 @@ fn centre_distance_of_a_box_face() {
             0.1,
             100.0,
         );
-        assert_eq!(vision::see(&accel, &OwnBody::default(), &away, edge).centre_distance(), NOTHING);
+        assert_eq!(
+            vision::see(&accel, &OwnBody::default(), &away, edge).centre_distance(),
+            NOTHING
+        );
         let short = View { far: 6.9, ..v };
         let w = vision::see(&accel, &OwnBody::default(), &short, edge);
         assert_eq!(w.centre_distance(), NOTHING);
@@ -278,7 +281,9 @@ fn flat_colours_identify_things_exactly() {
         Vec3::new(0.0, 10.0, 10.0),
     );
     let accel = Accel::new(s);
-    let w = vision::see(&accel, &OwnBody::default(),
+    let w = vision::see(
+        &accel,
+        &OwnBody::default(),
         &View::new(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, 450, 0.1, 100.0),
         40,
     );
@@ -322,7 +327,9 @@ fn sphere_window(centre: Vec3, d: f32, look_at: Vec3, fov: i64, edge: u32) -> (W
         Vec3::new(0.0, 0.0, d),
     );
     let accel = Accel::new(s);
-    let w = vision::see(&accel, &OwnBody::default(),
+    let w = vision::see(
+        &accel,
+        &OwnBody::default(),
         &View::new(Vec3::new(0.0, 0.0, d), look_at, fov, 0.1, 100.0),
         edge,
     );
