@@ -56,7 +56,15 @@ pub struct Navigation {
     /// on from there while heading for a goal.
     pub still_at: Vec3,
     pub still_for: f32,
+    /// Times it left the explore mode for a plan on its memory, for this
+    /// destination: a memory that keeps forgetting a wall it sees at a
+    /// grazing angle would otherwise send it round for ever.
+    pub detours: u32,
 }
+
+/// Plans it may leave the explore mode for, per destination; past them
+/// it explores to the end (5.2.2), which settles whether a way exists.
+const MAX_DETOURS: u32 = 3;
 
 /// Seconds a navigating actor may head for a goal without moving on by
 /// half a search voxel before it notices it is stuck.
@@ -184,6 +192,7 @@ impl Living {
             None => match self.goals.pop() {
                 Some(g) => {
                     self.gave_up = None;
+                    self.navigation.detours = 0;
                     *self.navigation.destination.insert(g)
                 }
                 None => return self.pop(),
@@ -315,6 +324,32 @@ impl Living {
         }
     }
 
+    /// Leaves the explore mode for a plan on the memory as it is now,
+    /// when one exists and it has not done so [`MAX_DETOURS`] times for
+    /// this destination already.
+    fn detour(&mut self) -> bool {
+        let h = heuristics::heuristic(self.heuristic as u32);
+        let (Some(h), Some(dest)) = (h, self.navigation.destination) else {
+            return false;
+        };
+        if self.navigation.detours >= MAX_DETOURS || !self.plan_to(h, dest) {
+            return false;
+        }
+        self.navigation.detours += 1;
+        true
+    }
+
+    /// Whether the memory now holds something in the search voxel of the
+    /// explore mode's next target.
+    fn target_seen_occupied(&self, target: Vec3) -> bool {
+        let Some(memory) = self.memory.as_ref() else {
+            return false;
+        };
+        let grid = self.grid(memory.octree());
+        grid.voxel(target.as_dvec3().to_array())
+            .is_some_and(|v| !grid.is_empty(v))
+    }
+
     /// The search grid of its memory at `rel_search_level`, laid on the
     /// ground of its last search.
     fn grid<'m>(&self, memory: &'m Octree) -> SearchGrid<'m> {
@@ -412,17 +447,24 @@ impl Living {
     fn explore(&mut self, dt: f32) {
         self.state = EXPLORE;
         if let Some(target) = self.navigation.target {
+            if self.target_seen_occupied(target) {
+                // What it walks to turned out occupied as it came near:
+                // back to the voxel it came from.
+                if let Some(e) = self.navigation.explorer.as_mut() {
+                    let back = e.retreat();
+                    let memory = self.memory.as_ref().expect("exploring");
+                    let grid = self.grid(memory.octree());
+                    self.navigation.target = back.map(|v| self.key_point(&grid, v));
+                }
+                return;
+            }
             if !self.walk_to(target, dt) {
                 return;
             }
             // At each voxel, the memory may now hold a way (a door seen
             // gone, a gap seen open): it walks that instead.
-            let dest = self.navigation.destination;
-            let h = heuristics::heuristic(self.heuristic as u32);
-            if let Some((h, dest)) = h.zip(dest) {
-                if self.plan_to(h, dest) {
-                    return;
-                }
+            if self.detour() {
+                return;
             }
         }
         let (Some(memory), Some(e)) = (self.memory.as_ref(), self.navigation.explorer.as_mut())
@@ -461,16 +503,15 @@ impl Living {
                 }
             }
             Step::Enclosed => {
-                let dest = self.navigation.destination;
-                if dest.is_some_and(|d| self.plan_to(h, d)) {
+                if self.detour() {
                     return;
                 }
                 let e = self.navigation.explorer.as_ref().expect("exploring");
                 let why = format!(
-                    "its goal ({}) is out of reach: exploring, it tried all {} search voxels heuristic {} reaches from where it began, within its memory's cube, and none leads to the goal's voxel: goal given up",
-                    self.navigation.destination.map_or("?".into(), show),
-                    e.visited(),
-                    self.heuristic
+                    "its goal ({goal}) is out of reach: exploring, it walked every search voxel heuristic {h} reaches from where it began within its memory's cube ({steps} steps), and none leads to the goal's voxel: goal given up",
+                    goal = self.navigation.destination.map_or("?".into(), show),
+                    steps = e.visited(),
+                    h = self.heuristic
                 );
                 self.give_up_goal(why);
                 self.give_up();

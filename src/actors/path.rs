@@ -138,6 +138,17 @@ impl<'h> Explorer<'h> {
         }
     }
 
+    /// The last path voxel, not reached yet, turned out occupied: it
+    /// leaves the path, and the voxel before it is the one to go back to
+    /// (its other candidates come next).
+    pub fn retreat(&mut self) -> Option<Voxel> {
+        if self.path.len() > 1 {
+            self.path.pop();
+            self.pending = false;
+        }
+        self.path.last().copied()
+    }
+
     /// Whether the last path voxel, just reached, has no candidate with
     /// the memory as it is now, so that the next step would walk back.
     /// Takes its candidates (what the next step would do first); false

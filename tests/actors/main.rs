@@ -4,6 +4,9 @@
 //! One test binary per layer (issue 12 §6): each test file is a module
 //! here, so the layer links once.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod behaviour;
 mod footholds;
 mod maze;
@@ -15,3 +18,4 @@ mod tennis;
 mod tennis_match;
 mod terrain;
 mod vision;
+mod worlds;
