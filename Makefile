@@ -1,11 +1,12 @@
 # lmfilm — the main job and the checks. `make help` lists the targets.
 CARGO ?= cargo
 
-.PHONY: film test check lint bench bench-render clean help
+.PHONY: film test test-worlds check lint bench bench-render clean help
 
 help:
 	@echo "make film   the built-in film (14 s of the tennis match on its set): frames, soundtrack and manifest in renders/lmfilm/ (an MP4 too with ffmpeg)"
 	@echo "make test   build and run the whole test suite"
+	@echo "make test-worlds  actors on hundreds of generated worlds (LMFILM_WORLDS=N per family, default 50): the table of docs/actors.md"
 	@echo "make lint   cargo fmt --check and cargo clippy --all-targets"
 	@echo "make bench  criterion benchmarks of the step function and the turtle"
 	@echo "make bench-render  the forest against Embree and Mitsuba 3 (../shared/anchors)"
@@ -16,6 +17,9 @@ film:
 
 test:
 	$(CARGO) test --all-targets
+
+test-worlds:
+	$(CARGO) test --test actors hundreds_of_generated_worlds -- --ignored --nocapture
 
 lint:
 	$(CARGO) fmt --check

@@ -372,12 +372,14 @@ impl Living {
             range: GROUND_RANGE * side as f32 * memory.cube().voxel_edge as f32,
             plane: self.eye.y,
         };
-        let (lo, hi) = ground_layers(memory, &region, eye)?;
-        Some(Band::new(eye, lo, hi, side))
+        let ground = ground_layers(memory, &region, eye)?;
+        Some(Band::new(eye, ground, side))
     }
 
     /// Pushes itself and runs `observe`, which pops it back.
     fn look_around(&mut self) {
+        let dist = (self.look_at - self.eye).length().max(1.0);
+        self.look_at = self.eye + self.gaze_along(self.heading()) * dist;
         self.push(Script::of(Automata::WalkContinuously));
         self.activate(Script::of(Automata::Observe));
     }
@@ -592,13 +594,39 @@ impl Living {
         false
     }
 
-    /// Looks the way it walks, in the horizontal plane.
+    /// Looks the way it walks ([`Self::gaze_along`]).
     fn face(&mut self, heading: Vec3) {
         let flat = Vec3::new(heading.x, 0.0, heading.z).normalize_or_zero();
         if flat != Vec3::ZERO {
             let dist = (self.look_at - self.eye).length().max(1.0);
-            self.look_at = self.eye + flat * dist;
+            self.look_at = self.eye + self.gaze_along(flat) * dist;
         }
+    }
+
+    /// The direction it looks in when heading along `flat`: level; on a
+    /// support heuristic pitched down, so that the lower edge of its
+    /// window sees the ground a search voxel away (it may walk only where
+    /// it has seen a support, and a level eye high over the ground with
+    /// a narrow view sees none near it).
+    fn gaze_along(&self, flat: Vec3) -> Vec3 {
+        let support = heuristics::heuristic(self.heuristic as u32)
+            .is_some_and(|h| planar(h) && needs_support(h));
+        let (Some(memory), true) = (self.memory.as_ref(), support) else {
+            return flat;
+        };
+        let cube = memory.octree().cube();
+        let half = (self.fov as f32 / 20.0).to_radians();
+        let near = self.half_search_voxel().unwrap_or(0.5) * 2.0;
+        // Without a ground seen yet, the lower edge looks straight down.
+        let lower = match self.navigation.band {
+            Some(b) => {
+                let ground = (cube.min + f64::from(b.floor + 1) * cube.voxel_edge) as f32;
+                (self.eye.y - ground).max(0.0).atan2(near)
+            }
+            None => std::f32::consts::FRAC_PI_2,
+        };
+        let pitch = (lower - half).clamp(0.0, std::f32::consts::FRAC_PI_2 - 0.05);
+        flat * pitch.cos() - Vec3::Y * pitch.sin()
     }
 
     /// Algorithm 5, every `optim_rate` frames: of the next `optim_ahead`

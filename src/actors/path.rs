@@ -444,13 +444,16 @@ pub struct Band {
     /// The lowest memory layer of the ground's search layer (`layer` −
     /// 1), which ends at `lo`.
     pub ground: u32,
+    /// The memory layer holding most of the ground.
+    pub floor: u32,
 }
 
 impl Band {
     /// The band of an eye in memory layer `eye` over ground whose full
     /// voxels lie in memory layers `ground_lo..=ground_hi` (a surface on a
-    /// layer boundary fills two), for search voxels of `side` layers.
-    pub fn new(eye: u32, ground_lo: u32, ground_hi: u32, side: u32) -> Band {
+    /// layer boundary fills two), most in `floor`, for search voxels of
+    /// `side` layers.
+    pub fn new(eye: u32, (ground_lo, floor, ground_hi): (u32, u32, u32), side: u32) -> Band {
         let lo = (ground_hi + 1).min(eye);
         let hi = (eye + 1).max(lo + side);
         let ground = ground_lo.min(lo.saturating_sub(side));
@@ -459,6 +462,7 @@ impl Band {
             lo,
             hi,
             ground,
+            floor,
         }
     }
 }
@@ -635,6 +639,55 @@ mod tests {
         assert_eq!(e.step(open), Step::Go([4, 0, 4]));
         assert_eq!(e.cand_list[4], Entry::NewNeighbours);
         assert_eq!(e.visited(), 3);
+    }
+
+    /// The U-trap of issue 36 in small: a floor in memory layer 2 (y
+    /// 1..1.5), an eye in layer 3. Laid from the cube's floor, the eye's
+    /// search layer (memory layers 2, 3) holds the floor: no way. Laid on
+    /// the ground, the actor's layer runs from just above the floor to
+    /// its eye, and the floor is its support.
+    #[test]
+    fn a_planar_search_laid_on_the_ground() {
+        let mut m = Octree::new(Cube::new(0.0, 8.0, 0.5), false);
+        for x in 0..16 {
+            for z in 0..16 {
+                m.insert([x, 2, z], 1);
+            }
+        }
+        let (a, b) = ([1.2, 1.6, 1.2], [6.2, 1.6, 6.2]);
+        let h1 = heuristic(1).unwrap();
+        assert_eq!(plan_on(&SearchGrid::new(&m, 1), a, b, h1, 10_000), None);
+        let band = Band::new(3, (2, 2, 2), 2);
+        assert_eq!(
+            band,
+            Band {
+                layer: 2,
+                lo: 3,
+                hi: 5,
+                ground: 1,
+                floor: 2
+            }
+        );
+        let grid = SearchGrid::new(&m, 1).on(Some(band));
+        assert_eq!(grid.voxel(a), Some([1, 2, 1]));
+        assert!(grid.is_empty([1, 2, 1]) && !grid.is_empty([1, 1, 1]));
+        assert_eq!(grid.centre([1, 2, 1])[1], 2.0);
+        assert!(plan_on(&grid, a, b, h1, 10_000).is_some());
+        // Heuristic 7 walks on it: the floor is under every voxel.
+        let h7 = heuristic(7).unwrap();
+        assert!(plan_on(&grid, a, b, h7, 10_000).is_some());
+        // A low wall across the room, from the floor up to half the
+        // eye's height, bars the way.
+        for z in 0..16 {
+            m.insert([8, 3, z], 1);
+        }
+        let grid = SearchGrid::new(&m, 1).on(Some(band));
+        assert_eq!(plan_on(&grid, a, b, h1, 10_000), None);
+        // Layers over and under the band are a search voxel thick.
+        assert_eq!(grid.layers(3), (5, 7));
+        assert_eq!(grid.layers(0), (0, 1));
+        assert_eq!(grid.layer_of(6), 3);
+        assert_eq!(grid.layer_of(0), 0);
     }
 
     /// A search voxel of level 1 is empty only when its eight memory

@@ -12,6 +12,7 @@ mod footholds;
 mod maze;
 mod memory_room;
 mod path;
+mod regressions;
 mod support;
 mod symbols;
 mod tennis;

@@ -577,7 +577,8 @@ struct Case {
 
 fn run_case(family: Family, seed: u64) -> Case {
     let world = World::generate(family, seed);
-    let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
+    // Settings drawn apart from the world, and per family.
+    let mut rng = Rng((seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ family as u64) | 1);
     let settings = Settings::draw(&mut rng);
     let facing = uniform(&mut rng, 0.0, std::f64::consts::TAU);
     let shortest = world.shortest(0.3);

@@ -222,8 +222,24 @@ pub fn local_map(memory: &Octree, region: &Region, min_voxels: u32, foot: f32) -
 /// under it.
 pub fn busiest_layer(memory: &Octree, region: &Region, below: f32) -> Option<f32> {
     let top = layer(memory, below)?;
+    busiest_in(memory, region, 0, top)
+}
+
+/// The plane a scene gives (`foothold_plane`) as the memory holds it:
+/// the busiest layer within two of the plane's (a stone's top a little
+/// off the given height, or on a layer boundary); the plane itself when
+/// those layers hold nothing.
+pub fn plane_near(memory: &Octree, region: &Region, plane: f32) -> f32 {
+    layer(memory, plane)
+        .and_then(|k| busiest_in(memory, region, k.saturating_sub(2), k + 2))
+        .unwrap_or(plane)
+}
+
+/// The height of the layer among `lo..=hi` with the most full voxels
+/// within the region's range (on a tie, the higher).
+fn busiest_in(memory: &Octree, region: &Region, lo: u32, hi: u32) -> Option<f32> {
     let mut counts: BTreeMap<u32, u64> = BTreeMap::new();
-    voxels_in(memory, region, 0, top, |v| {
+    voxels_in(memory, region, lo, hi, |v| {
         *counts.entry(v[1]).or_default() += 1;
     });
     let (k, _) = counts
@@ -232,24 +248,75 @@ pub fn busiest_layer(memory: &Octree, region: &Region, below: f32) -> Option<f32
     Some(layer_height(memory, *k))
 }
 
-/// The ground under an eye in memory layer `eye`: the memory layers,
-/// among those under it within the region's range, that hold the most
-/// full voxels (on a tie, the higher), with the layer over or under it
-/// when that holds a quarter as many (a floor on a layer boundary fills
-/// two); None when the memory holds nothing there.
-pub fn ground_layers(memory: &Octree, region: &Region, eye: u32) -> Option<(u32, u32)> {
-    let top = eye.checked_sub(1)?;
+/// Why a local map holds what it holds, for the film maker: the full
+/// voxels of the plane's layer and its neighbours within the range, the
+/// components they make and their sizes against `min_voxels`.
+pub fn explain(memory: &Octree, region: &Region, min_voxels: u32) -> String {
+    let Some(k) = layer(memory, region.plane) else {
+        return format!(
+            "its plane y = {} lies outside its memory's cube",
+            region.plane
+        );
+    };
     let mut counts: BTreeMap<u32, u64> = BTreeMap::new();
-    voxels_in(memory, region, 0, top, |v| {
+    voxels_in(memory, region, k.saturating_sub(1), k + 1, |v| {
         *counts.entry(v[1]).or_default() += 1;
     });
-    let (&g, &n) = counts
+    let layers: Vec<String> = (k.saturating_sub(1)..=k + 1)
+        .map(|l| format!("{}", counts.get(&l).copied().unwrap_or(0)))
+        .collect();
+    let mut sizes: Vec<u32> = components(map_cells(memory, region))
         .iter()
+        .map(|p| p.n)
+        .collect();
+    sizes.sort_unstable_by(|a, b| b.cmp(a));
+    let shown: Vec<String> = sizes.iter().take(12).map(u32::to_string).collect();
+    format!(
+        "plane y = {:.3} (memory layer {k}); the layers under, at and over it hold {} full voxels within {} of the eye; {} components of sizes [{}{}], min_voxels {min_voxels}",
+        region.plane,
+        layers.join(" / "),
+        region.range,
+        sizes.len(),
+        shown.join(", "),
+        if sizes.len() > 12 { ", …" } else { "" }
+    )
+}
+
+/// The ground under an eye in memory layer `eye`: of the memory layers
+/// under it within the region's range, the one with the most full voxels
+/// among those that stand out as a floor does — at least twice as many
+/// as the layer two over it, where the walls standing on the floor put
+/// as many as they put in every layer — with the layer over or under it
+/// when that holds a quarter as many over the walls' share (a floor on a
+/// layer boundary fills two). Returns (lowest, busiest, highest); None
+/// when no layer stands out: walls seen, the floor not yet.
+pub fn ground_layers(memory: &Octree, region: &Region, eye: u32) -> Option<(u32, u32, u32)> {
+    let top = eye.checked_sub(1)?;
+    let mut counts: BTreeMap<u32, u64> = BTreeMap::new();
+    voxels_in(memory, region, 0, eye.saturating_add(2), |v| {
+        *counts.entry(v[1]).or_default() += 1;
+    });
+    let count = |k: Option<u32>| k.and_then(|k| counts.get(&k)).copied().unwrap_or(0);
+    let floor = |k: u32| count(Some(k)) >= 2 * count(k.checked_add(2)) + 4;
+    let (&g, &n) = counts
+        .range(..=top)
+        .filter(|&(&k, _)| floor(k))
         .max_by(|a, b| a.1.cmp(b.1).then(a.0.cmp(b.0)))?;
-    let full = |k: Option<u32>| k.and_then(|k| counts.get(&k)).is_some_and(|&m| 4 * m >= n);
-    let lo = if full(g.checked_sub(1)) { g - 1 } else { g };
-    let hi = if full(g.checked_add(1)) { g + 1 } else { g };
-    Some((lo, hi))
+    let part = |next: Option<u32>, beyond: Option<u32>| {
+        let walls = count(beyond);
+        next.is_some() && 4 * count(next).saturating_sub(walls) >= n.saturating_sub(walls)
+    };
+    let lo = if part(g.checked_sub(1), g.checked_sub(2)) {
+        g - 1
+    } else {
+        g
+    };
+    let hi = if g < top && part(g.checked_add(1), g.checked_add(2)) {
+        g + 1
+    } else {
+        g
+    };
+    Some((lo, g, hi))
 }
 
 /// How many of the map's full cells lie within `radius` of `at`: a
@@ -323,6 +390,50 @@ mod tests {
             range,
             plane: -0.01,
         }
+    }
+
+    /// A floor of 20 × 20 voxels in layer 40 (some of it spilt into 41,
+    /// a surface on a layer boundary), a wall of 20 voxels in every layer
+    /// 41..=60: the ground is 40 with 41, under an eye in layer 55.
+    fn floor_and_wall(spilt: u32) -> Octree {
+        let mut t = Octree::new(Cube::new(-8.0, 8.0, 0.1), false);
+        for x in 70..90 {
+            for z in 70..90 {
+                let y = if (x - 70) * 20 + (z - 70) < spilt {
+                    41
+                } else {
+                    40
+                };
+                t.insert([x, y, z], 1);
+            }
+            for y in 41..=60 {
+                t.insert([x, y, 95], 1);
+            }
+        }
+        t
+    }
+
+    #[test]
+    fn the_ground_stands_out_of_the_walls() {
+        let r = region(5.0);
+        assert_eq!(
+            ground_layers(&floor_and_wall(0), &r, 55),
+            Some((40, 40, 40))
+        );
+        assert_eq!(
+            ground_layers(&floor_and_wall(150), &r, 55),
+            Some((40, 40, 41))
+        );
+        // Walls alone: no layer stands out, no ground.
+        let mut walls = Octree::new(Cube::new(-8.0, 8.0, 0.1), false);
+        for y in 30..=60 {
+            for x in 70..90 {
+                walls.insert([x, y, 95], 1);
+            }
+        }
+        assert_eq!(ground_layers(&walls, &r, 55), None);
+        // Nothing under the eye's own layer counts.
+        assert_eq!(ground_layers(&floor_and_wall(0), &r, 40), None);
     }
 
     #[test]

@@ -108,6 +108,8 @@ pub struct Footing {
     /// The foothold plane, once known, and the eye's height over it.
     pub plane: Option<f32>,
     stand: f32,
+    /// The plane its last map was made on, kept or not.
+    last_plane: Option<f32>,
     /// The last local map.
     pub map: Vec<Foothold>,
     /// The destination it walks to, popped from the goal stack.
@@ -219,24 +221,54 @@ impl Living {
             range: f.settings.range,
             plane,
         };
-        let plane = f.plane.or(f.settings.plane).or_else(|| {
-            map::busiest_layer(memory.octree(), &region(0.0), self.eye.y - f32::EPSILON)
+        // The plane: the one it stands on once a map was made there;
+        // the scene's as the memory holds it; else the busiest layer
+        // under the actor's own height (never its own body).
+        let octree = memory.octree();
+        let below = self.eye.y - self.size_actor.max(MIN_STAND);
+        let plane = f.plane.or_else(|| match f.settings.plane {
+            Some(y) => Some(map::plane_near(octree, &region(y), y)),
+            None => map::busiest_layer(octree, &region(0.0), below),
         });
         let Some(plane) = plane else {
             f.map.clear();
             return;
         };
-        if f.plane.is_none() {
-            f.plane = Some(plane);
-            f.stand = (self.eye.y - plane).max(MIN_STAND);
-        }
+        let stand = f
+            .plane
+            .map_or((self.eye.y - plane).max(MIN_STAND), |_| f.stand);
         // A foothold with something standing on it is none.
-        let top = plane + f.stand;
+        let top = plane + stand;
         let (min_voxels, foot) = (f.settings.min_voxels, f.settings.foot);
-        f.map = map::local_map(memory.octree(), &region(plane), min_voxels, foot)
+        f.map = map::local_map(octree, &region(plane), min_voxels, foot)
             .into_iter()
-            .filter(|m| !map::way_blocked(memory.octree(), plane, m.at, m.at, top))
+            .filter(|m| !map::way_blocked(octree, plane, m.at, m.at, top))
             .collect();
+        // The plane holds once it gave a map; an empty one is sought
+        // again at the next look.
+        if f.plane.is_none() && !f.map.is_empty() {
+            f.plane = Some(plane);
+            f.stand = stand;
+        }
+        f.last_plane = Some(plane);
+    }
+
+    /// What made its last map what it is, for a warning.
+    fn explain_map(&self) -> String {
+        let (Some(memory), Some(plane)) = (self.memory.as_ref(), self.footing.last_plane) else {
+            return "it has no memory or has seen no plane under its eye".into();
+        };
+        let region = Region {
+            centre: self.eye,
+            range: self.footing.settings.range,
+            plane,
+        };
+        format!(
+            "its local map holds {} footholds: {}; memory {} voxels",
+            self.footing.map.len(),
+            map::explain(memory.octree(), &region, self.footing.settings.min_voxels),
+            memory.voxels()
+        )
     }
 
     /// Create the local map, pop a destination (end without one), and
@@ -245,7 +277,10 @@ impl Living {
         self.create_map();
         if self.footing.destination.is_none() {
             match self.goals.pop() {
-                Some(g) => self.footing.destination = Some(g),
+                Some(g) => {
+                    self.gave_up = None;
+                    self.footing.destination = Some(g);
+                }
                 None => {
                     // end: a later walk_stepworthy starts afresh.
                     self.state = STOP;
@@ -264,6 +299,12 @@ impl Living {
         self.footing.failures += 1;
         if self.footing.failures >= MAX_LOOKS {
             // No way there in what it can see: the next destination.
+            let why = format!(
+                "no steps to its destination ({}) after looking around {MAX_LOOKS} times: {}; destination given up",
+                show(self.footing.destination),
+                self.explain_map()
+            );
+            self.give_up_goal(why);
             self.footing.failures = 0;
             self.footing.destination = None;
         }
@@ -357,8 +398,13 @@ impl Living {
             if f.blocked >= MAX_LOOKS {
                 // The map keeps leading into what the memory shows
                 // blocked: the next destination.
+                let why = format!(
+                    "its planned steps to ({}) were blocked {MAX_LOOKS} times by what its memory holds over the footholds: destination given up",
+                    show(f.destination)
+                );
                 f.blocked = 0;
                 f.destination = None;
+                self.give_up_goal(why);
             }
             return self.look_around_footholds();
         }
@@ -519,4 +565,11 @@ impl Living {
             Foot::Left => YELLOW,
         })
     }
+}
+
+/// A destination as the warnings write it.
+fn show(p: Option<Vec3>) -> String {
+    p.map_or("none".into(), |p| {
+        format!("{:.2}, {:.2}, {:.2}", p.x, p.y, p.z)
+    })
 }

@@ -1,0 +1,246 @@
+//! The worlds of issue 36, written from the thesis and not from the
+//! code, on which the actors failed: an actor blinded by its own body, a
+//! goal dropped in a U-shaped trap, an empty foothold map on a plain
+//! stepping-stone field, and a goal out of reach given up in silence.
+
+use lmfilm::film::Film;
+
+use super::support::film;
+
+/// Runs `film` until `done` says so or the film ends; the frames run.
+fn run_until(film: &mut Film, mut done: impl FnMut(&Film) -> bool) -> u64 {
+    let mut frames = 0;
+    while film.next_frame().unwrap().is_some() {
+        frames += 1;
+        if done(film) {
+            break;
+        }
+    }
+    frames
+}
+
+/// A room of 20 × 20 with a wall across its middle (x −6…6 at z = 0),
+/// walls 3 high on a floor whose top is at y = 0.
+const ROOM: &str = "\
+[ f () () () (2) (11_) (0.5_) (0) c () () () () (22) (1) (22) ]
+[ f () () () (2) (10_) (1.5) (10) c () () () () (20) (3) (0.4) ]
+[ f () () () (2) (10_) (1.5) (10_) c () () () () (20) (3) (0.4) ]
+[ f () () () (2) (9.8) (1.5) (0) c () () () () (0.4) (3) (20) ]
+[ f () () () (2) (10.2_) (1.5) (0) c () () () () (0.4) (3) (20) ]
+[ f () () () (2) (6_) (1.5) (0) c () () () () (12) (3) (0.4) ]
+";
+
+/// `[ M () (7) () (0) a () () () () (0.5) ]` with `vision_range 0.1 60
+/// 60`: the eye inside its own sphere. It sees the room from frame 0 and
+/// walks round the wall to its goal.
+#[test]
+fn an_actor_drawn_around_its_eye_sees_the_room() {
+    let text = format!(
+        "Camera_AnimationParameters\nt_final_interval 30.0 0.04\nOptions\nNBR_actors 1\n\
+         iVisionWinSize 0 32 8\n\
+         actorNbr_automata 0 walk_continuously init 5 -12 12 0.25 obs 0 1 -6 lat 0 1 0 fov 900 \
+         vision_range 0.1 60 60 goal 0 1 6 speed 2 heuristic 1 coll_test_func 3 size_actor 0.8\n\
+         Axiom\n{ROOM}[ M () (7) () (0) a () () () () (0.5) ]\nProductions\nEndProductions\n"
+    );
+    let mut f = film(&text);
+    f.next_frame().unwrap();
+    let seen = f.living()[0].memory.as_ref().unwrap().voxels();
+    assert!(
+        seen > 100,
+        "it sees the room at once, not its sphere: {seen} voxels"
+    );
+    let mut through_wall = false;
+    run_until(&mut f, |f| {
+        let e = f.living()[0].eye;
+        through_wall |= e.x.abs() < 6.2 && e.z.abs() < 0.3;
+        e.distance(glam::Vec3::new(0.0, 1.0, 6.0)) < 0.2
+    });
+    let e = f.living()[0].eye;
+    assert!(e.distance(glam::Vec3::new(0.0, 1.0, 6.0)) < 0.2, "{e}");
+    assert!(!through_wall);
+}
+
+/// Other actors, and the camera, still see an actor's body: actor 1
+/// watching actor 0's sphere sees it.
+#[test]
+fn other_actors_see_its_body() {
+    let text = "Camera_AnimationParameters\nt_final_interval 0.1 0.04\nOptions\nNBR_actors 2\n\
+         iVisionWinSize 0 16 8\niVisionWinSize 1 16 8\n\
+         actorNbr_automata 0 watch obs 0 1 0 lat 0 1 5 vision_range 0.1 60 60\n\
+         actorNbr_automata 1 watch obs 0 1 -5 lat 0 1 0 vision_range 0.1 60 60\n\
+         Axiom\n[ M () (7) () (0) m () (10) a () () () () (0.5) ]\nProductions\nEndProductions\n";
+    let mut f = film(text);
+    f.next_frame().unwrap();
+    let d = |k: usize| f.living()[k].window.as_ref().unwrap().centre;
+    // `a` (0.5) is a sphere of diameter 0.5 about actor 0's eye.
+    assert!(
+        (d(1) - 4.75).abs() < 0.01,
+        "actor 1 sees the sphere: {}",
+        d(1)
+    );
+    assert!(d(0).is_infinite(), "actor 0 sees through it: {}", d(0));
+}
+
+/// The U of the issue: walls 2 high at x = 0 and x = 10 from z = 0 to
+/// 15, closed at z = 15; the actor at (5, 0.75, 5) inside, its goal at
+/// (5, 0.75, 25). With the floor under it (whose top fell in the search
+/// layer of its eye), and without.
+#[test]
+fn the_u_trap_does_not_strand_the_navigator() {
+    let u = "\
+[ f () () () (2) (0.2_) (1) (7.5) c () () () () (0.4) (2) (15) ]
+[ f () () () (2) (9.8) (1) (7.5) c () () () () (0.4) (2) (15) ]
+[ f () () () (2) (0.2_) (1) (15) c () () () () (10.4) (2) (0.4) ]
+";
+    let floor = "[ f () () () (2) (12_) (0.5_) (20) c () () () () (64) (1) (64) ]\n";
+    for with_floor in [true, false] {
+        let axiom = if with_floor {
+            format!("{floor}{u}")
+        } else {
+            u.to_string()
+        };
+        let text = format!(
+            "Camera_AnimationParameters\nt_final_interval 80.0 0.04\nOptions\nNBR_actors 1\n\
+             iVisionWinSize 0 33 8\n\
+             actorNbr_automata 0 walk_continuously init 5 -12 52 0.5 obs 5 0.75 5 lat 5 0.75 6 \
+             fov 600 goal 5 0.75 25 heuristic 1 coll_test_func 3\n\
+             Axiom\n{axiom}Productions\nEndProductions\n"
+        );
+        let mut f = film(&text);
+        let mut inside_wall = false;
+        let goal = glam::Vec3::new(5.0, 0.75, 25.0);
+        let frames = run_until(&mut f, |f| {
+            let a = &f.living()[0];
+            let e = a.eye;
+            let walls = [
+                (-0.2, 0.2, 0.0, 15.0),
+                (9.8, 10.2, 0.0, 15.0),
+                (-0.2, 10.2, 14.8, 15.2),
+            ];
+            inside_wall |= walls
+                .iter()
+                .any(|&(x0, x1, z0, z1)| e.x > x0 && e.x < x1 && e.z > z0 && e.z < z1);
+            assert!(a.gave_up.is_none(), "{:?}", a.gave_up);
+            e.distance(goal) < 0.2
+        });
+        assert!(
+            f.living()[0].eye.distance(goal) < 0.2,
+            "floor {with_floor}: {frames} frames"
+        );
+        assert!(!inside_wall);
+    }
+}
+
+/// A closed room, its goal outside: the actor explores the room, then
+/// says the goal is out of reach (a warning naming it, `gave_up` in
+/// trace) instead of dropping it in silence.
+#[test]
+fn an_unreachable_goal_is_reported() {
+    let text = "Camera_AnimationParameters\nt_final_interval 200.0 0.04\nOptions\nNBR_actors 1\n\
+         iVisionWinSize 0 32 8\n\
+         actorNbr_automata 0 walk_continuously init 0 -6 10 0.25 obs 0 1 0 lat 1 1 0 fov 900 \
+         goal 6 1 0 speed 2 heuristic 1 coll_test_func 3\n\
+         Axiom\n\
+         [ f () () () (2) (5_) (0.5_) (0) c () () () () (10) (1) (10) ]\n\
+         [ f () () () (2) (3_) (1) (3) c () () () () (6) (2) (0.2) ]\n\
+         [ f () () () (2) (3_) (1) (3_) c () () () () (6) (2) (0.2) ]\n\
+         [ f () () () (2) (3.1_) (1) (0) c () () () () (0.2) (2) (6.2) ]\n\
+         [ f () () () (2) (2.9) (1) (0) c () () () () (0.2) (2) (6.2) ]\n\
+         Productions\nEndProductions\n";
+    let mut f = film(text);
+    let mut warned = Vec::new();
+    run_until(&mut f, |f| {
+        let frame = f.frame().unwrap();
+        warned.extend(
+            frame
+                .warnings()
+                .iter()
+                .filter(|w| w.contains("out of reach"))
+                .cloned(),
+        );
+        f.living()[0].gave_up.is_some()
+    });
+    let why = f.living()[0]
+        .gave_up
+        .clone()
+        .expect("the goal given up, with its reason");
+    assert!(why.contains("(6.00, 1.00, 0.00) is out of reach"), "{why}");
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(warned[0].contains("actor 0 (walk_continuously)") && warned[0].starts_with("frame "));
+    // It explored the room; it never left it.
+    let e = f.living()[0].eye;
+    assert!(e.x.abs() < 3.0 && e.z.abs() < 3.0, "{e}");
+}
+
+/// The issue's stepping stones: 0.3 × 0.05 × 0.3, tops near y = 0,
+/// 0.6 apart from (0, 0) to (0, 1.8), a detour east and back, goal
+/// (0, 0, 6); `walk_stepworthy`, eye at 1.6, fov 90°, memory voxels of
+/// 0.05, the actor's head and body drawn around its eye, no near plane.
+/// With and without `foothold_plane`, at windows of 40 to 64 pixels and
+/// tops at several heights against the voxel boundaries, it maps the
+/// stones and walks to the one nearest its goal.
+#[test]
+fn footholds_are_found_on_a_plain_stepping_stone_field() {
+    let stones = [
+        (0.0, 0.0),
+        (0.0, 0.6),
+        (0.0, 1.2),
+        (0.0, 1.8),
+        (0.45, 2.3),
+        (0.9, 2.8),
+        (0.9, 3.4),
+        (0.6, 3.95),
+        (0.3, 4.5),
+        (0.0, 5.1),
+        (0.0, 5.7),
+    ];
+    for (window, top, plane) in [
+        (40, 0.0, false),
+        (50, 0.0, false),
+        (50, 0.013, true),
+        (64, 0.024, false),
+        (50, 0.025, true),
+        (40, 0.037, true),
+    ] {
+        let mut axiom = String::from(
+            "[ M () (7) () (0)\n  [ a () () () () (0.12) ]\n  \
+             [ f () () () (3) (0.175_) (0.525_) (0) c () () () () (0.35) (0.35) (0.35) ] ]\n",
+        );
+        for (x, z) in stones {
+            axiom += &format!(
+                "[ f () () () (2) ({x}) ({}_) ({z}) + () () () () (90) c () () () () (0.05) (0.3) (0.3) ]\n",
+                0.05 - top
+            );
+        }
+        let text = format!(
+            "Camera_AnimationParameters\nt_final_interval 14.0 0.04\nOptions\nNBR_actors 1\n\
+             iVisionWinSize 0 {window} 8\n\
+             actorNbr_automata 0 walk_stepworthy init 10 -6.4 6.4 0.05 obs 0 {} 0 lat 0 0 3.2 \
+             fov 900 goal 0 0 6 speed 1.2 size_actor 0.35{}\n\
+             Axiom\n{axiom}Productions\nEndProductions\n",
+            1.6 + top,
+            if plane { " foothold_plane 0" } else { "" }
+        );
+        let mut f = film(&text);
+        let mut mapped = 0;
+        run_until(&mut f, |f| {
+            let a = &f.living()[0];
+            assert!(
+                a.gave_up.is_none(),
+                "window {window}, top {top}: {:?}",
+                a.gave_up
+            );
+            mapped = mapped.max(a.footing.map.len());
+            a.footing.plans > 0 && a.footing.destination.is_none()
+        });
+        let e = f.living()[0].eye;
+        assert!(
+            mapped >= 6,
+            "window {window}, top {top}: {mapped} stones mapped"
+        );
+        assert!(
+            e.z > 5.3 && e.x.abs() < 0.3,
+            "window {window}, top {top}: at {e}"
+        );
+    }
+}
