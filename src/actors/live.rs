@@ -410,7 +410,12 @@ impl Living {
         let window = vision::see(accel, &self.body, &view, edge);
         if let (Some(memory), true) = (&mut self.memory, self.memory_on) {
             let stamp = u32::try_from(frame).unwrap_or(u32::MAX);
-            memory.integrate(&window.depth_view(), stamp);
+            // The memory is for the static surroundings (3.1.3): the
+            // things that move, which vision tells by their colour codes
+            // (the ball, the players: table B6 `interest`), stay out.
+            memory.integrate_static(&window.depth_view(), stamp, |i| {
+                !window.pixels[i].shows_a_thing()
+            });
         }
         let body = Body {
             size_actor: self.size_actor,

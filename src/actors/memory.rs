@@ -253,13 +253,15 @@ impl VisualMemory {
         self.tree.insert_point(p, frame)
     }
 
-    /// Inserts the point every pixel of `view` hits, stamped with `frame`.
-    pub fn insert_view(&mut self, view: &DepthView, frame: u32) {
+    /// Inserts the point every pixel of `view` hits, stamped with `frame`,
+    /// but those of the pixels (row by row) `keep` refuses.
+    pub fn insert_view(&mut self, view: &DepthView, frame: u32, keep: impl Fn(usize) -> bool) {
         let rays = view.rays();
         for y in 0..view.edge {
             for x in 0..view.edge {
-                let d = view.distances[(y * view.edge + x) as usize];
-                if d.is_finite() {
+                let i = (y * view.edge + x) as usize;
+                let d = view.distances[i];
+                if d.is_finite() && keep(i) {
                     let p = view.eye + Vec3::from(rays.dir(x as f32 + 0.5, y as f32 + 0.5)) * d;
                     self.tree.insert_point(p.as_dvec3().to_array(), frame);
                 }
@@ -267,10 +269,22 @@ impl VisualMemory {
         }
     }
 
-    /// One image: [`VisualMemory::insert_view`] then
+    /// One image: [`VisualMemory::insert_view`] of every pixel, then
     /// [`VisualMemory::forget`].
     pub fn integrate(&mut self, view: &DepthView, frame: u32) -> ForgetStats {
-        self.insert_view(view, frame);
+        self.integrate_static(view, frame, |_| true)
+    }
+
+    /// One image, remembering only the pixels `keep` finds static (what
+    /// the others show moves: it hides what lies behind it, so the
+    /// forgetting still counts their distances).
+    pub fn integrate_static(
+        &mut self,
+        view: &DepthView,
+        frame: u32,
+        keep: impl Fn(usize) -> bool,
+    ) -> ForgetStats {
+        self.insert_view(view, frame, keep);
         self.forget(view, frame)
     }
 

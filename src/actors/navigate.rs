@@ -620,7 +620,9 @@ impl Living {
         // Without a ground seen yet, the lower edge looks straight down.
         let lower = match self.navigation.band {
             Some(b) => {
-                let ground = (cube.min + f64::from(b.floor + 1) * cube.voxel_edge) as f32;
+                // The ground's surface lies somewhere in its layer: its
+                // bottom, to see the nearest ground whatever.
+                let ground = (cube.min + f64::from(b.floor) * cube.voxel_edge) as f32;
                 (self.eye.y - ground).max(0.0).atan2(near)
             }
             None => std::f32::consts::FRAC_PI_2,

@@ -446,6 +446,9 @@ pub struct Band {
     pub ground: u32,
     /// The memory layer holding most of the ground.
     pub floor: u32,
+    /// The eye's memory layer: the actor's search layer, even when it
+    /// lies in the ground's (an eye less than a voxel over the ground).
+    pub eye: u32,
 }
 
 impl Band {
@@ -454,7 +457,9 @@ impl Band {
     /// layer boundary fills two), most in `floor`, for search voxels of
     /// `side` layers.
     pub fn new(eye: u32, (ground_lo, floor, ground_hi): (u32, u32, u32), side: u32) -> Band {
-        let lo = (ground_hi + 1).min(eye);
+        // An eye in the ground's own layer cannot tell the ground from
+        // what stands on it there: its layer begins over the ground.
+        let lo = ground_hi + 1;
         let hi = (eye + 1).max(lo + side);
         let ground = ground_lo.min(lo.saturating_sub(side));
         Band {
@@ -463,6 +468,7 @@ impl Band {
             hi,
             ground,
             floor,
+            eye,
         }
     }
 }
@@ -528,7 +534,7 @@ impl<'a> SearchGrid<'a> {
         match self.band {
             None => m >> self.level,
             Some(b) if m >= b.hi => b.layer + 1 + (m - b.hi) / side,
-            Some(b) if m >= b.lo => b.layer,
+            Some(b) if m >= b.lo || m == b.eye => b.layer,
             Some(b) if m >= b.ground => b.layer - 1,
             Some(b) => b.layer - 2 - (b.ground - 1 - m) / side,
         }
@@ -665,7 +671,8 @@ mod tests {
                 lo: 3,
                 hi: 5,
                 ground: 1,
-                floor: 2
+                floor: 2,
+                eye: 3
             }
         );
         let grid = SearchGrid::new(&m, 1).on(Some(band));

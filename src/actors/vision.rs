@@ -105,6 +105,12 @@ impl Pixel {
     pub fn hit(&self) -> bool {
         self.object != u32::MAX
     }
+
+    /// Whether it shows one of the things of interest (the ball, a
+    /// player: [`INTEREST_MATERIALS`]), the things that move.
+    pub fn shows_a_thing(&self) -> bool {
+        INTEREST_MATERIALS.contains(&self.material)
+    }
 }
 
 /// An edge × edge image seen from a [`View`]. Pixel (x, y) is column x

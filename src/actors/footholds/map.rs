@@ -283,21 +283,26 @@ pub fn explain(memory: &Octree, region: &Region, min_voxels: u32) -> String {
 }
 
 /// The ground under an eye in memory layer `eye`: of the memory layers
-/// under it within the region's range, the one with the most full voxels
-/// among those that stand out as a floor does — at least twice as many
-/// as the layer two over it, where the walls standing on the floor put
-/// as many as they put in every layer — with the layer over or under it
-/// when that holds a quarter as many over the walls' share (a floor on a
+/// under it, or at it (an eye less than a voxel over the ground), within
+/// the region's range, the one with the most full voxels among those
+/// that stand out as a floor does — one and a half times as many as the
+/// layers two over and two under it: the walls standing on a floor put
+/// about as many in every layer, nothing lies under it, and the top of a
+/// wall has the wall under it — with the layer over or under it when
+/// that holds a quarter as many over the walls' share (a floor on a
 /// layer boundary fills two). Returns (lowest, busiest, highest); None
 /// when no layer stands out: walls seen, the floor not yet.
 pub fn ground_layers(memory: &Octree, region: &Region, eye: u32) -> Option<(u32, u32, u32)> {
-    let top = eye.checked_sub(1)?;
+    let top = eye;
     let mut counts: BTreeMap<u32, u64> = BTreeMap::new();
     voxels_in(memory, region, 0, eye.saturating_add(2), |v| {
         *counts.entry(v[1]).or_default() += 1;
     });
     let count = |k: Option<u32>| k.and_then(|k| counts.get(&k)).copied().unwrap_or(0);
-    let floor = |k: u32| count(Some(k)) >= 2 * count(k.checked_add(2)) + 4;
+    let floor = |k: u32| {
+        let around = count(k.checked_add(2)).max(count(k.checked_sub(2)));
+        2 * count(Some(k)) >= 3 * around + 8
+    };
     let (&g, &n) = counts
         .range(..=top)
         .filter(|&(&k, _)| floor(k))
@@ -432,8 +437,12 @@ mod tests {
             }
         }
         assert_eq!(ground_layers(&walls, &r, 55), None);
-        // Nothing under the eye's own layer counts.
-        assert_eq!(ground_layers(&floor_and_wall(0), &r, 40), None);
+        // The eye's own layer counts; nothing over it does.
+        assert_eq!(
+            ground_layers(&floor_and_wall(0), &r, 40),
+            Some((40, 40, 40))
+        );
+        assert_eq!(ground_layers(&floor_and_wall(0), &r, 39), None);
     }
 
     #[test]

@@ -21,6 +21,11 @@ pub const SERVICE_LINE: f64 = SERVICE + LINE / 2.0;
 /// Half the centre service line's width: the line is in both boxes.
 pub const CENTRE_LINE: f64 = LINE / 2.0;
 
+/// The height of the ball's centre at the bottom of a bounce, as the
+/// players and the referee know it: the scenes' ball has a radius of 0.1
+/// and the ground's field stops its centre about 0.14 up.
+pub const BALL_LOW: f64 = 0.14;
+
 /// A player, named by its colour (thesis 7.4: "the blue and the green
 /// actors"). Green is player 0 and plays on x < 0, blue is player 1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]

@@ -13,10 +13,6 @@ use glam::DVec3;
 /// The constant o of eq. 5.6.5: where (in m²) the correction sets in.
 pub const O: f64 = 10_000.0;
 
-/// The factor a of eq. 5.6.7: the ball falls from the hitting height to
-/// the ground and rises back to it, twice the horizontal run of the fall.
-pub const BOUNCE_RUN: f64 = 2.0;
-
 /// Extrapolated or travelled distances below this (m) teach nothing:
 /// eq. 5.6.6 divides by d² and by dist.
 const LEARN_MIN: f64 = 1e-3;
@@ -98,19 +94,26 @@ fn extrapolate(p: DVec3, v: DVec3, now: f64, delay: f64, h: f64, x: f64) -> Opti
     })
 }
 
-/// Eq. 5.6.7: the impact point after the bounce, `BOUNCE_RUN` times the
-/// horizontal run of a fall from height `h` at the ball's current
-/// velocity `v` (too fast, but good enough, the thesis says). The time
-/// follows at the same horizontal speed. None when `v` has no vertical
-/// part to fall with.
-pub fn after_bounce(first: &Impact, v: DVec3, h: f64) -> Option<Impact> {
-    let fall = v.y.abs();
-    if fall < 1e-9 {
+/// Eq. 5.6.7: the impact point after the bounce. The thesis runs the
+/// ball twice the horizontal run of a straight fall from `h` at its
+/// vertical speed (2h/|v_y|: "too fast, but good enough"); on the match
+/// that put the racket 1.4–1.7 m past where the rising ball crossed the
+/// hitting height, the ball 0.6–0.8 m over the racket (docs/tennis.md).
+/// lmfilm's reading: the fall to the bottom of the bounce at `low` and
+/// the rise back to `h` under gravity `g`, the ball leaving the ground as
+/// fast as it came (2·(u − |v_y|)/g with u the speed at the bottom). The
+/// time follows at the same horizontal speed. None when the ball is not
+/// falling, or `h` is not over `low`.
+pub fn after_bounce(first: &Impact, v: DVec3, h: f64, low: f64, g: f64) -> Option<Impact> {
+    let fall = -v.y;
+    if fall <= 1e-9 || h <= low {
         return None;
     }
+    let bottom = (fall * fall + 2.0 * g * (h - low)).sqrt();
+    let run = 2.0 * (bottom - fall) / g;
     Some(Impact {
-        point: first.point + horizontal(v) * (BOUNCE_RUN * h / fall),
-        time: first.time + BOUNCE_RUN * h / fall,
+        point: first.point + horizontal(v) * run,
+        time: first.time + run,
     })
 }
 
@@ -279,17 +282,26 @@ mod tests {
 
     #[test]
     fn second_impact_point_hand_computed() {
-        // Falling at 4 m/s, 12 m/s along x and 3 along z, hit at 0.8 m:
-        // the fall to the ground runs (12, 3)·0.8/4 = (2.4, 0.6), twice.
+        // Falling at 4 m/s, 12 m/s along x and 3 along z, hit at 0.8 m,
+        // bouncing at 0 under g = 10: at the bottom it falls at
+        // √(16 + 16) = 5.657 m/s; down and up again take
+        // 2·(5.657 − 4)/10 = 0.3314 s, a run of (3.977, 0.994). The
+        // thesis's 2h/|V_y| = 0.4 s ran 20 % too far.
         let first = Impact {
             point: DVec3::new(5.0, 0.8, 1.0),
             time: 2.0,
         };
         let v = DVec3::new(12.0, -4.0, 3.0);
-        let second = after_bounce(&first, v, 0.8).unwrap();
-        assert!((second.point - DVec3::new(9.8, 0.8, 2.2)).length() < 1e-12);
-        assert!((second.time - 2.4).abs() < 1e-12);
-        assert_eq!(after_bounce(&first, DVec3::X, 0.8), None);
+        let second = after_bounce(&first, v, 0.8, 0.0, 10.0).unwrap();
+        let t = 2.0 * (32f64.sqrt() - 4.0) / 10.0;
+        assert!((t - 0.331_37).abs() < 1e-5);
+        assert!((second.point - DVec3::new(5.0 + 12.0 * t, 0.8, 1.0 + 3.0 * t)).length() < 1e-12);
+        assert!((second.time - (2.0 + t)).abs() < 1e-12);
+        // Fast, it tends to the thesis's run from the bottom's height.
+        let fast = after_bounce(&first, DVec3::new(0.0, -400.0, 0.0), 0.8, 0.1, 10.0).unwrap();
+        assert!((fast.time - 2.0 - 2.0 * 0.7 / 400.0).abs() < 1e-6);
+        assert_eq!(after_bounce(&first, DVec3::X, 0.8, 0.0, 10.0), None);
+        assert_eq!(after_bounce(&first, v, 0.1, 0.14, 10.0), None);
         // The player deep behind the bounce takes the second.
         let deep = choose_impact(DVec3::new(11.0, 0.0, 2.0), first, Some(second));
         assert!(deep.bounce && deep.impact == second);

@@ -14,7 +14,7 @@
 use glam::{DVec3, Vec3};
 
 use super::call::word::{BLUE, EXIT, FAULT, GREEN, LEFT, LET, RIGHT, SERVICE};
-use super::court::{court, service_box, side_of, Half, Player as Side, BASE_LINE};
+use super::court::{court, service_box, side_of, Half, Player as Side, BALL_LOW, BASE_LINE};
 use super::ears::Ears;
 use super::eyes::{player_thing, Sightings, BALL};
 use super::hit::{aim_point, hit, Aim, Hit, Shot};
@@ -601,7 +601,7 @@ impl Living {
                 // the point).
                 let receiving = !p.is_server() && p.strokes == 0 && p.bounced.is_none();
                 // Eq. 5.6.7 with the ball's velocity as it falls through h.
-                let second = after_bounce(&first, velocity_at(v, t, &first), h);
+                let second = after_bounce(&first, velocity_at(v, t, &first), h, BALL_LOW, G);
                 let choice = if serving {
                     choose_impact(p.start, first, None)
                 } else if receiving {
@@ -640,7 +640,7 @@ impl Living {
                     let first = estimate_impact(at, v, t, HIT_HEIGHT, G, p.learner.x());
                     let second = first.and_then(|f| {
                         let fall = velocity_at(v, t, &f);
-                        Some((after_bounce(&f, fall, HIT_HEIGHT)?, fall))
+                        Some((after_bounce(&f, fall, HIT_HEIGHT, BALL_LOW, G)?, fall))
                     });
                     if let Some((second, fall)) = second {
                         let eye = self.eye.as_dvec3();

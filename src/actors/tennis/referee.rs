@@ -13,7 +13,7 @@
 use glam::Vec3;
 
 use super::call;
-use super::court::side_of;
+use super::court::{side_of, BALL_LOW};
 use super::ears::Ears;
 use super::eyes::{Sightings, BALL};
 use super::judge::{Heard, Judge, Verdict};
@@ -27,10 +27,6 @@ use crate::lsys::automata::Automata;
 const BALL_RACKET: u32 = 0;
 const BALL_GROUND: u32 = 1;
 const BALL_NET: u32 = 9;
-/// The height of the ball's centre at the bottom of a bounce, as the
-/// referee knows it: the scenes' ball has a radius of 0.1 and the
-/// ground's field stops its centre about 0.14 up.
-const BALL_LOW: f64 = 0.14;
 
 /// What the referee keeps between frames.
 #[derive(Debug, Clone, PartialEq)]
