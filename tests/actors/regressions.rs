@@ -244,3 +244,33 @@ fn footholds_are_found_on_a_plain_stepping_stone_field() {
         );
     }
 }
+
+/// The memory keeps the static surroundings: a box is remembered, a
+/// sphere in the ball's colour code (material 10) moving past it is not,
+/// so no trail of it can block a plan.
+#[test]
+fn the_memory_keeps_what_stands_still() {
+    let text = "Camera_AnimationParameters\nt_final_interval 2.0 0.04\nOptions\nNBR_actors 1\n\
+         iVisionWinSize 0 32 8\n\
+         actorNbr_automata 0 watch init 0 -10 10 0.25 obs 0 1 -5 lat 0 1 0 fov 900\n\
+         Axiom\n\
+         [ m () (3) f () () () (2) (1_) (0) (2) c () () () () (2) (2) (0.5) ]\n\
+         [ m () (10) f () () () (2) (3 T 3 * -) (1) (0) a () () () () (0.5) ]\n\
+         Productions\nEndProductions\n";
+    let mut f = film(text);
+    let mut seen_ball = false;
+    run_until(&mut f, |f| {
+        let a = &f.living()[0];
+        let w = a.window.as_ref().unwrap();
+        seen_ball |= w.pixels.iter().any(|p| p.material == 10);
+        // Every voxel it remembers lies in the box (z 1.75…2.25).
+        let m = a.memory.as_ref().unwrap().octree();
+        for (v, _) in m.occupied_voxels() {
+            let c = m.centre(v);
+            assert!((1.5..2.5).contains(&c[2]), "a voxel off the box: {c:?}");
+        }
+        false
+    });
+    assert!(seen_ball, "the ball crossed its view");
+    assert!(f.living()[0].memory.as_ref().unwrap().voxels() >= 15);
+}

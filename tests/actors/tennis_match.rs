@@ -144,7 +144,6 @@ fn rallies(m: &Played) -> Vec<usize> {
 fn the_referee_calls_what_the_physics_says_and_the_players_rally() {
     let m = play(250);
     let verdicts = true_verdicts(&m);
-    assert!(verdicts.len() >= 24, "only {} points", verdicts.len());
     let wrong: Vec<_> = verdicts.iter().filter(|v| v.0 != Some(v.1)).collect();
     println!(
         "{} points, {} calls disagree with the physics:",
@@ -154,14 +153,16 @@ fn the_referee_calls_what_the_physics_says_and_the_players_rally() {
     for (truth, said, t, events) in &wrong {
         println!("  T = {t:.2}: the referee said {said:?}, the physics {truth:?} from {events:?}");
     }
+    let lengths = rallies(&m);
+    let mean = lengths.iter().sum::<usize>() as f64 / lengths.len().max(1) as f64;
+    println!("strokes per point: {lengths:?}, mean {mean:.2}");
+    // Long rallies leave fewer points in 250 s.
+    assert!(verdicts.len() >= 15, "only {} points", verdicts.len());
     let agree = 1.0 - wrong.len() as f64 / verdicts.len() as f64;
     assert!(agree >= 0.95, "{:.0} % of the calls agree", 100.0 * agree);
-    let lengths = rallies(&m);
-    let mean = lengths.iter().sum::<usize>() as f64 / lengths.len() as f64;
-    println!("strokes per point: {lengths:?}, mean {mean:.2}");
-    // Services are returned and rallies go on.
-    assert!(mean >= 1.8, "{lengths:?}");
-    assert!(lengths.iter().any(|&n| n >= 4), "{lengths:?}");
+    // Services are returned and rallies go on (issue 36: at least 4).
+    assert!(mean >= 4.0, "{lengths:?}");
+    assert!(lengths.iter().any(|&n| n >= 8), "{lengths:?}");
 }
 
 #[test]

@@ -102,10 +102,15 @@ fn uniform(rng: &mut Rng, a: f64, b: f64) -> f64 {
     a + (b - a) * (rng.next() >> 11) as f64 / (1u64 << 53) as f64
 }
 
+/// A cell of a grid (column, row), and an open passage between two
+/// neighbouring cells.
+type Cell = (usize, usize);
+type Passage = (Cell, Cell);
+
 /// The walls of a grid of `cols` × `rows` cells with the open passages
-/// `open` (pairs of neighbouring cells), the outer walls closed.
-fn cell_walls(cols: usize, rows: usize, open: &[((usize, usize), (usize, usize))]) -> Vec<Wall> {
-    let is_open = |a: (usize, usize), b: (usize, usize)| {
+/// `open`, the outer walls closed.
+fn cell_walls(cols: usize, rows: usize, open: &[Passage]) -> Vec<Wall> {
+    let is_open = |a: Cell, b: Cell| {
         open.iter()
             .any(|&(p, q)| (p, q) == (a, b) || (q, p) == (a, b))
     };
@@ -145,7 +150,7 @@ fn cell_walls(cols: usize, rows: usize, open: &[((usize, usize), (usize, usize))
 }
 
 /// A perfect maze by the recursive backtracker: the passages opened.
-fn perfect_maze(rng: &mut Rng, cols: usize, rows: usize) -> Vec<((usize, usize), (usize, usize))> {
+fn perfect_maze(rng: &mut Rng, cols: usize, rows: usize) -> Vec<Passage> {
     let mut seen = vec![false; cols * rows];
     let mut stack = vec![(0usize, 0usize)];
     seen[0] = true;

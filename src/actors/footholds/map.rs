@@ -282,47 +282,53 @@ pub fn explain(memory: &Octree, region: &Region, min_voxels: u32) -> String {
     )
 }
 
-/// The ground under an eye in memory layer `eye`: of the memory layers
-/// under it, or at it (an eye less than a voxel over the ground), within
-/// the region's range, the one with the most full voxels among those
-/// that stand out as a floor does — one and a half times as many as the
-/// layers two over and two under it: the walls standing on a floor put
-/// about as many in every layer, nothing lies under it, and the top of a
-/// wall has the wall under it — with the layer over or under it when
-/// that holds a quarter as many over the walls' share (a floor on a
-/// layer boundary fills two). Returns (lowest, busiest, highest); None
-/// when no layer stands out: walls seen, the floor not yet.
+/// The ground under an eye in memory layer `eye`: a surface the walls
+/// stand on, told from them by its extent — of the memory layers under
+/// the eye or at it (an eye less than a voxel over the ground) within
+/// the region's range, the pair of neighbouring layers (a floor on a
+/// layer boundary fills two) whose full voxels, projected together, hold
+/// the most cells whose four neighbours are full too: a wall, a line a
+/// voxel or two thick, holds none, nor does the band the lower edge of a
+/// window cuts out of the walls. At least [`MIN_GROUND`] such cells.
+/// Returns (lowest, busiest, highest) of the pair's layers that hold a
+/// quarter of its voxels; None when no surface is seen.
 pub fn ground_layers(memory: &Octree, region: &Region, eye: u32) -> Option<(u32, u32, u32)> {
-    let top = eye;
-    let mut counts: BTreeMap<u32, u64> = BTreeMap::new();
-    voxels_in(memory, region, 0, eye.saturating_add(2), |v| {
-        *counts.entry(v[1]).or_default() += 1;
+    let mut layers: BTreeMap<u32, BTreeSet<Cell>> = BTreeMap::new();
+    voxels_in(memory, region, 0, eye, |v| {
+        layers.entry(v[1]).or_default().insert((v[0], v[2]));
     });
-    let count = |k: Option<u32>| k.and_then(|k| counts.get(&k)).copied().unwrap_or(0);
-    let floor = |k: u32| {
-        let around = count(k.checked_add(2)).max(count(k.checked_sub(2)));
-        2 * count(Some(k)) >= 3 * around + 8
+    let empty = BTreeSet::new();
+    let cells = |k: u32| layers.get(&k).unwrap_or(&empty);
+    let inner = |k: u32| {
+        let both: BTreeSet<Cell> = cells(k).union(cells(k + 1)).copied().collect();
+        let full = |c: Option<Cell>| c.is_some_and(|c| both.contains(&c));
+        both.iter()
+            .filter(|&&(x, z)| {
+                full(x.checked_sub(1).map(|x| (x, z)))
+                    && full(Some((x + 1, z)))
+                    && full(z.checked_sub(1).map(|z| (x, z)))
+                    && full(Some((x, z + 1)))
+            })
+            .count()
     };
-    let (&g, &n) = counts
-        .range(..=top)
-        .filter(|&(&k, _)| floor(k))
-        .max_by(|a, b| a.1.cmp(b.1).then(a.0.cmp(b.0)))?;
-    let part = |next: Option<u32>, beyond: Option<u32>| {
-        let walls = count(beyond);
-        next.is_some() && 4 * count(next).saturating_sub(walls) >= n.saturating_sub(walls)
-    };
-    let lo = if part(g.checked_sub(1), g.checked_sub(2)) {
-        g - 1
-    } else {
-        g
-    };
-    let hi = if g < top && part(g.checked_add(1), g.checked_add(2)) {
-        g + 1
-    } else {
-        g
-    };
-    Some((lo, g, hi))
+    let (k, n) = layers
+        .keys()
+        .map(|&k| (k, inner(k)))
+        .max_by(|a, b| a.1.cmp(&b.1).then(a.0.cmp(&b.0)))?;
+    if n < MIN_GROUND {
+        return None;
+    }
+    let (a, b) = (cells(k).len(), cells(k + 1).len());
+    let total = a + b;
+    let lo = if 4 * a >= total { k } else { k + 1 };
+    let hi = if 4 * b >= total { k + 1 } else { k };
+    let floor = if b > a { k + 1 } else { k };
+    Some((lo, floor, hi))
 }
+
+/// Cells a surface must show, full with their four neighbours, to be
+/// taken for the ground.
+pub const MIN_GROUND: usize = 8;
 
 /// How many of the map's full cells lie within `radius` of `at`: a
 /// foothold the memory still holds there, or no longer.

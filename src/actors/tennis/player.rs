@@ -74,9 +74,11 @@ const FIELD_GAIN: f64 = 2.0;
 /// (receiver).
 const BEHIND: f64 = 1.0;
 const SERVER_FROM_CENTRE: f64 = 0.8;
-/// The aim's margin inside the lines, and the service's aim, this far in
-/// front of the service line.
-const AIM_MARGIN: f64 = 2.0;
+/// The aim's margins inside the base line and the side lines: the depth
+/// of the strokes scatters about 2 m, their side much less (docs/tennis.md),
+/// and the service's aim, this far in front of the service line.
+const AIM_DEEP: f64 = 3.5;
+const AIM_WIDE: f64 = 2.0;
 const SERVE_SHORT: f64 = 1.2;
 /// The toss: from in front of the server, straight up.
 const TOSS_AHEAD: f64 = 1.0;
@@ -192,7 +194,7 @@ impl Player {
                 c2: 0.92,
                 inclination: 0.05,
             },
-            aim: aim_point(rally_spot(side.opponent()), AIM_MARGIN),
+            aim: aim_point(rally_spot(side.opponent()), AIM_DEEP, AIM_WIDE),
             stroke: None,
             first_sight: None,
             shot: None,
@@ -348,14 +350,20 @@ impl Living {
                     }
                     // Where: seen, else where the sound came from.
                     let seen = p.ball.at(e.start).or(Some(e.position));
-                    let low = seen.is_some_and(|b| b.y < 1.0);
-                    // Where its last stroke landed (5.6.4): the bounce, or
-                    // the partner's racket low.
-                    if e.sound == BALL_GROUND || (partner && low) {
-                        if let (Some((shot, serve)), Some(at)) = (p.shot, seen) {
-                            let aim = if serve { &mut p.service } else { &mut p.rally };
-                            aim.learn(&shot, at);
-                            p.shot = None;
+                    // Where its last stroke landed (5.6.4): its first
+                    // bounce on the partner's side teaches c2. A bounce on
+                    // its own side (a mishit) or the partner's racket (a
+                    // volley, short of where the ball would have landed)
+                    // says nothing of its stroke's length: that shot is
+                    // forgotten, not learnt from.
+                    let ends_shot = e.sound == BALL_GROUND || partner;
+                    if let Some((shot, serve)) = p.shot.filter(|_| ends_shot) {
+                        p.shot = None;
+                        if e.sound == BALL_GROUND && partner {
+                            if let Some(at) = seen {
+                                let aim = if serve { &mut p.service } else { &mut p.rally };
+                                aim.learn(&shot, at);
+                            }
                         }
                     }
                 }
@@ -391,7 +399,7 @@ impl Living {
         p.aim = if server == p.side {
             service_aim(server, half)
         } else {
-            aim_point(theirs, AIM_MARGIN)
+            aim_point(theirs, AIM_DEEP, AIM_WIDE)
         };
         p.stroke = None;
         self.tennis_state = GOTO_PLAY_POSITION;
@@ -472,7 +480,7 @@ impl Living {
             }
             (Some(partner), false) => {
                 if p.focus == Focus::Partner {
-                    p.aim = aim_point(partner.position.as_dvec3(), AIM_MARGIN);
+                    p.aim = aim_point(partner.position.as_dvec3(), AIM_DEEP, AIM_WIDE);
                     p.focus = Focus::Thing;
                 } else if partner.position.as_dvec3().distance(p.opponent_start) < PARTNER_NEAR {
                     self.tennis_state = PARTNER_OK;
