@@ -13,6 +13,7 @@ mod maze;
 mod memory_room;
 mod path;
 mod regressions;
+mod stones;
 mod support;
 mod symbols;
 mod tennis;
