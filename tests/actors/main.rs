@@ -18,6 +18,7 @@ mod support;
 mod symbols;
 mod tennis;
 mod tennis_match;
+mod terraces;
 mod terrain;
 mod vision;
 mod worlds;
