@@ -121,6 +121,8 @@ pub struct Living {
     /// What it has to say to the film maker this frame (an automata
     /// that cannot go on), taken by the frame loop as warnings.
     pub notes: Vec<String>,
+    /// The problems it has warned of once already ([`Living::note_once`]).
+    warned: std::collections::BTreeSet<&'static str>,
     /// What the actor saw at the last sense step, and made of it.
     pub window: Option<Window>,
     pub percepts: Option<Percepts>,
@@ -200,6 +202,7 @@ impl Living {
             body: OwnBody::default(),
             gave_up: None,
             notes: Vec::new(),
+            warned: Default::default(),
             window: None,
             percepts: None,
             stack: Vec::new(),
@@ -436,6 +439,14 @@ impl Living {
         let automata = self.automata.map_or("no automata", |a| a.name());
         self.notes
             .push(format!("warning: actor {} ({automata}): {what}", self.id));
+    }
+
+    /// A warning said the first time only: the problem `key` names
+    /// stays for as long as the scene does the same thing.
+    pub(crate) fn note_once(&mut self, key: &'static str, what: &str) {
+        if self.warned.insert(key) {
+            self.note(what);
+        }
     }
 
     /// Gives its goal up for `why`, said once as a warning and kept for

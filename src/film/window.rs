@@ -281,6 +281,32 @@ impl TurtleWorld for Window<'_> {
         let a = self.actor_of(actor)?;
         let id = a.id as u32;
         let v = DVec3::as_vec3;
+        // A point the actor could take must stay finite as its f32 state
+        // (a turtle at 1e60 is finite as f64, infinite as f32).
+        let points = match mapping {
+            ActorMapping::ToTurtle { at, h } => vec![at, at + h],
+            ActorMapping::Place { eye, look_at } => vec![eye, look_at],
+            ActorMapping::LocalGoal { at }
+            | ActorMapping::DisplayEye { at }
+            | ActorMapping::DisplayLookAt { at } => vec![at],
+        };
+        let limit = f64::from(crate::aabb::MAX_COORDINATE);
+        if let Some(p) = points
+            .iter()
+            .find(|p| !(p.is_finite() && p.abs().max_element() <= limit))
+        {
+            a.note_once(
+                "beyond",
+                &format!(
+                    "the turtle maps it to ({:e}, {:e}, {:e}), beyond ±{:e}: skipped (its eye, look-at and goals stay as they were)",
+                    p.x,
+                    p.y,
+                    p.z,
+                    crate::aabb::MAX_COORDINATE
+                ),
+            );
+            return None;
+        }
         match mapping {
             ActorMapping::ToTurtle { at, h } => {
                 // It follows the turtle rather than lead it: by its

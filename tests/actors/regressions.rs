@@ -274,3 +274,31 @@ fn the_memory_keeps_what_stands_still() {
     assert!(seen_ball, "the ball crossed its view");
     assert!(f.living()[0].memory.as_ref().unwrap().voxels() >= 15);
 }
+
+/// A turtle at 10⁶⁰ (finite as f64, infinite as the actor's f32) never
+/// enters an actor: `g` is skipped with one warning, the eye stays.
+#[test]
+fn a_turtle_beyond_the_coordinates_never_enters_an_actor() {
+    let text = "Camera_AnimationParameters\nt_final_interval 0.2 0.04\nOptions\nNBR_actors 1\n\
+         iVisionWinSize 0 8 8\nactorNbr_automata 0 watch obs 0 1 0 lat 0 1 1\n\
+         Axiom\n[ f () () () (2) (10 60 ^) (1) (0) g () (0) ]\n\
+         [ f () () () (2) (0) (10 60 ^) (0) g () (1) ]\nProductions\nEndProductions\n";
+    let mut f = film(text);
+    let mut warnings = Vec::new();
+    run_until(&mut f, |f| {
+        let frame = f.frame().unwrap();
+        warnings.extend(
+            frame
+                .warnings()
+                .iter()
+                .filter(|w| w.contains("beyond"))
+                .cloned(),
+        );
+        let a = &f.living()[0];
+        assert_eq!(a.eye, glam::Vec3::new(0.0, 1.0, 0.0));
+        assert!(a.local_goals.values().all(|g| g.is_finite()));
+        false
+    });
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("actor 0 (watch)") && warnings[0].contains("1e60"));
+}
