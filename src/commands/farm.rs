@@ -16,7 +16,7 @@ use clap::Args;
 use crate::error::{Error, Result};
 
 /// The chain's folder inside the film folder, and its logs.
-pub const FARM_DIR: &str = "farm";
+use crate::film::names::FARM_DIR;
 pub const LOGS_DIR: &str = "logs";
 /// The job ids of the last submission, one per line: derive, render,
 /// finish.

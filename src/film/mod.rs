@@ -15,6 +15,7 @@ pub mod frames;
 pub mod job;
 pub mod manifest;
 pub mod mux;
+pub mod names;
 pub mod record;
 pub mod trace;
 pub mod tracks;

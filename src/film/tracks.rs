@@ -162,25 +162,6 @@ pub struct Tracks {
     pub wanted: bool,
 }
 
-/// Names an output folder holds for lmfilm itself.
-fn reserved(first: &str, name: &str) -> bool {
-    use super::record::{DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD};
-    [
-        super::frames::FRAMES_DIR,
-        super::frames::SCENE_DIR,
-        SOUNDS_DIR,
-        DERIVE_RECORD,
-        SOUND_RECORD,
-        super::job::EVENTS_FILE,
-        super::job::SOUNDTRACK_FILE,
-        super::manifest::MANIFEST_FILE,
-    ]
-    .contains(&first)
-        || name.ends_with(".mp4")
-        || name.ends_with(".mp4.json")
-        || name.ends_with(".tmp")
-}
-
 /// Why `name` cannot be written into the output folder, if it cannot:
 /// it must be a relative path inside it, and not one of lmfilm's own.
 pub fn output_name(name: &str) -> std::result::Result<(), String> {
@@ -195,7 +176,7 @@ pub fn output_name(name: &str) -> std::result::Result<(), String> {
         .next()
         .map(|c| c.as_os_str().to_string_lossy().into_owned())
         .unwrap_or_default();
-    if reserved(&first, name) {
+    if super::names::is_own(&first, name) {
         return Err(format!(
             "the trace file `{name}` would overwrite lmfilm's own outputs; name it otherwise, e.g. `actor.trace`"
         ));

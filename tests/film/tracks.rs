@@ -221,6 +221,13 @@ fn a_trace_file_outside_the_folder_is_refused() {
             "not a relative path inside the output folder",
         ),
         ("manifest.json", "lmfilm's own outputs"),
+        // Issue 43: the actors' images and the farm's folder were not
+        // in the list (a trace over actors/0/vision.0000.png replaced
+        // the image and verify called the folder intact).
+        ("actors", "lmfilm's own outputs"),
+        ("actors/0/vision.0000.png", "lmfilm's own outputs"),
+        ("farm/logs/x", "lmfilm's own outputs"),
+        ("soundtrack.json", "lmfilm's own outputs"),
     ] {
         let options = format!("NBR_actors 1\ntrace_actor 0 {name}");
         let film = write(&root, "film.lm", &scene(&options, "I"));
