@@ -127,8 +127,21 @@ impl Living {
     /// One frame of `walk_continuously`.
     pub(super) fn walk_continuously(&mut self, dt: f32) {
         if self.memory.is_none() {
-            // Without a memory there is nothing to plan on (`init`).
+            // Without a memory there is nothing to plan on (`init`). A
+            // tennis player walks straight to its place then, by design.
+            if self.player.is_none() {
+                self.note_once(
+                    "no memory",
+                    "runs walk_continuously without a visual memory (`init`): it has nothing to plan on and hands its goals to the next behaviour",
+                );
+            }
             return self.pop();
+        }
+        if self.edge.is_none() {
+            self.note_once(
+                "blind",
+                "navigates without a vision window (`iVisionWinSize`): its memory stays empty, so it plans through everything it cannot see",
+            );
         }
         if self.stuck(dt) {
             return self.unstick();

@@ -302,3 +302,41 @@ fn a_turtle_beyond_the_coordinates_never_enters_an_actor() {
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].contains("actor 0 (watch)") && warnings[0].contains("1e60"));
 }
+
+/// A navigator that cannot work says so once: without a memory it has
+/// nothing to plan on; without a vision window its memory stays empty.
+#[test]
+fn a_navigator_that_cannot_work_says_so() {
+    let text = "Camera_AnimationParameters\nt_final_interval 0.2 0.04\nOptions\nNBR_actors 3\n\
+         actorNbr_automata 0 walk_continuously goal 1 1 1\n\
+         actorNbr_automata 1 walk_continuously init 0 -5 5 0.25 goal 1 1 1\n\
+         actorNbr_automata 2 walk_stepworthy goal 1 0 1\n\
+         Axiom\nProductions\nEndProductions\n";
+    let mut f = film(text);
+    let mut warnings = Vec::new();
+    run_until(&mut f, |f| {
+        warnings.extend(f.frame().unwrap().warnings().iter().cloned());
+        false
+    });
+    let said = |actor: &str, what: &str| {
+        warnings
+            .iter()
+            .filter(|w| w.contains(actor) && w.contains(what))
+            .count()
+    };
+    assert_eq!(
+        said("actor 0 (walk_continuously)", "without a visual memory"),
+        1,
+        "{warnings:?}"
+    );
+    assert_eq!(
+        said("actor 1 (walk_continuously)", "without a vision window"),
+        1,
+        "{warnings:?}"
+    );
+    assert_eq!(
+        said("actor 2 (walk_stepworthy)", "without a visual memory"),
+        1,
+        "{warnings:?}"
+    );
+}

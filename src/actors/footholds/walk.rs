@@ -180,7 +180,17 @@ impl Living {
     pub(crate) fn walk_stepworthy(&mut self, dt: f32) {
         if self.memory.is_none() {
             // No memory, no map (`init`).
+            self.note_once(
+                "no memory",
+                "runs walk_stepworthy without a visual memory (`init`): it cannot map footholds and hands its goals to the next behaviour",
+            );
             return self.pop();
+        }
+        if self.edge.is_none() {
+            self.note_once(
+                "blind",
+                "walks on footholds without a vision window (`iVisionWinSize`): it never sees a foothold",
+            );
         }
         match self.footing.phase {
             Phase::Initialization => {
