@@ -66,6 +66,11 @@ pub struct Navigation {
 /// it explores to the end (5.2.2), which settles whether a way exists.
 const MAX_DETOURS: u32 = 3;
 
+/// Most points `turtle 3` shows of a path: a path thousands of voxels
+/// long is dotted more sparsely, so the display's cost stays bounded (a
+/// path of 700,000 voxels drew 1.4 M spheres a frame, issue 43).
+const MAX_SHOWN: usize = 2048;
+
 /// Seconds a navigating actor may head for a goal without moving on by
 /// half a search voxel before it notices it is stuck.
 const STUCK_SECONDS: f32 = 3.0;
@@ -444,7 +449,18 @@ impl Living {
         match (&self.navigation.explorer, &self.memory) {
             (Some(e), Some(memory)) => {
                 let grid = self.grid(memory.octree());
-                e.path().iter().map(|&v| self.key_point(&grid, v)).collect()
+                let path = e.path();
+                let every = path.len().div_ceil(MAX_SHOWN).max(1);
+                let mut shown: Vec<Vec3> = path
+                    .iter()
+                    .step_by(every)
+                    .map(|&v| self.key_point(&grid, v))
+                    .collect();
+                // The voxel it walks to, always.
+                if (path.len() - 1) % every != 0 {
+                    shown.extend(path.last().map(|&v| self.key_point(&grid, v)));
+                }
+                shown
             }
             _ => self.path_ahead(),
         }
@@ -577,9 +593,16 @@ impl Living {
     /// The spline ahead of a walking actor, dotted every half search
     /// voxel: what `turtle` 3 draws.
     pub fn path_ahead(&self) -> Vec<Vec3> {
-        let Some(spacing) = self.half_search_voxel() else {
+        let Some(half) = self.half_search_voxel() else {
             return Vec::new();
         };
+        let length: f32 = std::iter::once(self.eye)
+            .chain(self.path.iter().copied())
+            .collect::<Vec<_>>()
+            .windows(2)
+            .map(|w| w[0].distance(w[1]))
+            .sum();
+        let spacing = half.max(length / MAX_SHOWN as f32);
         let nav = &self.navigation;
         let current = nav.piece.as_ref().map(|p| (p, nav.travelled));
         spline::ahead(
