@@ -144,6 +144,23 @@ impl DeriveRecord {
         if self.key != self.inputs.key() {
             return Err("its key is not the hash of its inputs".into());
         }
+        // Each file once, and a scene's trajectory never one of
+        // lmfilm's own (`film::names`).
+        let mut seen = std::collections::BTreeSet::new();
+        let files = self.actors.keys().chain(self.sounds.keys());
+        for path in files.chain(self.tracks.keys()) {
+            if !seen.insert(path) {
+                return Err(format!("`{path}` is listed twice"));
+            }
+        }
+        for path in self.tracks.keys() {
+            let first = path.split('/').next().unwrap_or_default();
+            if super::names::is_own(first, path) {
+                return Err(format!(
+                    "the trajectory `{path}` is listed among lmfilm's own outputs"
+                ));
+            }
+        }
         Ok(())
     }
 }

@@ -117,6 +117,15 @@ fn i_writes_one_record_per_frame_into_the_folder_and_verify_checks_it() {
     let derive = std::fs::read_to_string(dir.join("derive.json")).unwrap();
     assert!(derive.contains("out/a.trace"), "{derive}");
 
+    // A record listing a file twice (as a trajectory and as an actor
+    // image, issue 43) is not intact.
+    let mut twice: serde_json::Value = serde_json::from_str(&derive).unwrap();
+    twice["actors"]["out/a.trace"] = serde_json::json!("0");
+    std::fs::write(dir.join("derive.json"), twice.to_string()).unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("listed twice"), "{err}");
+    std::fs::write(dir.join("derive.json"), &derive).unwrap();
+
     // Altered: verify says which file.
     std::fs::write(dir.join("out/a.trace"), "Actor 0 0 0 9 9 9\n").unwrap();
     let err = fails(&["verify", s(&dir)], 1);
