@@ -433,6 +433,11 @@ impl Living {
     }
 }
 
+/// A point as the actors' warnings write it: x, y, z to the centimetre.
+pub(crate) fn show(p: Vec3) -> String {
+    format!("{:.2}, {:.2}, {:.2}", p.x, p.y, p.z)
+}
+
 impl Living {
     /// A warning of this frame about this actor, naming its automata.
     pub(crate) fn note(&mut self, what: &str) {

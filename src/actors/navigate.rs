@@ -18,7 +18,7 @@ use super::behaviour::Script;
 use super::footholds::map::{ground_layers, Region};
 use super::heuristics::{self, collision_free, Heuristic};
 use super::live::state::{EXPLORE, SEARCH_NEW_PATH, WALK};
-use super::live::Living;
+use super::live::{show, Living};
 use super::memory::DepthView;
 use super::octree::{Octree, Voxel};
 use super::path::{self, Band, Explorer, SearchGrid, Step};
@@ -738,9 +738,4 @@ impl Living {
                 .is_some_and(|v| collision_free(test, v, |u| grid.is_empty(u)))
         })
     }
-}
-
-/// A point as the warnings write it: x, y, z to the centimetre.
-fn show(p: Vec3) -> String {
-    format!("{:.2}, {:.2}, {:.2}", p.x, p.y, p.z)
 }

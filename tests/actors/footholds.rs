@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3};
 use lmfilm::actors::footholds::map::{local_map, Region};
 use lmfilm::actors::footholds::plan::Foot;
 
-use super::support::{film, same_for_one_and_two_threads, scene, trace_bytes};
+use super::support::{film, same_for_one_and_two_threads, scene, trace_bytes, written};
 
 const SCENE: &str = "scenes/actors/footholds.lm";
 /// The stones' half edge, and the memory's voxel edge, in the scene.
@@ -91,15 +91,6 @@ fn stood_on(frames: &[serde_json::Value]) -> Vec<(f64, Vec3)> {
         }
     }
     on
-}
-
-/// `v` as the scene language writes it: `1.5_` for −1.5.
-fn written(v: f32) -> String {
-    if v < 0.0 {
-        format!("{}_", -v)
-    } else {
-        v.to_string()
-    }
 }
 
 fn ground(p: Vec3) -> Vec2 {

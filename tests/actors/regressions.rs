@@ -19,6 +19,28 @@ fn run_until(film: &mut Film, mut done: impl FnMut(&Film) -> bool) -> u64 {
     frames
 }
 
+/// Runs `film` as [`run_until`] does; the warnings of every frame run
+/// that hold `about`, in order.
+fn warnings_until(
+    film: &mut Film,
+    about: &str,
+    mut done: impl FnMut(&Film) -> bool,
+) -> Vec<String> {
+    let mut said = Vec::new();
+    run_until(film, |f| {
+        let frame = f.frame().expect("a frame was handed out");
+        said.extend(
+            frame
+                .warnings()
+                .iter()
+                .filter(|w| w.contains(about))
+                .cloned(),
+        );
+        done(f)
+    });
+    said
+}
+
 /// A room of 20 × 20 with a wall across its middle (x −6…6 at z = 0),
 /// walls 3 high on a floor whose top is at y = 0.
 const ROOM: &str = "\
@@ -148,18 +170,7 @@ fn an_unreachable_goal_is_reported() {
          [ f () () () (2) (2.9) (1) (0) c () () () () (0.2) (2) (6.2) ]\n\
          Productions\nEndProductions\n";
     let mut f = film(text);
-    let mut warned = Vec::new();
-    run_until(&mut f, |f| {
-        let frame = f.frame().unwrap();
-        warned.extend(
-            frame
-                .warnings()
-                .iter()
-                .filter(|w| w.contains("out of reach"))
-                .cloned(),
-        );
-        f.living()[0].gave_up.is_some()
-    });
+    let warned = warnings_until(&mut f, "out of reach", |f| f.living()[0].gave_up.is_some());
     let why = f.living()[0]
         .gave_up
         .clone()
@@ -284,16 +295,7 @@ fn a_turtle_beyond_the_coordinates_never_enters_an_actor() {
          Axiom\n[ f () () () (2) (10 60 ^) (1) (0) g () (0) ]\n\
          [ f () () () (2) (0) (10 60 ^) (0) g () (1) ]\nProductions\nEndProductions\n";
     let mut f = film(text);
-    let mut warnings = Vec::new();
-    run_until(&mut f, |f| {
-        let frame = f.frame().unwrap();
-        warnings.extend(
-            frame
-                .warnings()
-                .iter()
-                .filter(|w| w.contains("beyond"))
-                .cloned(),
-        );
+    let warnings = warnings_until(&mut f, "beyond", |f| {
         let a = &f.living()[0];
         assert_eq!(a.eye, glam::Vec3::new(0.0, 1.0, 0.0));
         assert!(a.local_goals.values().all(|g| g.is_finite()));
@@ -313,11 +315,7 @@ fn a_navigator_that_cannot_work_says_so() {
          actorNbr_automata 2 walk_stepworthy goal 1 0 1\n\
          Axiom\nProductions\nEndProductions\n";
     let mut f = film(text);
-    let mut warnings = Vec::new();
-    run_until(&mut f, |f| {
-        warnings.extend(f.frame().unwrap().warnings().iter().cloned());
-        false
-    });
+    let warnings = warnings_until(&mut f, "", |_| false);
     let said = |actor: &str, what: &str| {
         warnings
             .iter()

@@ -9,6 +9,7 @@
 
 use glam::Vec3;
 
+use super::support::written;
 use crate::common::Rng;
 use lmfilm::film::Film;
 use lmfilm::lsys::Source;
@@ -17,9 +18,9 @@ use lmfilm::turtle::Options;
 /// The longest step (`foothold_step`'s default df_max).
 const DF_MAX: f32 = 1.0;
 
-/// Uniform in [a, b).
+/// Uniform in [a, b), as the stones' f32.
 fn uniform(rng: &mut Rng, a: f32, b: f32) -> f32 {
-    a + (b - a) * ((rng.next() >> 40) as f32 / (1u64 << 24) as f32)
+    rng.uniform(a.into(), b.into()) as f32
 }
 
 /// A field: the stones' centres on the ground (x, z), the first the
@@ -102,20 +103,13 @@ fn scene(f: &Field, s: &Settings) -> String {
     if s.head {
         axiom += "[ M () (7) () (0) a () () () () (0.24) ]\n";
     }
-    let neg = |v: f32| {
-        if v < 0.0 {
-            format!("{}_", -v)
-        } else {
-            format!("{v}")
-        }
-    };
     for &(x, z) in &f.stones {
         // A box 0.05 thick whose top is at f.top.
         axiom += &format!(
             "[ f () () () (2) ({}) ({}) ({}) + () () () () (90) c () () () () (0.05) (0.3) (0.3) ]\n",
-            neg(x),
-            neg(f.top - 0.05),
-            neg(z)
+            written(x),
+            written(f.top - 0.05),
+            written(z)
         );
     }
     let (x0, z0) = f.stones[0];

@@ -7,6 +7,16 @@ use lmfilm::film::Film;
 use lmfilm::lsys::Source;
 use lmfilm::turtle::Options;
 
+/// A number as the scene language writes it: `1.5_` for −1.5, in the
+/// digits of its own type.
+pub fn written(v: impl std::fmt::Display) -> String {
+    let s = v.to_string();
+    match s.strip_prefix('-') {
+        Some(magnitude) => format!("{magnitude}_"),
+        None => s,
+    }
+}
+
 /// The film of one scene text.
 pub fn film(text: &str) -> Film {
     Film::from_sources(&[Source::new("actors.lm", text)], None, Options::default()).unwrap()

@@ -9,6 +9,7 @@
 
 use std::collections::VecDeque;
 
+use super::support::written;
 use crate::common::Rng;
 use lmfilm::film::Film;
 use lmfilm::lsys::Source;
@@ -138,13 +139,6 @@ impl Terraces {
     }
 
     fn scene(&self, window: u32, fov: u32) -> String {
-        let num = |v: f32| {
-            if v < 0.0 {
-                format!("{}_", -v)
-            } else {
-                format!("{v}")
-            }
-        };
         let mut axiom = String::new();
         for (xs, zs, bottom, top) in &self.boxes {
             // 0.01 inside their columns: what vision sees of a box falls
@@ -155,9 +149,9 @@ impl Terraces {
             let dz = (zs[1] - zs[0]) as f32 * CELL - 0.02;
             axiom += &format!(
                 "[ f () () () (2) ({}) ({}) ({}) c () () () () ({dx}) ({}) ({dz}) ]\n",
-                num(x),
-                num((bottom + top) / 2.0),
-                num(zc),
+                written(x),
+                written((bottom + top) / 2.0),
+                written(zc),
                 top - bottom
             );
         }

@@ -15,6 +15,7 @@ use lmfilm::film::Film;
 use lmfilm::lsys::Source;
 use lmfilm::turtle::Options;
 
+use super::support::written;
 use crate::common::Rng;
 
 /// Walls are this high and thick; corridors are a cell less a wall wide.
@@ -95,11 +96,6 @@ pub struct World {
     pub start: (f64, f64),
     pub goal: (f64, f64),
     pub bounds: (f64, f64),
-}
-
-/// Uniform in [a, b).
-fn uniform(rng: &mut Rng, a: f64, b: f64) -> f64 {
-    a + (b - a) * (rng.next() >> 11) as f64 / (1u64 << 53) as f64
 }
 
 /// A cell of a grid (column, row), and an open passage between two
@@ -282,9 +278,9 @@ impl World {
             Family::UTrap => {
                 // The U: sides along z from 0 to depth, closed at
                 // depth; the actor inside, its goal beyond the closed end.
-                let width = uniform(&mut rng, 6.0, 12.0);
-                let depth = uniform(&mut rng, 8.0, 15.0);
-                let beyond = uniform(&mut rng, 4.0, 9.0);
+                let width = rng.uniform(6.0, 12.0);
+                let depth = rng.uniform(8.0, 15.0);
+                let beyond = rng.uniform(4.0, 9.0);
                 let h = THICK / 2.0;
                 let x0 = 6.0;
                 let walls = vec![
@@ -292,9 +288,9 @@ impl World {
                     Wall::new(x0 + width - h, x0 + width + h, 6.0, 6.0 + depth),
                     Wall::new(x0 - h, x0 + width + h, 6.0 + depth - h, 6.0 + depth + h),
                 ];
-                let start = (x0 + width / 2.0, 6.0 + uniform(&mut rng, 2.0, depth - 3.0));
+                let start = (x0 + width / 2.0, 6.0 + rng.uniform(2.0, depth - 3.0));
                 let goal = (
-                    x0 + width / 2.0 + uniform(&mut rng, -2.0, 2.0),
+                    x0 + width / 2.0 + rng.uniform(-2.0, 2.0),
                     6.0 + depth + beyond,
                 );
                 let side = 6.0 + depth + beyond + 5.0;
@@ -316,10 +312,10 @@ impl World {
                         if rng.below(5) == 0 {
                             continue;
                         }
-                        let s = uniform(&mut rng, 0.4, 1.2);
+                        let s = rng.uniform(0.4, 1.2);
                         let (x, z) = (
-                            4.0 + 4.0 * i as f64 + uniform(&mut rng, -0.25, 0.25),
-                            4.0 + 4.0 * j as f64 + uniform(&mut rng, -0.25, 0.25),
+                            4.0 + 4.0 * i as f64 + rng.uniform(-0.25, 0.25),
+                            4.0 + 4.0 * j as f64 + rng.uniform(-0.25, 0.25),
                         );
                         walls.push(Wall::new(
                             x - s / 2.0,
@@ -458,15 +454,6 @@ impl Settings {
     }
 }
 
-/// A number as the scene language writes it: a trailing `_` negates.
-fn num(v: f64) -> String {
-    if v < 0.0 {
-        format!("{}_", -v)
-    } else {
-        format!("{v}")
-    }
-}
-
 /// The scene of `world` walked with `s`, for `seconds`.
 pub fn scene(world: &World, s: &Settings, seconds: f64, facing: f64) -> String {
     let (lo, hi) = world.bounds;
@@ -479,8 +466,8 @@ pub fn scene(world: &World, s: &Settings, seconds: f64, facing: f64) -> String {
     if s.floor {
         axiom += &format!(
             "[ f () () () (2) ({}) (0.5_) ({}) c () () () () ({}) (1) ({}) ]\n",
-            num(lo - 1.0),
-            num((lo + hi) / 2.0),
+            written(lo - 1.0),
+            written((lo + hi) / 2.0),
             hi - lo + 2.0,
             hi - lo + 2.0
         );
@@ -488,9 +475,9 @@ pub fn scene(world: &World, s: &Settings, seconds: f64, facing: f64) -> String {
     for w in &world.walls {
         axiom += &format!(
             "[ f () () () (2) ({}) ({}) ({}) c () () () () ({}) ({}) ({}) ]\n",
-            num(w.x0),
+            written(w.x0),
             HEIGHT / 2.0,
-            num((w.z0 + w.z1) / 2.0),
+            written((w.z0 + w.z1) / 2.0),
             w.x1 - w.x0,
             HEIGHT,
             w.z1 - w.z0
@@ -588,7 +575,7 @@ fn run_case(family: Family, seed: u64) -> Case {
     // Settings drawn apart from the world, and per family.
     let mut rng = Rng((seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ family as u64) | 1);
     let settings = Settings::draw(&mut rng);
-    let facing = uniform(&mut rng, 0.0, std::f64::consts::TAU);
+    let facing = rng.uniform(0.0, std::f64::consts::TAU);
     let shortest = world.shortest(0.3);
     // LMFILM_WORLDS_DUMP=DIR writes each world's scene, to run it alone.
     if let Ok(dir) = std::env::var("LMFILM_WORLDS_DUMP") {

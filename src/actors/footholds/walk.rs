@@ -15,7 +15,7 @@ use super::map::{self, Foothold, Region};
 use super::plan::{self, Foot, Gait, Weights};
 use crate::actors::behaviour::{angle_to, turn, Script};
 use crate::actors::live::state::{LOOK_AROUND, SEARCH_NEW_PATH, STOP, WALK};
-use crate::actors::live::Living;
+use crate::actors::live::{show, Living};
 use crate::lsys::automata::Automata;
 
 /// Looks around and searches in a row without a path before the actor
@@ -311,7 +311,7 @@ impl Living {
             // No way there in what it can see: the next destination.
             let why = format!(
                 "no steps to its destination ({}) after looking around {MAX_LOOKS} times: {}; destination given up",
-                show(self.footing.destination),
+                self.footing.destination.map_or("none".into(), show),
                 self.explain_map()
             );
             self.give_up_goal(why);
@@ -410,7 +410,7 @@ impl Living {
                 // blocked: the next destination.
                 let why = format!(
                     "its planned steps to ({}) were blocked {MAX_LOOKS} times by what its memory holds over the footholds: destination given up",
-                    show(f.destination)
+                    f.destination.map_or("none".into(), show)
                 );
                 f.blocked = 0;
                 f.destination = None;
@@ -575,11 +575,4 @@ impl Living {
             Foot::Left => YELLOW,
         })
     }
-}
-
-/// A destination as the warnings write it.
-fn show(p: Option<Vec3>) -> String {
-    p.map_or("none".into(), |p| {
-        format!("{:.2}, {:.2}, {:.2}", p.x, p.y, p.z)
-    })
 }
