@@ -20,6 +20,7 @@ use super::tennis::referee::Umpire;
 use super::vision::{self, Body, Interest, OwnBody, Percepts, View, Window, THESIS_THRESHOLD};
 use super::{Actor, Table};
 use crate::lsys::automata::{Automata, AutomataCommand};
+use crate::lsys::Limits;
 use crate::render::Accel;
 
 /// The values of `state` (table B6) that the automata set, in one place.
@@ -160,6 +161,9 @@ pub struct Living {
     /// `optim_ahead` key points.
     pub optim_rate: i64,
     pub optim_ahead: i64,
+    /// Most voxels one of its path searches may add to its path
+    /// ([`Limits::plan_voxels`]).
+    pub max_plan_voxels: usize,
 }
 
 /// Walking speed before any `speed` command, world units a second.
@@ -223,6 +227,7 @@ impl Living {
             inertia: 0.0,
             optim_rate: 0,
             optim_ahead: 5,
+            max_plan_voxels: Limits::default().plan_voxels,
         };
         for entry in actor.automata().iter().rev() {
             me.push(Script {
@@ -433,9 +438,17 @@ impl Living {
     }
 }
 
-/// A point as the actors' warnings write it: x, y, z to the centimetre.
+/// A point as the actors' warnings write it: x, y, z to the centimetre,
+/// or in scientific notation past ±10⁷.
 pub(crate) fn show(p: Vec3) -> String {
-    format!("{:.2}, {:.2}, {:.2}", p.x, p.y, p.z)
+    let one = |v: f32| {
+        if v.abs() < 1e7 {
+            format!("{v:.2}")
+        } else {
+            format!("{v:e}")
+        }
+    };
+    format!("{}, {}, {}", one(p.x), one(p.y), one(p.z))
 }
 
 impl Living {
@@ -462,9 +475,14 @@ impl Living {
     }
 }
 
-/// Every actor of the table, as it stands before the first frame.
-pub fn living(table: &Table) -> Vec<Living> {
-    table.actors().iter().map(Living::new).collect()
+/// Every actor of the table, as it stands before the first frame, its
+/// work held to `limits`.
+pub fn living(table: &Table, limits: &Limits) -> Vec<Living> {
+    let mut all: Vec<Living> = table.actors().iter().map(Living::new).collect();
+    for a in &mut all {
+        a.max_plan_voxels = limits.plan_voxels;
+    }
+    all
 }
 
 /// The sense step: every actor sees, in parallel; each writes only its
@@ -486,17 +504,17 @@ pub fn act(actors: &mut [Living], senses: &Senses) -> Vec<Deed> {
 }
 
 /// An error once the actors' memories hold more than `max` bytes
-/// together ([`MAX_MEMORY_BYTES`](super::MAX_MEMORY_BYTES) in a film),
-/// naming the largest: a voxel edge too fine for what the actors see.
-pub fn check_memory(actors: &[Living], max: usize) -> Result<(), String> {
-    let bytes = |a: &Living| a.memory.as_ref().map_or(0, |m| m.memory_bytes());
-    let total: usize = actors.iter().map(bytes).sum();
+/// together ([`Limits::memory_bytes`] in a film), naming the largest: a
+/// voxel edge too fine for what the actors see.
+pub fn check_memory(actors: &[Living], max: u64) -> Result<(), String> {
+    let bytes = |a: &Living| a.memory.as_ref().map_or(0, |m| m.memory_bytes() as u64);
+    let total: u64 = actors.iter().map(bytes).sum();
     if total <= max {
         return Ok(());
     }
     let big = actors.iter().max_by_key(|a| bytes(a)).expect("some memory");
     Err(format!(
-        "the actors' visual memories hold {} bytes, more than {}; actor {}'s holds {} voxels in {} bytes: give its `init` a larger voxel edge or a smaller cube",
+        "the actors' visual memories hold {} bytes, more than {}; actor {}'s holds {} voxels in {} bytes: give its `init` a larger voxel edge or a smaller cube, or raise the limit with --max-memory BYTES",
         total,
         max,
         big.id,

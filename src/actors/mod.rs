@@ -38,10 +38,6 @@ pub const WINDOW_EDGES: std::ops::RangeInclusive<i64> = 1..=1024;
 /// and the most points it can insert into the memories (docs/limits.md).
 pub const MAX_VISION_PIXELS: u64 = 1 << 22;
 
-/// Most bytes the actors' visual memories may hold together; past it the
-/// film stops with an error rather than exhaust the machine's memory.
-pub const MAX_MEMORY_BYTES: usize = 4 << 30;
-
 /// Most sound events one `listen` may wait for.
 pub const MAX_HEARD: i64 = 10_000;
 

@@ -21,13 +21,10 @@ use super::live::state::{EXPLORE, SEARCH_NEW_PATH, WALK};
 use super::live::{show, Living};
 use super::memory::DepthView;
 use super::octree::{Octree, Voxel};
-use super::path::{self, Band, Explorer, SearchGrid, Step};
+use super::path::{self, Band, Explorer, NoPlan, SearchGrid, Step};
 use super::spline::{self, Piece};
 use super::vision::{Pixel, Window};
 use crate::lsys::automata::Automata;
-
-/// Most voxels one search may add to its path (Algorithm 1's bound).
-const MAX_VISITED: usize = 1 << 20;
 
 /// What a navigating actor keeps between frames.
 #[derive(Debug, Clone, Default)]
@@ -70,6 +67,11 @@ const MAX_DETOURS: u32 = 3;
 /// long is dotted more sparsely, so the display's cost stays bounded (a
 /// path of 700,000 voxels drew 1.4 M spheres a frame, issue 43).
 const MAX_SHOWN: usize = 2048;
+
+/// Fewest search voxels along the memory cube's edge a plan can find a
+/// way round anything in: with fewer, one obstacle fills a search voxel
+/// as wide as a third of the world.
+const MIN_SEARCH_EDGE: u32 = 4;
 
 /// Seconds a navigating actor may head for a goal without moving on by
 /// half a search voxel before it notices it is stuck.
@@ -227,11 +229,12 @@ impl Living {
         let memory = self.memory.as_ref().expect("checked").octree();
         let cube = memory.cube();
         let to = |p: Vec3| p.as_dvec3().to_array();
-        if memory.voxel(to(aim)).is_none() || memory.voxel(to(self.eye)).is_none() {
-            let (what, p) = match memory.voxel(to(aim)) {
-                None => ("its goal", aim),
-                Some(_) => ("its eye", self.eye),
-            };
+        // A planar search aims at the goal's x, z at the eye's height; a
+        // goal whose height lies outside the cube is still no goal in it.
+        let outside = [(aim, "its goal"), (dest, "its goal"), (self.eye, "its eye")]
+            .into_iter()
+            .find(|(p, _)| memory.voxel(to(*p)).is_none());
+        if let Some((p, what)) = outside {
             let why = format!(
                 "{what} ({}) lies outside its memory's cube ({} … {} on each axis, `init`), where it cannot plan: goal ({}) given up",
                 show(p),
@@ -243,6 +246,17 @@ impl Living {
             return self.give_up();
         }
         self.navigation.band = self.ground_band(memory, h);
+        let edge = self.grid(memory).edge();
+        if edge < MIN_SEARCH_EDGE {
+            let search = self.half_search_voxel().unwrap_or(0.0) * 2.0;
+            self.note_once(
+                "coarse",
+                &format!(
+                    "its search voxels of {search} (the `init` voxel edge {} × 2^rel_search_level {}) cut its memory's cube ({} … {}) into {edge} per edge, fewer than {MIN_SEARCH_EDGE}: too coarse to plan in; lower rel_search_level or the voxel edge",
+                    cube.voxel_edge, self.rel_search_level, cube.min, cube.max
+                ),
+            );
+        }
         if self.plan_to(h, dest) {
             return;
         }
@@ -271,8 +285,23 @@ impl Living {
             Some(v) if !planar(h) => glam::DVec3::from_array(grid.centre(v)).as_vec3(),
             _ => self.eye,
         };
-        let Some(points) = path::plan_on(&grid, to(from), to(aim), h, MAX_VISITED) else {
-            return false;
+        let points = match path::plan_on(&grid, to(from), to(aim), h, self.max_plan_voxels) {
+            Ok(points) => points,
+            Err(NoPlan::TooLong { visited }) => {
+                // A plan this long costs the same at every voxel the
+                // explore mode reaches: it explores without detours.
+                self.navigation.detours = MAX_DETOURS;
+                self.note_once(
+                    "plan limit",
+                    &format!(
+                        "its path search to ({}) gave up after adding {visited} voxels to its path, over the limit of {}; it explores instead. Raise it with --max-plan-voxels N",
+                        show(dest),
+                        self.max_plan_voxels
+                    ),
+                );
+                return false;
+            }
+            Err(_) => return false,
         };
         let flat = planar(h);
         let y = self.eye.y;
@@ -557,7 +586,8 @@ impl Living {
     fn move_along(&mut self, dt: f32) {
         if self.path_blocked() {
             self.path.clear();
-            return self.search_new_path();
+            self.search_new_path();
+            return self.blocked_at_once();
         }
         self.optimise();
         let nav = &mut self.navigation;
@@ -588,6 +618,38 @@ impl Living {
             nav.heading = Vec3::ZERO;
             self.state = SEARCH_NEW_PATH;
         }
+    }
+
+    /// A path planned just now that its own collision test blocks: the
+    /// heuristic plans where `coll_test_func` finds no way (table G.1), so
+    /// planning again would give the same path every frame. It says so
+    /// and explores from where it stands.
+    fn blocked_at_once(&mut self) {
+        let Some(dest) = self.navigation.destination else {
+            return;
+        };
+        if self.state != WALK || !self.path_blocked() {
+            return;
+        }
+        let blocked = self
+            .path
+            .iter()
+            .take(self.ahead.max(1) as usize)
+            .copied()
+            .find(|&p| self.collision_test().is_some_and(|free| !free(p)))
+            .unwrap_or(self.eye);
+        self.note_once(
+            "disagree",
+            &format!(
+                "heuristic {} planned a path to ({}) through ({}), where its collision test coll_test_func {} finds no way (table G.1): it explores from there",
+                self.heuristic,
+                show(dest),
+                show(blocked),
+                self.coll_test_func
+            ),
+        );
+        self.path.clear();
+        self.start_exploring(dest);
     }
 
     /// The spline ahead of a walking actor, dotted every half search

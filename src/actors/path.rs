@@ -248,14 +248,33 @@ fn distance2(a: Voxel, b: Voxel) -> u64 {
         .sum()
 }
 
-/// Runs `e` to its end; None when no path exists or more than
+/// Why a plan found no path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoPlan {
+    /// The start or the end lies outside the memory's cube.
+    Outside,
+    /// The end voxel is occupied: no candidate could reach it.
+    Occupied,
+    /// Algorithm 1 exhausted the space it could reach under the
+    /// heuristic: no way exists.
+    NoWay,
+    /// Algorithm 1 added more voxels to its path than it may (the limit
+    /// `--max-plan-voxels`): the search gave up, a way may exist.
+    TooLong { visited: usize },
+}
+
+/// Runs `e` to its end: an error when no path exists or more than
 /// `max_visited` voxels were added to the path (the search gives up).
-fn run(e: &mut Explorer, ask: &mut impl Ask, max_visited: usize) -> Option<()> {
+fn run(e: &mut Explorer, ask: &mut impl Ask, max_visited: usize) -> Result<(), NoPlan> {
     loop {
         match e.step_in(ask) {
-            Step::Arrived => return Some(()),
-            Step::Enclosed => return None,
-            Step::Go(_) if e.visited() > max_visited => return None,
+            Step::Arrived => return Ok(()),
+            Step::Enclosed => return Err(NoPlan::NoWay),
+            Step::Go(_) if e.visited() > max_visited => {
+                return Err(NoPlan::TooLong {
+                    visited: e.visited(),
+                })
+            }
             Step::Go(_) => {}
         }
     }
@@ -272,7 +291,7 @@ pub fn search(
     max_visited: usize,
 ) -> Option<Vec<Voxel>> {
     let mut e = Explorer::new(h, start, end);
-    run(&mut e, &mut Fresh { h, is_empty }, max_visited)?;
+    run(&mut e, &mut Fresh { h, is_empty }, max_visited).ok()?;
     Some(e.path)
 }
 
@@ -397,6 +416,17 @@ pub fn plan_voxels(
     is_empty: impl FnMut(Voxel) -> bool,
     max_visited: usize,
 ) -> Option<Planned> {
+    plan_in(h, start, end, is_empty, max_visited).ok()
+}
+
+/// [`plan_voxels`], saying why no path was found.
+fn plan_in(
+    h: &Heuristic,
+    start: Voxel,
+    end: Voxel,
+    is_empty: impl FnMut(Voxel) -> bool,
+    max_visited: usize,
+) -> Result<Planned, NoPlan> {
     let mut ask = Memo {
         fresh: Fresh { h, is_empty },
         lists: FxHashMap::default(),
@@ -405,8 +435,9 @@ pub fn plan_voxels(
     run(&mut e, &mut ask, max_visited)?;
     let mut corridor = extend_in(e.path(), &mut ask);
     label_in(&mut corridor, start, &mut ask);
-    let path = shortest_in(h, &corridor, end, &mut ask)?;
-    Some(Planned {
+    // Algorithm 1's path lies in the corridor: Algorithm 4 finds one.
+    let path = shortest_in(h, &corridor, end, &mut ask).ok_or(NoPlan::NoWay)?;
+    Ok(Planned {
         visited: e.visited(),
         searched: e.path,
         path,
@@ -491,6 +522,11 @@ impl<'a> SearchGrid<'a> {
     /// floor).
     pub fn on(self, band: Option<Band>) -> Self {
         SearchGrid { band, ..self }
+    }
+
+    /// Search voxels along an edge of the cube.
+    pub fn edge(&self) -> u32 {
+        self.edge
     }
 
     /// Memory layers a search voxel is thick.
@@ -581,7 +617,7 @@ pub fn plan(
     h: &Heuristic,
     rel_search_level: u32,
     max_visited: usize,
-) -> Option<Vec<[f64; 3]>> {
+) -> Result<Vec<[f64; 3]>, NoPlan> {
     plan_on(
         &SearchGrid::new(memory, rel_search_level),
         start,
@@ -594,22 +630,25 @@ pub fn plan(
 /// The path from `start` to `end` (world points) through the free search
 /// voxels of `grid` under heuristic `h`, as the world centres of its
 /// search voxels, start first: Algorithm 1 (giving up past `max_visited`
-/// voxels), then Algorithms 2–4. None when an end point is outside the
-/// cube, the end voxel is occupied (no candidate could reach it: the
-/// search would only exhaust the space), or no path exists under `h`.
+/// voxels), then Algorithms 2–4. An error when an end point is outside
+/// the cube, the end voxel is occupied (no candidate could reach it: the
+/// search would only exhaust the space), no path exists under `h`, or
+/// the search gave up.
 pub fn plan_on(
     grid: &SearchGrid,
     start: [f64; 3],
     end: [f64; 3],
     h: &Heuristic,
     max_visited: usize,
-) -> Option<Vec<[f64; 3]>> {
-    let (s, e) = (grid.voxel(start)?, grid.voxel(end)?);
+) -> Result<Vec<[f64; 3]>, NoPlan> {
+    let (Some(s), Some(e)) = (grid.voxel(start), grid.voxel(end)) else {
+        return Err(NoPlan::Outside);
+    };
     if s != e && !grid.is_empty(e) {
-        return None;
+        return Err(NoPlan::Occupied);
     }
-    let planned = plan_voxels(h, s, e, |v| grid.is_empty(v), max_visited)?;
-    Some(planned.path.iter().map(|&v| grid.centre(v)).collect())
+    let planned = plan_in(h, s, e, |v| grid.is_empty(v), max_visited)?;
+    Ok(planned.path.iter().map(|&v| grid.centre(v)).collect())
 }
 
 #[cfg(test)]
@@ -662,7 +701,10 @@ mod tests {
         }
         let (a, b) = ([1.2, 1.6, 1.2], [6.2, 1.6, 6.2]);
         let h1 = heuristic(1).unwrap();
-        assert_eq!(plan_on(&SearchGrid::new(&m, 1), a, b, h1, 10_000), None);
+        assert_eq!(
+            plan_on(&SearchGrid::new(&m, 1), a, b, h1, 10_000),
+            Err(NoPlan::Occupied)
+        );
         let band = Band::new(3, (2, 2, 2), 2);
         assert_eq!(
             band,
@@ -679,17 +721,22 @@ mod tests {
         assert_eq!(grid.voxel(a), Some([1, 2, 1]));
         assert!(grid.is_empty([1, 2, 1]) && !grid.is_empty([1, 1, 1]));
         assert_eq!(grid.centre([1, 2, 1])[1], 2.0);
-        assert!(plan_on(&grid, a, b, h1, 10_000).is_some());
+        assert!(plan_on(&grid, a, b, h1, 10_000).is_ok());
+        // A search that may add fewer voxels than the way is long gives up.
+        assert_eq!(
+            plan_on(&grid, a, b, h1, 5),
+            Err(NoPlan::TooLong { visited: 6 })
+        );
         // Heuristic 7 walks on it: the floor is under every voxel.
         let h7 = heuristic(7).unwrap();
-        assert!(plan_on(&grid, a, b, h7, 10_000).is_some());
+        assert!(plan_on(&grid, a, b, h7, 10_000).is_ok());
         // A low wall across the room, from the floor up to half the
         // eye's height, bars the way.
         for z in 0..16 {
             m.insert([8, 3, z], 1);
         }
         let grid = SearchGrid::new(&m, 1).on(Some(band));
-        assert_eq!(plan_on(&grid, a, b, h1, 10_000), None);
+        assert_eq!(plan_on(&grid, a, b, h1, 10_000), Err(NoPlan::NoWay));
         // Layers over and under the band are a search voxel thick.
         assert_eq!(grid.layers(3), (5, 7));
         assert_eq!(grid.layers(0), (0, 1));

@@ -115,20 +115,24 @@ impl Piece {
         (at, self.heading((i as f32 + f) / CHORDS as f32))
     }
 
-    /// Points every `spacing` along the curve from `s` to its end.
-    fn sample(&self, s: f32, spacing: f32, out: &mut Vec<Vec3>) {
+    /// Points every `spacing` along the curve from `s` to its end; how
+    /// far into the next piece the next point falls.
+    fn sample(&self, s: f32, spacing: f32, out: &mut Vec<Vec3>) -> f32 {
         let mut d = s;
         while d < self.length() {
             out.push(self.along(d).0);
             d += spacing;
         }
+        d - self.length()
     }
 }
 
 /// Points every `spacing` (> 0) along the whole spline ahead: what is left
 /// of `current` after `travelled`, then the pieces through the remaining
 /// `keys`, each leaving where the one before arrived; the last key point
-/// closes it. Drawn for the viewer (`turtle` 3).
+/// closes it. Drawn for the viewer (`turtle` 3): the spacing runs on
+/// across key points, so the count grows with the length in metres, not
+/// with the count of key points.
 pub fn ahead(
     current: Option<(&Piece, f32)>,
     from: Vec3,
@@ -138,14 +142,14 @@ pub fn ahead(
     spacing: f32,
 ) -> Vec<Vec3> {
     let mut out = Vec::new();
-    let (mut at, mut dir, mut rest) = (from, heading, keys);
+    let (mut at, mut dir, mut rest, mut next) = (from, heading, keys, 0.0);
     if let Some((piece, travelled)) = current.filter(|(p, _)| p.leads_along(keys)) {
-        piece.sample(travelled, spacing, &mut out);
+        next = piece.sample(travelled, spacing, &mut out);
         (at, dir, rest) = (piece.p1, piece.heading(1.0), &keys[1..]);
     }
     for i in 0..rest.len() {
         if let Some(piece) = Piece::new(at, dir, &rest[i..], inertia) {
-            piece.sample(0.0, spacing, &mut out);
+            next = piece.sample(next, spacing, &mut out);
             (at, dir) = (piece.p1, piece.heading(1.0));
         }
     }

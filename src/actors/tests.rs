@@ -195,7 +195,9 @@ fn refuses_what_no_actor_can_run() {
     ))
     .unwrap();
     assert_eq!(t.get(0).unwrap().automata()[0].commands.len(), 4);
-    let walker = &super::live::living(&t)[0].footing.settings;
+    let walker = &super::live::living(&t, &Default::default())[0]
+        .footing
+        .settings;
     assert_eq!(walker.plane, Some(0.2));
     assert_eq!((walker.gait.df_max, walker.gait.max_change), (0.8, 0.3));
     assert_eq!(walker.weights.p1, 0.0);

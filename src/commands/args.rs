@@ -93,6 +93,13 @@ pub struct LimitArgs {
     /// Most pixels in one image (width × height).
     #[arg(long, value_name = "N", default_value_t = Limits::default().pixels)]
     pub max_pixels: u64,
+    /// Most voxels one actor's path search adds to its path before it
+    /// gives up (time and memory of a plan, length of its path).
+    #[arg(long, value_name = "N", default_value_t = Limits::default().plan_voxels)]
+    pub max_plan_voxels: usize,
+    /// Most bytes the actors' visual memories hold together.
+    #[arg(long, value_name = "BYTES", default_value_t = Limits::default().memory_bytes)]
+    pub max_memory: u64,
 }
 
 impl LimitArgs {
@@ -102,6 +109,8 @@ impl LimitArgs {
             shapes: self.max_shapes,
             frames: self.max_frames,
             pixels: self.max_pixels,
+            plan_voxels: self.max_plan_voxels,
+            memory_bytes: self.max_memory,
         }
     }
 }

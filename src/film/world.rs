@@ -147,7 +147,7 @@ impl Film {
         let air = Air::new(&sound_inits(&anim), lib, search).map_err(Error::input)?;
         let mut physics = Physics::new(&anim);
         physics.register(&anim).map_err(Error::input)?;
-        let living = live::living(&actors);
+        let living = live::living(&actors, &opts.limits);
         let tracks = Tracks::load(&anim, &living)?;
         let mut film = Film {
             anim,
@@ -417,7 +417,7 @@ impl Film {
         // actor order; their voices join the frame's sound events.
         if self.living.iter().any(|a| a.edge.is_some()) {
             live::sense(&mut self.living, frame.accel(), number);
-            live::check_memory(&self.living, crate::actors::MAX_MEMORY_BYTES)
+            live::check_memory(&self.living, self.opts.limits.memory_bytes)
                 .map_err(|e| at(Error::input(e)))?;
         }
         let senses = Senses {

@@ -17,6 +17,13 @@ pub struct Limits {
     pub frames: u64,
     /// Pixels in one image (`--max-pixels`).
     pub pixels: u64,
+    /// Voxels one actor's path search may add to its path before it
+    /// gives up (Algorithm 1, `--max-plan-voxels`): bounds a plan's time
+    /// and memory, and the length of the path it returns.
+    pub plan_voxels: usize,
+    /// Bytes the actors' visual memories may hold together
+    /// (`--max-memory`).
+    pub memory_bytes: u64,
 }
 
 impl Limits {
@@ -45,6 +52,8 @@ impl Default for Limits {
             shapes: 10_000_000,
             frames: 1_000_000,
             pixels: 8192 * 8192,
+            plan_voxels: 1 << 16,
+            memory_bytes: 4 << 30,
         }
     }
 }

@@ -11,6 +11,7 @@ mod behaviour;
 mod footholds;
 mod maze;
 mod memory_room;
+mod mutation;
 mod path;
 mod regressions;
 mod stones;

@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use lmfilm::actors::heuristics::{candidates, heuristic, Heuristic};
 use lmfilm::actors::octree::{Cube, Octree, Voxel};
 use lmfilm::actors::path::{
-    extend, label, plan, plan_voxels, search, shortest, Explorer, Step, MAX_LABEL,
+    extend, label, plan, plan_voxels, search, shortest, Explorer, NoPlan, Step, MAX_LABEL,
 };
 use proptest::prelude::*;
 
@@ -263,17 +263,23 @@ fn plan_goes_around_a_wall_in_the_memory() {
         assert!(p.iter().all(|q| !(4.0..4.5).contains(&q[0]) || q[2] > 6.0));
         let half = edge / 2.0;
         assert_eq!(p[0], [0, 1, 2].map(|i| (a[i] / edge).floor() * edge + half));
-        assert_eq!(plan(&m, a, b, h, level, 10_000), Some(p));
+        assert_eq!(plan(&m, a, b, h, level, 10_000), Ok(p));
     }
     // The end inside the wall, or outside the cube: no path.
-    assert_eq!(plan(&m, a, [4.2, 0.2, 1.0], h, 0, 10_000), None);
-    assert_eq!(plan(&m, a, [20.0, 0.2, 1.0], h, 0, 10_000), None);
+    assert_eq!(
+        plan(&m, a, [4.2, 0.2, 1.0], h, 0, 10_000),
+        Err(NoPlan::Occupied)
+    );
+    assert_eq!(
+        plan(&m, a, [20.0, 0.2, 1.0], h, 0, 10_000),
+        Err(NoPlan::Outside)
+    );
     // A closed wall: the search exhausts the side and says so.
     for x in 0..32 {
         m.insert([x, 0, 24], 1);
         m.insert([8, 0, x], 1);
     }
-    assert_eq!(plan(&m, a, b, h, 0, 100_000), None);
+    assert_eq!(plan(&m, a, b, h, 0, 100_000), Err(NoPlan::NoWay));
 }
 
 /// A 3D world of voxel columns for heuristic 9, one character a column

@@ -338,3 +338,96 @@ fn a_navigator_that_cannot_work_says_so() {
         "{warnings:?}"
     );
 }
+
+/// Issue 43's unbounded cost, bounded: a memory cube of 2²⁰ voxels a
+/// side, no geometry, the path shown (`turtle 3`), a goal far away. The
+/// path search gives up at `--max-plan-voxels` and says so naming the
+/// flag; the actor explores instead, and the display draws at most a
+/// couple of thousand points whatever the path's length in voxels.
+#[test]
+fn a_plan_past_its_limit_says_so_and_the_display_stays_bounded() {
+    let text = |goal: u32| {
+        format!(
+            "Camera_AnimationParameters\nt_final_interval 1 0.04\nOptions\nNBR_actors 1\n\
+             iVisionWinSize 0 8 8\n\
+             actorNbr_automata 0 walk_continuously init 0 -524288 524288 1 turtle 3 speed 5 goal {goal} 0 0\n\
+             Axiom\n[ M () (7) () (0) ]\nProductions\nEndProductions\n"
+        )
+    };
+    let limited = |goal: u32, plan_voxels: usize| {
+        let mut opts = lmfilm::turtle::Options::default();
+        opts.limits.plan_voxels = plan_voxels;
+        Film::from_sources(
+            &[lmfilm::lsys::Source::new("far.lm", text(goal))],
+            None,
+            opts,
+        )
+        .unwrap()
+    };
+    // Over the limit: one warning naming the flag, and it moves on.
+    let mut f = limited(20_000, 5_000);
+    let mut shapes = Vec::new();
+    let warnings = warnings_until(&mut f, "", |f| {
+        shapes.push(f.frame().unwrap().scene().geometries[0].shapes.len());
+        false
+    });
+    let said: Vec<_> = warnings
+        .iter()
+        .filter(|w| w.contains("--max-plan-voxels"))
+        .collect();
+    assert_eq!(said.len(), 1, "{warnings:?}");
+    assert!(said[0].contains("over the limit of 5000"), "{}", said[0]);
+    let a = &f.living()[0];
+    assert!(
+        a.eye.x > 0.5,
+        "it explores toward the goal: {:?} {} {:?}",
+        a.eye,
+        a.state,
+        a.gave_up
+    );
+    // Under it: the plan holds 10,000 search voxels; the display draws
+    // at most 2048 of its points.
+    let mut f = limited(20_000, 1 << 18);
+    let warnings = warnings_until(&mut f, "", |f| {
+        let n = f.frame().unwrap().scene().geometries[0].shapes.len();
+        assert!(n <= 2050, "{n} shapes drawn");
+        false
+    });
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert!(f.living()[0].path.len() > 9_000);
+}
+
+/// A goal outside the memory's cube is given up with a warning, also
+/// when only its height is outside and the search is planar (it would
+/// otherwise walk under it and count as arrived).
+#[test]
+fn a_goal_outside_the_memory_cube_is_given_up_with_a_warning() {
+    for goal in ["50 0 0", "2 1000000000000000000000000000000 0", "2 -30 0"] {
+        let text = format!(
+            "Camera_AnimationParameters\nt_final_interval 0.2 0.04\nOptions\nNBR_actors 1\n\
+             iVisionWinSize 0 8 8\n\
+             actorNbr_automata 0 walk_continuously init 0 -20 20 0.5 goal {goal}\n\
+             Axiom\nProductions\nEndProductions\n"
+        );
+        let mut f = film(&text);
+        let warnings = warnings_until(&mut f, "outside its memory's cube", |_| false);
+        assert_eq!(warnings.len(), 1, "{goal}: {warnings:?}");
+        let a = &f.living()[0];
+        assert!(a.gave_up.is_some(), "{goal}");
+        assert_eq!(a.eye, glam::Vec3::ZERO, "{goal}: it stays where it is");
+    }
+}
+
+/// A memory whose search voxels cut the cube into fewer than four per
+/// edge is too coarse to plan in: said once, naming the numbers.
+#[test]
+fn a_memory_too_coarse_to_plan_in_says_so() {
+    let text = "Camera_AnimationParameters\nt_final_interval 0.2 0.04\nOptions\nNBR_actors 1\n\
+         iVisionWinSize 0 8 8\n\
+         actorNbr_automata 0 walk_continuously init 0 -4 4 1 rel_search_level 2 goal 2 0 2\n\
+         Axiom\nProductions\nEndProductions\n";
+    let mut f = film(text);
+    let warnings = warnings_until(&mut f, "too coarse", |_| false);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("into 2 per edge"), "{}", warnings[0]);
+}
