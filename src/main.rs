@@ -7,10 +7,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use lmfilm::commands::args::{
-    segment_width, FilterArg, FrameArgs, LimitArgs, PresetArg, RenderArgs, SoundArgs,
+    segment_width, FrameArgs, QualityArgs, RenderArgs, SceneArgs, SoundArgs, WorkArgs,
 };
 use lmfilm::commands::film::FilmArgs;
-use lmfilm::commands::frame::StillArgs;
 use lmfilm::commands::sound::SoundInput;
 use lmfilm::commands::{self, trace::trace};
 use lmfilm::film::frames::{FrameRange, Shard};
@@ -79,22 +78,8 @@ enum Command {
         /// The image to write: .png or .exr.
         #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = commands::frame::image_path)]
         output: PathBuf,
-        /// Width in pixels (default: the scene's window).
-        #[arg(long, value_parser = commands::args::side)]
-        width: Option<u32>,
-        /// Height in pixels (default: the scene's window).
-        #[arg(long, value_parser = commands::args::side)]
-        height: Option<u32>,
-        /// Samples per pixel (default: 1 for preview, 16 for final).
-        #[arg(long, value_parser = commands::args::spp)]
-        spp: Option<u32>,
-        /// `preview`: 1 sample, no shadows, mirrors and glass approximated
-        /// by one look; `final`: all.
-        #[arg(long, value_enum, default_value_t = PresetArg::Final)]
-        preset: PresetArg,
-        /// Pixel filter.
-        #[arg(long, value_enum, default_value_t = FilterArg::Box)]
-        filter: FilterArg,
+        #[command(flatten)]
+        quality: QualityArgs,
         /// Diameter of the thin cylinders drawn for segments `R S`.
         #[arg(long, default_value_t = 0.05, value_parser = segment_width)]
         segment_width: f64,
@@ -126,18 +111,17 @@ enum Command {
         #[arg(short, long, value_name = "DIR")]
         output: Option<PathBuf>,
         #[command(flatten)]
-        render: RenderArgs,
-        #[command(flatten)]
-        sound: SoundArgs,
-        /// Let the scene run its `command_file` scripts.
-        #[arg(long)]
-        allow_commands: bool,
+        work: WorkArgs,
         /// Empty the folder's lmfilm outputs first (to reuse a folder that
         /// holds another film).
         #[arg(long)]
         clean: bool,
         #[command(flatten)]
-        limits: LimitArgs,
+        render: RenderArgs,
+        #[command(flatten)]
+        sound: SoundArgs,
+        #[command(flatten)]
+        scene: SceneArgs,
     },
     /// The simulation alone: snapshots, sound event log and manifest.
     ///
@@ -152,29 +136,35 @@ enum Command {
         /// Output folder.
         #[arg(short, long, value_name = "DIR")]
         output: PathBuf,
-        /// Let the scene run its `command_file` scripts.
-        #[arg(long)]
-        allow_commands: bool,
         /// Empty the folder's lmfilm outputs first (to reuse a folder that
         /// holds another film).
         #[arg(long)]
         clean: bool,
         #[command(flatten)]
-        limits: LimitArgs,
+        scene: SceneArgs,
     },
     /// Ray-trace a derived folder's snapshots into DIR/frames/.
     ///
-    /// Shard K/N takes the frames f with f mod N = K − 1, so N processes
-    /// (on N machines, at the same time, over one shared folder) cover the
-    /// film once; each frame writes its own record, and `sound DIR`
-    /// finishes the film. A frame is skipped only when its record shows
-    /// the same snapshot and settings and its files are intact. Example:
+    /// With the film's settings (DIR/settings.json, as `run` or `farm
+    /// slurm` recorded them), the options given over them: with none, a
+    /// re-render gives the same bytes as before. An option that changes
+    /// them renders every frame again, and is refused with --frames or
+    /// --shard (a folder never holds frames of two settings). Shard K/N
+    /// takes the frames f with f mod N = K − 1, so N processes (on N
+    /// machines, at the same time, over one shared folder) cover the film
+    /// once; each frame writes its own record, and `sound DIR` finishes
+    /// the film. A frame is skipped only when its record shows the same
+    /// snapshot and settings and its files are intact. Examples:
+    ///
+    ///     lmfilm render renders/plane --frames 3..5
     ///
     ///     lmfilm render renders/plane --shard 1/2
     Render {
         /// A folder made by `lmfilm derive` (or `run`).
         #[arg(value_name = "DIR")]
         dir: PathBuf,
+        #[command(flatten)]
+        work: WorkArgs,
         #[command(flatten)]
         render: RenderArgs,
         /// This process's share of the frames: K/N.
@@ -222,11 +212,8 @@ enum Command {
         /// Frames to list: A..B (B excluded), A..=B, A.. or N.
         #[arg(long, value_name = "A..B")]
         frames: Option<FrameRange>,
-        /// Let the scene run its `command_file` scripts.
-        #[arg(long)]
-        allow_commands: bool,
         #[command(flatten)]
-        limits: LimitArgs,
+        scene: SceneArgs,
     },
     /// Render a sound event log into a soundtrack WAV (thesis 2.4.3).
     ///
@@ -256,11 +243,8 @@ enum Command {
         library: Option<PathBuf>,
         #[command(flatten)]
         settings: SoundArgs,
-        /// Let a scene SCENE.lm run its `command_file` scripts.
-        #[arg(long)]
-        allow_commands: bool,
         #[command(flatten)]
-        limits: LimitArgs,
+        scene: SceneArgs,
     },
 }
 
@@ -295,25 +279,16 @@ enum FarmCommand {
     /// One derive job, an array of N render tasks (task i renders shard
     /// i/N, retried on failure), one finishing job (soundtrack, manifest,
     /// MP4 when ffmpeg exists, verify), each after the one before
-    /// succeeded. DIR must be a folder every node shares; the jobs run
-    /// this lmfilm by its absolute path. Submitting again resumes: only
-    /// what is missing is redone. Example:
+    /// succeeded. The film's settings (render, sound, limits, consent to
+    /// scripts) are resolved here, recorded in DIR/settings.json and
+    /// passed to every job. DIR must be a folder every node shares; the
+    /// jobs run this lmfilm by its absolute path. Submitting again
+    /// resumes: only what is missing is redone. Example:
     ///
-    ///     lmfilm farm slurm scenes/tennis/match.lm -o /shared/match --shards 8 --dry-run
-    Slurm {
-        /// Definition files derived together as one animation.
-        #[arg(required = true, value_name = "SCENE.lm")]
-        scenes: Vec<PathBuf>,
-        /// The film folder, on storage every node shares.
-        #[arg(short, long, value_name = "DIR")]
-        output: PathBuf,
-        #[command(flatten)]
-        slurm: commands::farm::Slurm,
-        /// Write and print the scripts; submit nothing.
-        #[arg(long)]
-        dry_run: bool,
-    },
-    /// The chain's jobs as Slurm accounts for them, and the frames done.
+    ///     lmfilm farm slurm scenes/tennis/match.lm -o /shared/match --shards 8 --preset preview --width 480 --dry-run
+    Slurm(Box<commands::farm::SlurmArgs>),
+    /// Frames done of the total with a bar, the time left, failed tasks
+    /// with their logs, and the chain's jobs as Slurm accounts for them.
     ///
     ///     lmfilm farm status /shared/match
     Status {
@@ -349,89 +324,56 @@ fn main() -> ExitCode {
         Command::Still {
             at,
             output,
-            width,
-            height,
-            spp,
-            preset,
-            filter,
+            quality,
             segment_width,
-        } => {
-            let args = StillArgs {
-                size: (width, height),
-                spp,
-                preset,
-                filter,
-                segment_width,
-            };
-            commands::frame::still(&at, &output, &args)
-        }
+        } => commands::frame::still(&at, &output, &quality, segment_width),
         Command::Run {
             scenes,
             output,
+            work,
+            clean,
             render,
             sound,
-            allow_commands,
-            clean,
-            limits,
+            scene,
         } => {
-            let film = FilmArgs {
-                scenes: &scenes,
-                allow_commands,
-                clean,
-                limits: limits.limits(),
-            };
-            commands::film::run(&film, output.as_deref(), &render, &sound)
+            let film = FilmArgs::new(&scenes, &scene, clean);
+            commands::film::run(&film, output.as_deref(), &render, &work, &sound)
         }
         Command::Derive {
             scenes,
             output,
-            allow_commands,
             clean,
-            limits,
-        } => {
-            let film = FilmArgs {
-                scenes: &scenes,
-                allow_commands,
-                clean,
-                limits: limits.limits(),
-            };
-            commands::film::derive(&film, &output)
-        }
-        Command::Farm(FarmCommand::Slurm {
-            scenes,
-            output,
-            slurm,
-            dry_run,
-        }) => commands::farm::slurm(&scenes, &output, &slurm, dry_run),
+            scene,
+        } => commands::film::derive(&FilmArgs::new(&scenes, &scene, clean), &output),
+        Command::Farm(FarmCommand::Slurm(args)) => commands::farm::slurm(&args),
         Command::Farm(FarmCommand::Status { dir }) => commands::farm::status(&dir),
         Command::Render {
             dir,
+            work,
             render,
             shard,
             max_pixels,
-        } => commands::film::render(&dir, &render, shard, max_pixels),
+        } => commands::film::render(&dir, &render, &work, shard, max_pixels),
         Command::Mux { dir } => commands::film::mux(&dir),
         Command::Verify { dir } => commands::film::verify(&dir),
         Command::Trace {
             scenes,
             frames,
-            allow_commands,
-            limits,
-        } => trace(&scenes, frames, allow_commands, limits.limits()),
+            scene,
+        } => trace(&scenes, frames, scene.allow_commands, scene.limits.limits()),
         Command::Sound {
             events,
             output,
             library,
             settings,
-            allow_commands,
-            limits,
+            scene,
         } => {
             let input = SoundInput {
                 events: &events,
                 output: output.as_deref(),
                 library: library.as_deref(),
-                allow_commands,
-                limits: limits.limits(),
+                allow_commands: scene.allow_commands,
+                limits: scene.limits.limits(),
             };
             commands::sound::sound(&input, &settings)
         }

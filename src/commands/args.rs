@@ -7,8 +7,9 @@ use clap::{Args, ValueEnum};
 
 use crate::film::frames::FrameRange;
 use crate::film::job::Formats;
+use crate::film::settings::{RenderRequest, SoundRequest};
 use crate::lsys::Limits;
-use crate::render::{Filter, Settings};
+use crate::render::{Filter, Preset};
 use crate::sound::{self, Attenuation, SampleFormat};
 
 /// A number of `what` within `lo..=hi`, read from `text`.
@@ -103,6 +104,18 @@ pub struct LimitArgs {
 }
 
 impl LimitArgs {
+    /// The options that set these limits again (a farm's jobs).
+    pub fn args(&self) -> Vec<String> {
+        vec![
+            format!("--max-symbols={}", self.max_symbols),
+            format!("--max-shapes={}", self.max_shapes),
+            format!("--max-frames={}", self.max_frames),
+            format!("--max-pixels={}", self.max_pixels),
+            format!("--max-plan-voxels={}", self.max_plan_voxels),
+            format!("--max-memory={}", self.max_memory),
+        ]
+    }
+
     pub fn limits(&self) -> Limits {
         Limits {
             symbols: self.max_symbols,
@@ -112,6 +125,28 @@ impl LimitArgs {
             plan_voxels: self.max_plan_voxels,
             memory_bytes: self.max_memory,
         }
+    }
+}
+
+/// What a command that reads scenes may let them do, and their limits.
+#[derive(Args, Clone, Copy)]
+pub struct SceneArgs {
+    /// Let the scene run its `command_file` scripts.
+    #[arg(long)]
+    pub allow_commands: bool,
+    #[command(flatten)]
+    pub limits: LimitArgs,
+}
+
+impl SceneArgs {
+    /// The options that ask for the same again (a farm's derive job).
+    pub fn args(&self) -> Vec<String> {
+        let mut a = Vec::new();
+        if self.allow_commands {
+            a.push("--allow-commands".to_string());
+        }
+        a.extend(self.limits.args());
+        a
     }
 }
 
@@ -127,17 +162,23 @@ pub struct FrameArgs {
     /// Time T in seconds: the frame nearest to T.
     #[arg(long, allow_negative_numbers = true, value_parser = time)]
     pub time: Option<f64>,
-    /// Let the scene run its `command_file` scripts.
-    #[arg(long)]
-    pub allow_commands: bool,
     #[command(flatten)]
-    pub limits: LimitArgs,
+    pub scene: SceneArgs,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum PresetArg {
     Preview,
     Final,
+}
+
+impl PresetArg {
+    pub fn preset(self) -> Preset {
+        match self {
+            PresetArg::Preview => Preset::Preview,
+            PresetArg::Final => Preset::Final,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -163,138 +204,158 @@ pub enum FormatArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+pub enum Switch {
+    On,
+    Off,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 pub enum AttenuationArg {
     Inverse,
     Thesis,
     None,
 }
 
-/// The preset's settings at `w` × `h`, with `--spp` if given (`still`,
-/// `run` and `render`).
-pub fn quality(preset: PresetArg, w: u32, h: u32, spp: Option<u32>) -> Settings {
-    let mut s = match preset {
-        PresetArg::Preview => Settings::preview(w, h),
-        PresetArg::Final => Settings::final_quality(w, h),
-    };
-    if let Some(n) = spp {
-        s.spp = n;
-    }
-    s
+#[derive(Clone, Copy, ValueEnum)]
+pub enum SamplesArg {
+    Pcm16,
+    Float32,
 }
 
-/// How `lmfilm sound` and `run` render the soundtrack: the fields of `sound::Settings`.
-#[derive(Args)]
-pub struct SoundArgs {
-    /// Sample rate in Hz.
-    #[arg(long, default_value_t = 48_000, value_parser = rate)]
-    rate: u32,
-    /// Speed of sound in m/s.
-    #[arg(long, default_value_t = 343.0, value_parser = speed_of_sound)]
-    speed_of_sound: f64,
-    /// `inverse`: 1/max(d, 1 m); `thesis`: (1/(1 + d))² (eq. 2.4.1);
-    /// `none`: delay and Doppler only.
-    #[arg(long, value_enum, default_value_t = AttenuationArg::Inverse)]
-    attenuation: AttenuationArg,
-    /// Write 32-bit float samples instead of 16-bit PCM (no clipping).
-    #[arg(long)]
-    float: bool,
-    /// Normalise the soundtrack to this integrated loudness in LUFS
-    /// (ITU-R BS.1770-4, -70..0), keeping its true peak at or below
-    /// -1 dBTP, with 5 ms fades at both ends.
-    #[arg(
-        long,
-        value_name = "LUFS",
-        default_value_t = sound::loudness::DEFAULT_TARGET,
-        allow_negative_numbers = true,
-        value_parser = loudness
-    )]
-    loudness: f64,
-    /// Keep the renderer's raw levels: no loudness normalisation and
-    /// no fades.
-    #[arg(long, conflicts_with = "loudness")]
-    no_normalize: bool,
-}
+/// `--inset`: an actor, or none.
+#[derive(Clone, Copy, Debug)]
+pub struct Inset(pub Option<usize>);
 
-impl SoundArgs {
-    /// The renderer's settings.
-    pub fn settings(&self) -> sound::Settings {
-        sound::Settings {
-            rate: self.rate,
-            speed_of_sound: self.speed_of_sound,
-            attenuation: match self.attenuation {
-                AttenuationArg::Inverse => Attenuation::Inverse,
-                AttenuationArg::Thesis => Attenuation::Thesis,
-                AttenuationArg::None => Attenuation::None,
-            },
-            format: if self.float {
-                SampleFormat::Float32
-            } else {
-                SampleFormat::Pcm16
-            },
-            loudness: (!self.no_normalize).then_some(self.loudness),
-        }
+fn inset(text: &str) -> Result<Inset, String> {
+    match text.trim() {
+        "none" => Ok(Inset(None)),
+        t => t
+            .parse()
+            .map(|a| Inset(Some(a)))
+            .map_err(|_| format!("--inset takes an actor number or `none`, got {text:?}")),
     }
 }
 
-/// How frames are rendered (`run` and `render`).
-#[derive(Args)]
-pub struct RenderArgs {
-    /// Frames to render: A..B (B excluded), A..=B, A.. or N; default all
-    /// (or the scene's `rs_switch` ranges).
-    #[arg(long, value_name = "A..B")]
-    pub frames: Option<FrameRange>,
-    /// `final` (the default): 16 samples, shadows, reflections;
-    /// `preview`: 1 sample. `run` with no scene (the built-in film)
+/// `--loudness`: a target in LUFS, or none (no normalisation).
+#[derive(Clone, Copy, Debug)]
+pub struct Loudness(pub Option<f64>);
+
+fn loudness_or_off(text: &str) -> Result<Loudness, String> {
+    match text.trim() {
+        "off" => Ok(Loudness(None)),
+        t => loudness(t).map(|l| Loudness(Some(l))),
+    }
+}
+
+/// How an image is rendered: a preset and what overrides it. Every
+/// option left out keeps the film's recorded setting (`run`, `render`,
+/// `farm slurm`), else the preset's (`still`).
+#[derive(Args, Clone, Copy, Default)]
+#[command(next_help_heading = "Render settings")]
+pub struct QualityArgs {
+    /// `final` (the default): 16 samples, shadows, 5 bounces, 4 rays per
+    /// sphere light; `preview`: 1 sample, no shadows, mirrors and glass
+    /// approximated by one look. `run` with no scene (the built-in film)
     /// renders at `final` with 3 samples per pixel unless --preset or
     /// --spp is given.
     #[arg(long, value_enum, value_name = "PRESET")]
     pub preset: Option<PresetArg>,
-    /// Image width (default: the scene camera's `prefpos`).
+    /// Image width (default: the scene camera's window, `prefpos`; one
+    /// side given keeps its aspect ratio).
     #[arg(long, value_parser = side)]
     pub width: Option<u32>,
-    /// Image height (default: the scene camera's `prefpos`).
+    /// Image height (default: the scene camera's window).
     #[arg(long, value_parser = side)]
     pub height: Option<u32>,
     /// Samples per pixel (overrides the preset's).
     #[arg(long, value_parser = spp)]
     pub spp: Option<u32>,
-    /// `both` (the EXR master and its PNG), `png` (8-bit sRGB) or `exr`
-    /// (RGBA, Z, normal, object id).
-    #[arg(long, value_enum, default_value_t = FormatArg::Both)]
-    pub format: FormatArg,
-    /// Worker threads (default: all cores); the images do not depend on it.
-    #[arg(long, value_parser = threads)]
-    pub threads: Option<usize>,
+    /// Pixel filter (default box).
+    #[arg(long, value_enum)]
+    pub filter: Option<FilterArg>,
+    /// Shadow rays (overrides the preset's).
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub shadows: Option<Switch>,
+    /// Reflection and refraction bounces (overrides the preset's).
+    #[arg(long, value_name = "N", value_parser = max_depth)]
+    pub max_depth: Option<u32>,
+    /// Shadow rays toward each sphere light (overrides the preset's).
+    #[arg(long, value_name = "N", value_parser = light_samples)]
+    pub light_samples: Option<u32>,
+}
+
+fn max_depth(text: &str) -> Result<u32, String> {
+    within(text, "--max-depth", 0, 64)
+}
+
+fn light_samples(text: &str) -> Result<u32, String> {
+    within(text, "--light-samples", 1, 1024)
+}
+
+impl QualityArgs {
+    /// The request these options make (no formats, no inset).
+    pub fn request(&self) -> RenderRequest {
+        RenderRequest {
+            preset: self.preset.map(PresetArg::preset),
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            filter: self.filter.map(FilterArg::filter),
+            shadows: self.shadows.map(|s| matches!(s, Switch::On)),
+            max_depth: self.max_depth,
+            light_samples: self.light_samples,
+            formats: None,
+            inset: None,
+        }
+    }
+}
+
+/// A film's render settings (`run`, `render`, `farm slurm`): every
+/// option left out keeps the film's recorded one.
+#[derive(Args, Clone, Copy)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub quality: QualityArgs,
+    /// `both` (the EXR master and its PNG, the default), `png` (8-bit
+    /// sRGB) or `exr` (RGBA, Z, normal, object id).
+    #[arg(long, value_enum, help_heading = "Render settings")]
+    pub format: Option<FormatArg>,
     /// Put actor N's vision window (the derive folder's
-    /// actors/N/vision.NNNN.png) into the frames' top-left corner.
-    #[arg(long, value_name = "N")]
-    pub inset: Option<usize>,
+    /// actors/N/vision.NNNN.png) into the frames' top-left corner; `none`
+    /// takes it out.
+    #[arg(long, value_name = "N|none", value_parser = inset, help_heading = "Render settings")]
+    pub inset: Option<Inset>,
 }
 
 impl RenderArgs {
-    /// The render settings (0 × 0: each snapshot camera's size) and the
-    /// formats; a given size must fit `max_pixels`. `default_spp`: the
-    /// samples per pixel when neither --preset nor --spp is given (the
-    /// built-in film's), else the preset's.
-    pub fn settings(
-        &self,
-        max_pixels: u64,
-        default_spp: Option<u32>,
-    ) -> crate::error::Result<(Settings, Formats)> {
-        if let (Some(w), Some(h)) = (self.width, self.height) {
-            Limits::check_pixels(w, h, max_pixels).map_err(crate::error::Error::input)?;
+    /// The request these options make.
+    pub fn request(&self) -> RenderRequest {
+        RenderRequest {
+            formats: self.format.map(|f| match f {
+                FormatArg::Png => Formats::Png,
+                FormatArg::Exr => Formats::Exr,
+                FormatArg::Both => Formats::Both,
+            }),
+            inset: self.inset.map(|i| i.0),
+            ..self.quality.request()
         }
-        let (w, h) = (self.width.unwrap_or(0), self.height.unwrap_or(0));
-        let spp = self.spp.or(default_spp.filter(|_| self.preset.is_none()));
-        let s = quality(self.preset.unwrap_or(PresetArg::Final), w, h, spp);
-        let f = match self.format {
-            FormatArg::Png => Formats::Png,
-            FormatArg::Exr => Formats::Exr,
-            FormatArg::Both => Formats::Both,
-        };
-        Ok((s, f))
     }
+}
 
+/// Which frames a process renders and with how many threads (`run`,
+/// `render`).
+#[derive(Args, Clone, Copy)]
+pub struct WorkArgs {
+    /// Frames to render: A..B (B excluded), A..=B, A.. or N; default all
+    /// (or the scene's `rs_switch` ranges).
+    #[arg(long, value_name = "A..B")]
+    pub frames: Option<FrameRange>,
+    /// Worker threads (default: all cores); the images do not depend on it.
+    #[arg(long, value_parser = threads)]
+    pub threads: Option<usize>,
+}
+
+impl WorkArgs {
     /// Sizes rayon's pool to `--threads` (ignored when a pool already
     /// exists: a library user calling twice).
     pub fn threads(&self) {
@@ -302,6 +363,69 @@ impl RenderArgs {
             let _ = rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
                 .build_global();
+        }
+    }
+}
+
+/// How the soundtrack is rendered (`sound`, `run`, `farm slurm`): every
+/// option left out keeps the film's recorded one, else the default.
+#[derive(Args, Clone, Copy)]
+#[command(next_help_heading = "Sound settings")]
+pub struct SoundArgs {
+    /// Sample rate in Hz (default 48000).
+    #[arg(long, value_parser = rate)]
+    rate: Option<u32>,
+    /// Speed of sound in m/s (default 343).
+    #[arg(long, value_parser = speed_of_sound)]
+    speed_of_sound: Option<f64>,
+    /// `inverse` (the default): 1/max(d, 1 m); `thesis`: (1/(1 + d))²
+    /// (eq. 2.4.1); `none`: delay and Doppler only.
+    #[arg(long, value_enum)]
+    attenuation: Option<AttenuationArg>,
+    /// `pcm16` (the default) or `float32` samples (no clipping).
+    #[arg(long, value_enum)]
+    samples: Option<SamplesArg>,
+    /// The same as --samples float32.
+    #[arg(long, conflicts_with = "samples")]
+    float: bool,
+    /// Normalise the soundtrack to this integrated loudness in LUFS
+    /// (ITU-R BS.1770-4, -70..0; default -16), keeping its true peak at
+    /// or below -1 dBTP, with 5 ms fades at both ends; `off` keeps the
+    /// renderer's raw levels.
+    #[arg(
+        long,
+        value_name = "LUFS|off",
+        allow_negative_numbers = true,
+        value_parser = loudness_or_off
+    )]
+    loudness: Option<Loudness>,
+    /// The same as --loudness off.
+    #[arg(long, conflicts_with = "loudness")]
+    no_normalize: bool,
+}
+
+impl SoundArgs {
+    /// The request these options make.
+    pub fn request(&self) -> SoundRequest {
+        let samples = match (self.samples, self.float) {
+            (Some(SamplesArg::Float32), _) | (None, true) => Some(SampleFormat::Float32),
+            (Some(SamplesArg::Pcm16), _) => Some(SampleFormat::Pcm16),
+            (None, false) => None,
+        };
+        SoundRequest {
+            rate: self.rate,
+            speed_of_sound: self.speed_of_sound,
+            attenuation: self.attenuation.map(|a| match a {
+                AttenuationArg::Inverse => Attenuation::Inverse,
+                AttenuationArg::Thesis => Attenuation::Thesis,
+                AttenuationArg::None => Attenuation::None,
+            }),
+            format: samples,
+            loudness: if self.no_normalize {
+                Some(None)
+            } else {
+                self.loudness.map(|l| l.0)
+            },
         }
     }
 }

@@ -13,7 +13,11 @@ use std::process::Command;
 
 use clap::Args;
 
+use super::args::{RenderArgs, SceneArgs, SoundArgs};
+use super::{film, scenes};
 use crate::error::{Error, Result};
+use crate::film::settings;
+use crate::lsys::Limits;
 
 /// The chain's folder inside the film folder, and its logs.
 use crate::film::names::FARM_DIR;
@@ -54,6 +58,16 @@ pub struct Slurm {
     /// The lmfilm binary the jobs run (default: this one).
     #[arg(long, value_name = "PATH")]
     pub lmfilm: Option<PathBuf>,
+}
+
+/// The options each job passes on: the derivation's (consent to run
+/// scripts, limits), the render tasks' (the film's resolved render
+/// settings) and the finishing job's (its sound settings).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct JobOptions {
+    pub derive: Vec<String>,
+    pub render: Vec<String>,
+    pub sound: Vec<String>,
 }
 
 /// The three job scripts of a chain.
@@ -106,14 +120,27 @@ impl Slurm {
 
     /// The chain's scripts running the binary `lmfilm` on the scenes
     /// `scenes` into the film folder `dir` (all absolute: the jobs run on
-    /// other machines, in other folders).
-    pub fn chain(&self, lmfilm: &Path, scenes: &[PathBuf], dir: &Path) -> Chain {
+    /// other machines, in other folders), each job with its `options`.
+    pub fn chain(
+        &self,
+        lmfilm: &Path,
+        scenes: &[PathBuf],
+        dir: &Path,
+        options: &JobOptions,
+    ) -> Chain {
         let logs = dir.join(FARM_DIR).join(LOGS_DIR);
         let bin = quote_path(lmfilm);
         let folder = quote_path(dir);
         let scene_list: Vec<String> = scenes.iter().map(|s| quote_path(s)).collect();
+        let words =
+            |o: &[String]| -> String { o.iter().map(|w| format!(" {}", quote(w))).collect() };
+        let (derive_opts, render_opts, sound_opts) = (
+            words(&options.derive),
+            words(&options.render),
+            words(&options.sound),
+        );
         let derive = format!(
-            "{}exec {bin} derive {} -o {folder}\n",
+            "{}exec {bin} derive {} -o {folder}{derive_opts}\n",
             self.header("derive", &logs.join("derive-%j.out"), None),
             scene_list.join(" ")
         );
@@ -122,14 +149,14 @@ impl Slurm {
             "{}# Task i renders shard i/{n}; a failed attempt is retried, and a\n\
              # retry renders only the frames still missing.\n\
              for attempt in $(seq 1 {RENDER_ATTEMPTS}); do\n\
-             \x20 if {bin} render {folder} --shard \"$SLURM_ARRAY_TASK_ID/{n}\"; then exit 0; fi\n\
+             \x20 if {bin} render {folder} --shard \"$SLURM_ARRAY_TASK_ID/{n}\"{render_opts}; then exit 0; fi\n\
              \x20 echo \"shard $SLURM_ARRAY_TASK_ID/{n}: attempt $attempt failed\" >&2\n\
              done\n\
              exit 1\n",
             self.header("render", &logs.join("render-%A_%a.out"), Some(n)),
         );
         let finish = format!(
-            "{}{bin} sound {folder}\n\
+            "{}{bin} sound {folder}{sound_opts}\n\
              if command -v ffmpeg >/dev/null 2>&1; then {bin} mux {folder}; fi\n\
              exec {bin} verify {folder}\n",
             self.header("finish", &logs.join("finish-%j.out"), None),
@@ -219,29 +246,87 @@ fn absolute(p: &Path) -> Result<PathBuf> {
     std::path::absolute(p).map_err(|e| Error::io(p, e))
 }
 
-/// `lmfilm farm slurm`: writes the chain's scripts into `out`/farm and
-/// submits them (or, with `dry_run`, prints them).
-pub fn slurm(scenes: &[PathBuf], out: &Path, slurm: &Slurm, dry_run: bool) -> Result<()> {
+/// What `lmfilm farm slurm` reads: the film, its folder, what the jobs
+/// ask Slurm for, and the film's settings, which the jobs pass on.
+#[derive(Args)]
+pub struct SlurmArgs {
+    /// Definition files derived together as one animation.
+    #[arg(required = true, value_name = "SCENE.lm")]
+    pub scenes: Vec<PathBuf>,
+    /// The film folder, on storage every node shares.
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub slurm: Slurm,
+    #[command(flatten)]
+    pub render: RenderArgs,
+    #[command(flatten)]
+    pub sound: SoundArgs,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Write and print the scripts; submit nothing.
+    #[arg(long)]
+    pub dry_run: bool,
+}
+
+/// `lmfilm farm slurm`: resolves and records the film's settings in the
+/// folder, writes the chain's scripts into its farm folder, each job
+/// passing the settings on, and submits them (or, with `--dry-run`,
+/// prints them).
+pub fn slurm(args: &SlurmArgs) -> Result<()> {
+    let slurm = &args.slurm;
     if slurm.shards == 0 {
         return Err(Error::input("--shards must be at least 1"));
     }
     let mut absolute_scenes = Vec::new();
-    for s in scenes {
+    for s in &args.scenes {
         if !s.is_file() {
             return Err(Error::input(format!("{}: no such scene file", s.display())));
         }
         absolute_scenes.push(absolute(s)?);
     }
-    let dir = absolute(out)?;
+    let dir = absolute(&args.output)?;
     let lmfilm = match &slurm.lmfilm {
         Some(p) => absolute(p)?,
         None => std::env::current_exe()
             .map_err(|e| Error::input(format!("this lmfilm's path: {e}; give --lmfilm PATH")))?,
     };
-    let chain = slurm.chain(&lmfilm, &absolute_scenes, &dir);
+    // The scenes load here first: a bad scene or a missing consent is
+    // said now, not in a job's log; the window sizes the frames.
+    let limits = args.scene.limits.limits();
+    let request = args.render.request();
+    if let (Some(w), Some(h)) = (request.width, request.height) {
+        Limits::check_pixels(w, h, limits.pixels).map_err(Error::input)?;
+    }
+    let loaded = scenes::load(&args.scenes, args.scene.allow_commands, limits)?;
+    let choice = film::resolve_render(
+        &dir,
+        &request,
+        film::defaults(&args.scenes),
+        loaded.film.window(),
+        None,
+        limits.pixels,
+    )?;
+    let sound = film::resolve_sound(&dir, &args.sound.request())?;
+    let mut render = choice.args();
+    render.push(format!("--max-pixels={}", limits.pixels));
+    let options = JobOptions {
+        derive: args.scene.args(),
+        render,
+        sound: settings::sound_args(&sound),
+    };
+    let chain = slurm.chain(&lmfilm, &absolute_scenes, &dir, &options);
     let scripts = write(&dir, &chain)?;
     let logs = dir.join(FARM_DIR).join(LOGS_DIR);
-    if dry_run {
+    println!(
+        "settings: {}×{}, {} spp, preset {} (recorded in {})",
+        choice.width,
+        choice.height,
+        choice.spp,
+        choice.preset.name(),
+        dir.join(settings::SETTINGS_FILE).display()
+    );
+    if args.dry_run {
         for (path, text) in scripts
             .iter()
             .zip([&chain.derive, &chain.render, &chain.finish])
@@ -334,17 +419,26 @@ mod tests {
     fn the_scripts_run_the_film_commands() {
         let dir = Path::new("/shared/films/it's");
         let bin = Path::new("/opt/lmfilm/bin/lmfilm");
-        let c = slurm().chain(bin, &[PathBuf::from("/shared/scenes/a.lm")], dir);
+        let options = JobOptions {
+            derive: vec!["--allow-commands".into()],
+            render: vec!["--spp=4".into()],
+            sound: vec!["--loudness=off".into()],
+        };
+        let c = slurm().chain(bin, &[PathBuf::from("/shared/scenes/a.lm")], dir, &options);
         assert!(c.derive.contains("#SBATCH --partition=render\n"));
         assert!(c.derive.contains("#SBATCH --cpus-per-task=2\n"));
         assert!(!c.derive.contains("--account"));
         assert!(c.derive.contains(
-            "exec '/opt/lmfilm/bin/lmfilm' derive '/shared/scenes/a.lm' -o '/shared/films/it'\\''s'\n"
+            "exec '/opt/lmfilm/bin/lmfilm' derive '/shared/scenes/a.lm' -o '/shared/films/it'\\''s' '--allow-commands'\n"
         ));
         assert!(c.render.contains("#SBATCH --array=1-3\n"));
-        assert!(c.render.contains("--shard \"$SLURM_ARRAY_TASK_ID/3\""));
+        assert!(c
+            .render
+            .contains("--shard \"$SLURM_ARRAY_TASK_ID/3\" '--spp=4'; then"));
         assert!(c.render.contains(&format!("seq 1 {RENDER_ATTEMPTS}")));
-        assert!(c.finish.contains("' sound '/shared/films/it'\\''s'\n"));
+        assert!(c
+            .finish
+            .contains("' sound '/shared/films/it'\\''s' '--loudness=off'\n"));
         assert!(c.finish.contains("command -v ffmpeg"));
         assert!(c.finish.ends_with("verify '/shared/films/it'\\''s'\n"));
         for s in [&c.derive, &c.render, &c.finish] {

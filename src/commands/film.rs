@@ -4,14 +4,15 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use super::args::{RenderArgs, SoundArgs};
+use super::args::{RenderArgs, SceneArgs, SoundArgs, WorkArgs};
 use super::scenes::{self, Loaded};
 use super::Progress;
 use crate::error::{Error, Result};
 use crate::film::actor_images::ACTORS_DIR;
-use crate::film::frames::{FrameSelection, Shard, FRAMES_DIR};
+use crate::film::frames::{FrameRange, FrameSelection, Shard, FRAMES_DIR};
 use crate::film::job::{self, EVENTS_FILE, SOUNDTRACK_FILE};
 use crate::film::record::DERIVE_RECORD;
+use crate::film::settings::{self, Defaults, RenderChoice, RenderRequest, SoundRequest};
 use crate::film::{assemble, manifest, mux, verify};
 use crate::lsys::Limits;
 use crate::sound;
@@ -43,19 +44,74 @@ fn derive_into(loaded: &mut Loaded, dir: &Path, clean: bool, allow: bool) -> Res
     Ok(derived)
 }
 
-/// Renders the frames of `dir` that `--frames` (else the film's own
-/// selection) and `shard` name, at `default_spp` samples per pixel when
-/// neither --preset nor --spp is given; returns (rendered now, selected).
+/// The film's render settings in `dir`: `request` over the folder's
+/// recorded settings, else the defaults, at the scene camera's size
+/// `camera`; recorded when new. `partial` names a selection that is not
+/// the whole film (`--frames`, `--shard`): an option that changes the
+/// recorded settings is then refused, since the folder would hold frames
+/// of two settings.
+pub(crate) fn resolve_render(
+    dir: &Path,
+    request: &RenderRequest,
+    defaults: Defaults,
+    camera: (u32, u32),
+    partial: Option<String>,
+    max_pixels: u64,
+) -> Result<RenderChoice> {
+    let mut recorded = settings::read(dir)?;
+    let choice = request.resolve(recorded.render.as_ref(), defaults, camera);
+    Limits::check_pixels(choice.width, choice.height, max_pixels).map_err(Error::input)?;
+    if let Some(old) = &recorded.render {
+        // What the options change, beside what the scene's window does.
+        let kept = RenderRequest::default().resolve(Some(old), defaults, camera);
+        let changed = settings::changes(&kept.record(), &choice.record());
+        if !changed.is_empty() {
+            if let Some(part) = partial {
+                return Err(Error::input(format!(
+                    "{}: the options change the film's settings ({}; recorded in {}): rendering {part} alone would leave frames of two settings in one folder. Render every frame with them (no --frames, no --shard), or give no render option to keep the film's",
+                    dir.display(),
+                    changed.join(", "),
+                    settings::SETTINGS_FILE
+                )));
+            }
+            eprintln!(
+                "{}: new render settings ({}): every frame is rendered again",
+                dir.display(),
+                changed.join(", ")
+            );
+        }
+    }
+    if recorded.render != Some(choice) {
+        recorded.render = Some(choice);
+        settings::write(dir, &recorded)?;
+    }
+    Ok(choice)
+}
+
+/// The film's sound settings in `dir`: `request` over the recorded
+/// ones, else the defaults; recorded when new.
+pub(crate) fn resolve_sound(dir: &Path, request: &SoundRequest) -> Result<sound::Settings> {
+    let mut recorded = settings::read(dir)?;
+    let chosen = request.resolve(recorded.sound.as_ref());
+    if recorded.sound != Some(chosen) {
+        recorded.sound = Some(chosen);
+        settings::write(dir, &recorded)?;
+    }
+    Ok(chosen)
+}
+
+/// Renders the frames of `dir` that `frames` (else the film's own
+/// selection) and `shard` name with `choice`; returns (rendered now,
+/// selected).
 fn render_into(
     dir: &Path,
-    args: &RenderArgs,
+    choice: &RenderChoice,
+    frames: Option<FrameRange>,
     shard: Shard,
     max_pixels: u64,
-    default_spp: Option<u32>,
 ) -> Result<(u64, u64)> {
-    let (settings, formats) = args.settings(max_pixels, default_spp)?;
     let rec = job::open(dir)?;
-    let selection = match args.frames {
+    let selection = match frames {
         Some(range) => FrameSelection::range(range),
         None => FrameSelection::from_text(&rec.selection).map_err(|e| {
             Error::input(format!(
@@ -66,17 +122,18 @@ fn render_into(
     };
     let frames = selection.frames(rec.frame_count, shard);
     let mut p = Progress::new("rendering frame");
-    let n = job::render_frames(
-        dir,
-        &frames,
-        &settings,
-        formats,
-        args.inset,
-        max_pixels,
-        &mut |k, n| p.tick(k, n),
-    )?;
+    let n = job::render_frames(dir, &frames, choice, max_pixels, &mut |k, n| p.tick(k, n))?;
     p.done();
     Ok((n, frames.len() as u64))
+}
+
+/// Which part of the film `frames` and `shard` select, when not all.
+fn partial(frames: Option<FrameRange>, shard: Option<Shard>) -> Option<String> {
+    match (frames, shard) {
+        (Some(f), _) => Some(format!("frames {f}")),
+        (None, Some(s)) => Some(format!("shard {s}")),
+        (None, None) => None,
+    }
 }
 
 /// What the derivation wrote of its actors, for the summaries: `N
@@ -114,24 +171,55 @@ pub struct FilmArgs<'a> {
     pub limits: Limits,
 }
 
+impl<'a> FilmArgs<'a> {
+    pub fn new(scenes: &'a [PathBuf], scene: &SceneArgs, clean: bool) -> Self {
+        FilmArgs {
+            scenes,
+            allow_commands: scene.allow_commands,
+            clean,
+            limits: scene.limits.limits(),
+        }
+    }
+}
+
+/// The film's defaults: the built-in film's own sampling (docs/film.md,
+/// "The built-in film").
+pub fn defaults(scenes: &[PathBuf]) -> Defaults {
+    Defaults {
+        spp: scenes.is_empty().then_some(scenes::BUILT_IN_SPP),
+    }
+}
+
 /// `lmfilm run`: derive, render, soundtrack, MP4 (with ffmpeg) and the
-/// manifest.
+/// manifest, with the film's settings: the options given over those the
+/// folder recorded.
 pub fn run(
     film: &FilmArgs,
     out: Option<&Path>,
     args: &RenderArgs,
+    work: &WorkArgs,
     sound_args: &SoundArgs,
 ) -> Result<()> {
-    args.threads();
-    // The built-in film's own sampling (docs/film.md, "The built-in film").
-    let default_spp = film.scenes.is_empty().then_some(scenes::BUILT_IN_SPP);
-    args.settings(film.limits.pixels, default_spp)?;
-    let sound_settings = sound_args.settings();
+    work.threads();
+    let request = args.request();
+    if let (Some(w), Some(h)) = (request.width, request.height) {
+        Limits::check_pixels(w, h, film.limits.pixels).map_err(Error::input)?;
+    }
     let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
     let dir = scenes::output_dir(out, &loaded.film, &loaded.name);
+    let camera = loaded.film.window();
     let derived = derive_into(&mut loaded, &dir, film.clean, film.allow_commands)?;
+    let choice = resolve_render(
+        &dir,
+        &request,
+        defaults(film.scenes),
+        camera,
+        partial(work.frames, None),
+        film.limits.pixels,
+    )?;
+    let sound_settings = resolve_sound(&dir, &sound_args.request())?;
     let (rendered, selected) =
-        render_into(&dir, args, Shard::all(), film.limits.pixels, default_spp)?;
+        render_into(&dir, &choice, work.frames, Shard::all(), film.limits.pixels)?;
     let sounded = soundtrack(&dir, &sound_settings)?;
     let complete = job::all_rendered(&dir)?;
     let mp4 = if complete && mux::ffmpeg_available() {
@@ -150,10 +238,11 @@ pub fn run(
         now(sounded),
         dir.join(manifest::MANIFEST_FILE).display()
     );
+    println!("settings: {}", describe(&choice));
     for line in actor_summary(&dir)? {
         println!("{line}");
     }
-    if let Some(a) = args.inset {
+    if let Some(a) = choice.inset {
         println!(
             "the frames show actor {a}'s vision window in their top-left corner (--inset {a})"
         );
@@ -184,18 +273,61 @@ pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
     Ok(())
 }
 
-/// `lmfilm render DIR`: a shard leaves the manifest to the stage that
+/// The settings as the summaries say them.
+fn describe(c: &RenderChoice) -> String {
+    format!(
+        "{}×{}, {} spp, preset {}, shadows {}, {} bounces, filter {}, formats {} ({})",
+        c.width,
+        c.height,
+        c.spp,
+        c.preset.name(),
+        if c.shadows { "on" } else { "off" },
+        c.max_depth,
+        c.filter.name(),
+        c.formats.name(),
+        settings::SETTINGS_FILE
+    )
+}
+
+/// `lmfilm render DIR`: the folder's recorded settings with the options
+/// given over them. A shard leaves the manifest to the stage that
 /// finishes the film (`sound DIR`), since shards on many machines must
 /// never write one file; a whole render writes it.
-pub fn render(dir: &Path, args: &RenderArgs, shard: Option<Shard>, max_pixels: u64) -> Result<()> {
-    args.threads();
-    let (n, selected) = render_into(dir, args, shard.unwrap_or(Shard::all()), max_pixels, None)?;
+pub fn render(
+    dir: &Path,
+    args: &RenderArgs,
+    work: &WorkArgs,
+    shard: Option<Shard>,
+    max_pixels: u64,
+) -> Result<()> {
+    work.threads();
+    let request = args.request();
+    if let (Some(w), Some(h)) = (request.width, request.height) {
+        Limits::check_pixels(w, h, max_pixels).map_err(Error::input)?;
+    }
+    let camera = job::camera_size(dir)?;
+    let choice = resolve_render(
+        dir,
+        &request,
+        Defaults::default(),
+        camera,
+        partial(work.frames, shard),
+        max_pixels,
+    )?;
+    let (n, selected) = render_into(
+        dir,
+        &choice,
+        work.frames,
+        shard.unwrap_or(Shard::all()),
+        max_pixels,
+    )?;
     println!(
-        "{}: {n} of {selected} frames rendered now (the others up to date) in {}",
+        "{}: {n} of {selected} frames rendered now (the others up to date) in {}; settings: {}",
         dir.display(),
-        dir.join(FRAMES_DIR).display()
+        dir.join(FRAMES_DIR).display(),
+        describe(&choice)
     );
-    if let Some(a) = args.inset {
+    if let Some(a) = choice.inset {
         println!(
             "the frames show actor {a}'s vision window in their top-left corner (--inset {a})"
         );
@@ -260,10 +392,13 @@ fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool> {
     Ok(report.is_some())
 }
 
-/// `lmfilm sound DIR` on a film folder: the soundtrack, then the manifest
+/// `lmfilm sound DIR` on a film folder: the soundtrack with the folder's
+/// recorded settings and the options given over them, then the manifest
 /// (the stage that finishes a film rendered in shards).
-pub fn sound_dir(dir: &Path, settings: &sound::Settings) -> Result<()> {
-    let made = soundtrack(dir, settings)?;
+pub fn sound_dir(dir: &Path, request: &SoundRequest) -> Result<()> {
+    job::open(dir)?;
+    let settings = resolve_sound(dir, request)?;
+    let made = soundtrack(dir, &settings)?;
     assemble::finish(dir)?;
     println!(
         "{}{}, {}",

@@ -2,9 +2,10 @@
 
 use std::path::Path;
 
-use super::args::{quality, FilterArg, FrameArgs, PresetArg};
+use super::args::{FrameArgs, QualityArgs};
 use super::{create_parent, print_line, scenes, Percent, Progress};
 use crate::error::{Error, Result};
+use crate::film::settings::Defaults;
 use crate::film::{Film, Frame};
 use crate::lsys::print::Format;
 use crate::lsys::Limits;
@@ -16,7 +17,7 @@ use crate::turtle::Options;
 /// `--time` names (every frame interpreted on the way, sound events and
 /// `?` queries included).
 fn derive_to(at: &FrameArgs, opts: Options) -> Result<Film> {
-    let mut film = scenes::load_film(&at.scenes, at.allow_commands, opts)?;
+    let mut film = scenes::load_film(&at.scenes, at.scene.allow_commands, opts)?;
     let last = film.frame_count() - 1;
     let target = match (at.frame, at.time) {
         (_, Some(t)) => film.frame_at(t),
@@ -58,7 +59,7 @@ fn shown(film: Film) -> Frame {
 /// position; its warnings are about drawing, which `print` does not.
 pub fn print(at: &FrameArgs, full: bool) -> Result<()> {
     let opts = Options {
-        limits: at.limits.limits(),
+        limits: at.scene.limits.limits(),
         ..Options::default()
     };
     let mut film = derive_to(at, opts)?;
@@ -76,7 +77,7 @@ pub fn print(at: &FrameArgs, full: bool) -> Result<()> {
 pub fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<()> {
     let opts = Options {
         segment_width,
-        limits: at.limits.limits(),
+        limits: at.scene.limits.limits(),
     };
     let frame = shown(derive_to(at, opts)?);
     // Shapes become many triangles each: the count is the export's.
@@ -103,15 +104,6 @@ pub fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<()> {
     Ok(())
 }
 
-/// How `lmfilm still` renders its frame.
-pub struct StillArgs {
-    pub size: (Option<u32>, Option<u32>),
-    pub spp: Option<u32>,
-    pub preset: PresetArg,
-    pub filter: FilterArg,
-    pub segment_width: f64,
-}
-
 /// Whether `output` names an EXR image (else a PNG).
 fn is_exr(output: &Path) -> bool {
     output
@@ -131,27 +123,32 @@ pub fn image_path(text: &str) -> std::result::Result<std::path::PathBuf, String>
 
 /// `lmfilm still`: ray-traces the frame into OUT.png or OUT.exr with the
 /// BVH the frame owns.
-pub fn still(at: &FrameArgs, output: &Path, args: &StillArgs) -> Result<()> {
+pub fn still(
+    at: &FrameArgs,
+    output: &Path,
+    quality: &QualityArgs,
+    segment_width: f64,
+) -> Result<()> {
     let exr = is_exr(output);
-    let limits = at.limits.limits();
+    let limits = at.scene.limits.limits();
+    let request = quality.request();
     // Given sizes are checked before the derivation, the camera's after.
-    if let (Some(w), Some(h)) = args.size {
+    if let (Some(w), Some(h)) = (request.width, request.height) {
         Limits::check_pixels(w, h, limits.pixels).map_err(Error::input)?;
     }
     let opts = Options {
-        segment_width: args.segment_width,
+        segment_width,
         limits,
     };
     let frame = shown(derive_to(at, opts)?);
     let camera = &frame.scene().camera;
-    let w = args.size.0.unwrap_or(camera.width);
-    let h = args.size.1.unwrap_or(camera.height);
+    let choice = request.resolve(None, Defaults::default(), (camera.width, camera.height));
+    let (w, h) = (choice.width, choice.height);
     Limits::check_pixels(w, h, limits.pixels).map_err(|e| {
         let scene = at.scenes[0].display();
         Error::input(format!("{scene}: frame {}: {e}", frame.number()))
     })?;
-    let mut settings = quality(args.preset, w, h, args.spp);
-    settings.filter = args.filter.filter();
+    let mut settings = choice.settings();
     settings.frame = frame.number();
     // PNG holds colour only: no need for the layer rays.
     settings.layers = exr;

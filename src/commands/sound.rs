@@ -64,11 +64,12 @@ pub struct SoundInput<'a> {
 
 /// `lmfilm sound`.
 pub fn sound(input: &SoundInput, args: &SoundArgs) -> Result<()> {
-    let settings = args.settings();
+    let request = args.request();
     let (events, output) = (input.events, input.output);
     if events.is_dir() && output.is_none() && events.join(DERIVE_RECORD).exists() {
-        return film::sound_dir(events, &settings);
+        return film::sound_dir(events, &request);
     }
+    let settings = request.resolve(None);
     let (events, output) = if events.extension().is_some_and(|e| e == "lm") {
         scene_events(events, output, input.allow_commands, input.limits)?
     } else {

@@ -33,6 +33,11 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     let mut m = Manifest::new(&rec);
     let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| Error::io(dir, e))?;
     m.files.insert(DERIVE_RECORD.into(), derive_hash);
+    let settings = dir.join(super::settings::SETTINGS_FILE);
+    if settings.is_file() {
+        let hash = sha256_file(&settings).map_err(|e| Error::io(&settings, e))?;
+        m.files.insert(super::settings::SETTINGS_FILE.into(), hash);
+    }
     m.files.insert(EVENTS_FILE.into(), rec.events.clone());
     m.files.extend(rec.sounds.clone());
     m.files.extend(rec.actors.clone());

@@ -27,12 +27,13 @@ use super::record::{
     self, frame_record_path, intact, mp4_paths, parse_frame_file, DeriveRecord, FileHash,
     FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
+use super::settings::RenderChoice;
 use super::{assemble, mux as ffmpeg, Film, Frame};
 use crate::actors::live::Living;
 use crate::atomic::{remove_stale_temps, write_atomic};
 use crate::error::Error;
 use crate::lsys::Limits;
-use crate::render::{self, output, Settings};
+use crate::render::{self, output};
 use crate::scene::snapshot;
 use crate::sound;
 
@@ -41,7 +42,8 @@ pub const EVENTS_FILE: &str = "soundtrack.events";
 pub const SOUNDTRACK_FILE: &str = "soundtrack.wav";
 
 /// Image formats a render writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Formats {
     Png,
     Exr,
@@ -123,6 +125,7 @@ fn clear(dir: &Path) -> Result<(), Error> {
         let name = e.file_name().to_string_lossy().into_owned();
         let ours = [
             DERIVE_RECORD,
+            super::settings::SETTINGS_FILE,
             SOUND_RECORD,
             EVENTS_FILE,
             SOUNDTRACK_FILE,
@@ -406,27 +409,21 @@ pub fn open(dir: &Path) -> Result<DeriveRecord, Error> {
     }
 }
 
-/// The render settings as a frame's record keeps them (0 × 0: the
-/// snapshot camera's size, which the snapshot's hash covers).
-fn render_record(
-    settings: &Settings,
-    formats: Formats,
-    inset: Option<usize>,
-) -> BTreeMap<String, String> {
-    [
-        ("inset", inset.map_or("none".into(), |a| a.to_string())),
-        ("width", settings.width.to_string()),
-        ("height", settings.height.to_string()),
-        ("spp", settings.spp.to_string()),
-        ("shadows", settings.shadows.to_string()),
-        ("max_depth", settings.max_depth.to_string()),
-        ("light_samples", settings.light_samples.to_string()),
-        ("filter", format!("{:?}", settings.filter)),
-        ("formats", formats.name().to_string()),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect()
+/// The scene camera's window (width, height in pixels) of the derived
+/// film in `dir`, from its first snapshot: the size a render takes when
+/// none is given.
+pub fn camera_size(dir: &Path) -> Result<(u32, u32), Error> {
+    let rec = open(dir)?;
+    if rec.frame_count == 0 {
+        return Err(Error::input(format!(
+            "{}: the film has no frame",
+            dir.display()
+        )));
+    }
+    snapshot_hash(dir, &rec, 0)?;
+    let scene =
+        snapshot::read(&dir.join(snapshot_path(0))).map_err(|e| Error::input(e.to_string()))?;
+    Ok((scene.camera.width, scene.camera.height))
 }
 
 /// The snapshot of frame `k`, checked against the derive record.
@@ -464,23 +461,22 @@ fn frame_done(dir: &Path, name: &str, k: u64, snapshot: &str, want: &FrameRecord
         && r.outputs.iter().all(|(f, h)| intact(dir, Path::new(f), h))
 }
 
-/// Renders the listed frames of a derived folder with `settings` (the
-/// size is the snapshot's camera's unless set); a frame is skipped when
-/// its record shows it was made from the same snapshot with the same
-/// settings and its files are intact. Each frame writes its images, then
-/// its record, so shards never write one file. `inset`: the actor whose
-/// vision window goes into the frames' top-left corner, from the
-/// folder's `actors/N/vision.NNNN.png` (an actor without one is refused
-/// before anything is rendered). Returns how many frames were rendered.
+/// Renders the listed frames of a derived folder with the resolved
+/// settings `choice`; a frame is skipped when its record shows it was
+/// made from the same snapshot with the same settings and its files are
+/// intact. Each frame writes its images, then its record, so shards never
+/// write one file. The inset (`choice.inset`): the actor whose vision
+/// window goes into the frames' top-left corner, from the folder's
+/// `actors/N/vision.NNNN.png` (an actor without one is refused before
+/// anything is rendered). Returns how many frames were rendered.
 pub fn render_frames(
     dir: &Path,
     frames: &[u64],
-    settings: &Settings,
-    formats: Formats,
-    inset: Option<usize>,
+    choice: &RenderChoice,
     max_pixels: u64,
     progress: Progress,
 ) -> Result<u64, Error> {
+    let (formats, inset) = (choice.formats, choice.inset);
     let rec = open(dir)?;
     let insets = match inset {
         Some(a) => actor_images::inset_sources(dir, &rec, a, frames)?,
@@ -502,24 +498,19 @@ pub fn render_frames(
                 .iter()
                 .map(|e| (key(&frame_path(&name, k, e)), String::new()))
                 .collect(),
-            render: render_record(settings, formats, inset),
+            render: choice.record(),
             snapshot: snap.clone(),
         };
         if !frame_done(dir, &name, k, &snap, &want) {
             // The reader's message says to derive again.
             let scene = snapshot::read(&dir.join(snapshot_path(k)))
                 .map_err(|e| Error::input(e.to_string()))?;
-            let mut st = *settings;
-            // 0 × 0: the camera's own size.
-            if st.width == 0 || st.height == 0 {
-                (st.width, st.height) = (scene.camera.width, scene.camera.height);
-            }
+            let mut st = choice.settings();
             let snap = dir.join(snapshot_path(k));
             let refuse = |e: String| Error::input(format!("{}: {e}", snap.display()));
             Limits::check_pixels(st.width, st.height, max_pixels).map_err(refuse)?;
             render::check(&scene).map_err(refuse)?;
             st.frame = k;
-            st.layers = formats != Formats::Png;
             let mut img = render::render(std::sync::Arc::new(scene), &st);
             if let Some(source) = &want.inset {
                 actor_images::compose(&mut img, &actor_images::read_inset(dir, source)?);

@@ -17,6 +17,7 @@ pub mod manifest;
 pub mod mux;
 pub mod names;
 pub mod record;
+pub mod settings;
 pub mod trace;
 pub mod tracks;
 pub mod verify;

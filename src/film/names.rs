@@ -6,18 +6,20 @@ use super::frames::{FRAMES_DIR, SCENE_DIR};
 use super::job::{EVENTS_FILE, SOUNDTRACK_FILE};
 use super::manifest::MANIFEST_FILE;
 use super::record::{DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD};
+use super::settings::SETTINGS_FILE;
 
 /// The farm's scripts and logs (`lmfilm farm`), under the film folder.
 pub const FARM_DIR: &str = "farm";
 
 /// The first component of every path lmfilm writes in a film folder.
-pub const OWN: [&str; 10] = [
+pub const OWN: [&str; 11] = [
     FRAMES_DIR,
     SCENE_DIR,
     SOUNDS_DIR,
     ACTORS_DIR,
     FARM_DIR,
     DERIVE_RECORD,
+    SETTINGS_FILE,
     SOUND_RECORD,
     EVENTS_FILE,
     SOUNDTRACK_FILE,

@@ -169,6 +169,11 @@ impl Film {
         Ok(film)
     }
 
+    /// The image size of the scene camera's window, in pixels.
+    pub fn window(&self) -> (u32, u32) {
+        crate::turtle::window(self.anim.camera.pref_pos)
+    }
+
     /// The actors as the last sense step left them, in actor order.
     pub fn living(&self) -> &[Living] {
         &self.living

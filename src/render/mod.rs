@@ -28,7 +28,7 @@ use crate::aabb::{self, Aabb, MAX_COORDINATE};
 use crate::scene::Scene;
 pub use accel::{Accel, Hit};
 pub use output::Image;
-pub use settings::{Filter, Settings};
+pub use settings::{Filter, Preset, Settings};
 
 /// Refuses a scene the ray tracer cannot hold (snapshots come from
 /// disk): a primitive or an instance whose bounds are not finite or reach

@@ -1,12 +1,43 @@
 //! What a render is asked for: size, samples, filter, shadows and
 //! bounces, and the two presets (`preview`, `final`).
 
+use serde::{Deserialize, Serialize};
+
 /// How pixel samples are weighted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Filter {
     Box,
     /// Weights exp(−r²/2σ²), σ = 0.5 pixel, over the samples of the pixel.
     Gaussian,
+}
+
+impl Filter {
+    /// The name the command line and the records use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::Box => "box",
+            Filter::Gaussian => "gaussian",
+        }
+    }
+}
+
+/// The two starting points of a render's sampling settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    Preview,
+    Final,
+}
+
+impl Preset {
+    /// The name the command line and the records use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Preview => "preview",
+            Preset::Final => "final",
+        }
+    }
 }
 
 /// What a render does.
@@ -30,6 +61,14 @@ pub struct Settings {
 }
 
 impl Settings {
+    /// The preset's settings at `width` × `height`.
+    pub fn of_preset(preset: Preset, width: u32, height: u32) -> Self {
+        match preset {
+            Preset::Preview => Settings::preview(width, height),
+            Preset::Final => Settings::final_quality(width, height),
+        }
+    }
+
     /// `preview`: one sample, no shadows, no traced bounces (mirrors and
     /// glass get a one-look approximation, see `shade::preview_bounce`).
     pub fn preview(width: u32, height: u32) -> Self {

@@ -31,7 +31,8 @@ use super::wav::{SampleFormat, Signal};
 use crate::error::Error;
 
 /// How loudness falls with the distance d (metres) from the source.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Attenuation {
     /// 1 / max(d, 1 m): the amplitude of a spherical wave, clamped at a
     /// 1 m reference so a source at the microphone does not blow up.
@@ -50,6 +51,15 @@ pub const THESIS_D: f64 = 1.0;
 pub const THESIS_C: f64 = 1.0;
 
 impl Attenuation {
+    /// The name the command line and the records use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Attenuation::Inverse => "inverse",
+            Attenuation::Thesis => "thesis",
+            Attenuation::None => "none",
+        }
+    }
+
     /// The amplitude factor at distance `d` metres.
     #[inline]
     pub fn gain(self, d: f64) -> f64 {
@@ -65,7 +75,7 @@ impl Attenuation {
 }
 
 /// What the renderer makes of a log.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Settings {
     /// Output sample rate in Hz.
     pub rate: u32,

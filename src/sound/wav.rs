@@ -127,12 +127,23 @@ pub fn duration(reader: impl Read) -> Result<f64, String> {
 }
 
 /// How the soundtrack's samples are stored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum SampleFormat {
     /// 16-bit PCM; samples beyond [-1, 1] are clamped and counted.
     Pcm16,
     /// 32-bit IEEE float, unclamped.
     Float32,
+}
+
+impl SampleFormat {
+    /// The name the command line and the records use.
+    pub fn name(self) -> &'static str {
+        match self {
+            SampleFormat::Pcm16 => "pcm16",
+            SampleFormat::Float32 => "float32",
+        }
+    }
 }
 
 /// The WAV bytes of equally long channels, interleaved, and the number of

@@ -499,6 +499,13 @@ fn surface_in(
     })
 }
 
+/// The image size of the camera's window `prefpos_x1_x2_y1_y2`, in
+/// pixels (1…16384 a side).
+pub fn window([x1, x2, y1, y2]: [i64; 4]) -> (u32, u32) {
+    let side = |a: i64, b: i64| (b - a).unsigned_abs().clamp(1, 16384) as u32;
+    (side(x1, x2), side(y1, y2))
+}
+
 /// Builds the scene of the animation's current frame. `tables` keeps the
 /// turtle state tables of each L-system from frame to frame. A scene of
 /// more primitives than `opts.limits.shapes` is an error naming the file
@@ -511,7 +518,6 @@ pub fn build_scene(
     opts: Options,
 ) -> Result<(Scene, Vec<String>), String> {
     let cam = &anim.camera;
-    let [x1, x2, y1, y2] = cam.pref_pos;
     let camera = Camera {
         eye: DVec3::from_array(cam.observer).as_vec3(),
         look_at: DVec3::from_array(cam.look_at).as_vec3(),
@@ -520,8 +526,8 @@ pub fn build_scene(
         aspect: cam.aspect_ratio as f32,
         near: cam.near as f32,
         far: cam.far as f32,
-        width: (x2 - x1).unsigned_abs().clamp(1, 16384) as u32,
-        height: (y2 - y1).unsigned_abs().clamp(1, 16384) as u32,
+        width: window(cam.pref_pos).0,
+        height: window(cam.pref_pos).1,
     };
     let max = opts.limits.shapes;
     let mut b = Builder::new(camera, &surfaces.materials, max);

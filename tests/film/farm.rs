@@ -48,9 +48,22 @@ fn the_chain_makes_the_film_a_local_run_makes() {
         "--shards",
         "3",
         "--dry-run",
+        "--preset",
+        "preview",
+        "--width",
+        "96",
+        "--height",
+        "72",
+        "--loudness",
+        "-20",
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("#SBATCH --array=1-3"), "{out}");
+    assert!(
+        out.contains("'--preset=preview'") && out.contains("'--width=96'"),
+        "{out}"
+    );
+    assert!(out.contains("'--loudness=-20'"), "{out}");
     assert!(out.contains("not submitted: --dry-run"), "{out}");
     let scripts = farm.join("farm");
     job(&scripts.join("derive.sh"), None);
@@ -58,7 +71,20 @@ fn the_chain_makes_the_film_a_local_run_makes() {
         job(&scripts.join("render.sh"), Some(k));
     }
     job(&scripts.join("finish.sh"), None);
-    let (code, _, err) = lmfilm(&["run", s, "-o", local.to_str().unwrap()]);
+    let (code, _, err) = lmfilm(&[
+        "run",
+        s,
+        "-o",
+        local.to_str().unwrap(),
+        "--preset",
+        "preview",
+        "--width",
+        "96",
+        "--height",
+        "72",
+        "--loudness",
+        "-20",
+    ]);
     assert_eq!(code, 0, "{err}");
     // The same frames, byte for byte, and the same soundtrack.
     let frames = |d: &Path| {
@@ -78,6 +104,11 @@ fn the_chain_makes_the_film_a_local_run_makes() {
     };
     let (a, b) = (frames(&farm), frames(&local));
     assert_eq!(a.len(), 6);
+    let record = std::fs::read_to_string(farm.join("frames/growing.0002.json")).unwrap();
+    assert!(
+        record.contains("\"width\": \"96\"") && record.contains("\"preset\": \"preview\""),
+        "{record}"
+    );
     assert!(a == b, "the frames differ");
     let wav = |d: &Path| std::fs::read(d.join("soundtrack.wav")).unwrap();
     assert_eq!(wav(&farm), wav(&local));
@@ -143,6 +174,10 @@ fn submit(scene: &str, dir: &Path) -> Vec<String> {
         dir.to_str().unwrap(),
         "--shards",
         "3",
+        "--preset",
+        "preview",
+        "--width",
+        "96",
     ]);
     assert_eq!(code, 0, "{out}{err}");
     let ids: Vec<String> = out
@@ -192,7 +227,16 @@ fn on_slurm_the_chain_finishes_resumes_and_matches_a_local_run() {
     wait_for(&ids);
     let (code, out, err) = lmfilm(&["verify", film.to_str().unwrap()]);
     assert_eq!(code, 0, "{out}{err}");
-    let (code, _, err) = lmfilm(&["run", s, "-o", local.to_str().unwrap()]);
+    let (code, _, err) = lmfilm(&[
+        "run",
+        s,
+        "-o",
+        local.to_str().unwrap(),
+        "--preset",
+        "preview",
+        "--width",
+        "96",
+    ]);
     assert_eq!(code, 0, "{err}");
     for f in [
         "soundtrack.wav",

@@ -15,5 +15,6 @@ mod film;
 mod frame_loop;
 mod limits;
 mod records;
+mod settings;
 mod support;
 mod tracks;
