@@ -16,6 +16,9 @@ use clap::Args;
 use super::args::{RenderArgs, SceneArgs, SoundArgs};
 use super::{film, scenes};
 use crate::error::{Error, Result};
+use crate::film::job;
+use crate::film::manifest::MANIFEST_FILE;
+use crate::film::record::frame_record_path;
 use crate::film::settings;
 use crate::lsys::Limits;
 
@@ -348,49 +351,141 @@ pub fn slurm(args: &SlurmArgs) -> Result<()> {
     Ok(())
 }
 
-/// Counts the files of `dir` whose names end with `suffix`.
-fn count(dir: &Path, suffix: &str) -> usize {
-    std::fs::read_dir(dir).map_or(0, |entries| {
-        entries
-            .filter_map(|e| e.ok())
-            .filter(|e| e.file_name().to_string_lossy().ends_with(suffix))
-            .count()
-    })
+/// A bar of `width` characters, `done` of `total` filled.
+pub fn bar(done: u64, total: u64, width: usize) -> String {
+    let filled = if total == 0 {
+        0
+    } else {
+        (done.min(total) as u128 * width as u128 / total as u128) as usize
+    };
+    format!("[{}{}]", "#".repeat(filled), ".".repeat(width - filled))
 }
 
-/// `lmfilm farm status DIR`: the chain's jobs as Slurm accounts for them
-/// (`sacct`), and the frames derived and rendered so far.
+/// Seconds as people read them: `45 s`, `3 min 20 s`, `2 h 5 min`.
+pub fn duration(secs: f64) -> String {
+    let s = secs.max(0.0).round() as u64;
+    match s {
+        0 => "under a second".to_string(),
+        1..=59 => format!("{s} s"),
+        60..=3599 => format!("{} min {} s", s / 60, s % 60),
+        _ => format!("{} h {} min", s / 3600, (s % 3600) / 60),
+    }
+}
+
+/// The time left for `left` frames at the pace the frames' records
+/// were written at (their modification times: every task together),
+/// and that pace; None with fewer than two frames done.
+pub fn time_left(written: &[std::time::SystemTime], left: u64) -> Option<(f64, String)> {
+    let first = written.iter().min()?;
+    let last = written.iter().max()?;
+    let span = last.duration_since(*first).ok()?.as_secs_f64();
+    if written.len() < 2 || span <= 0.0 {
+        return None;
+    }
+    let per_frame = span / (written.len() - 1) as f64;
+    Some((
+        per_frame * left as f64,
+        format!("{} frames in {}", written.len(), duration(span)),
+    ))
+}
+
+/// The log of a chain's job as its script names it: `derive-ID.out`,
+/// `render-ARRAY_TASK.out`, `finish-ID.out`.
+fn log_of(dir: &Path, job: &str, name: &str) -> PathBuf {
+    let logs = dir.join(FARM_DIR).join(LOGS_DIR);
+    let stage = name.strip_prefix("lmfilm-").unwrap_or(name);
+    logs.join(format!("{stage}-{job}.out"))
+}
+
+/// Slurm states of a job that did not succeed and will not run again.
+const FAILED: [&str; 6] = [
+    "FAILED",
+    "TIMEOUT",
+    "OUT_OF_MEMORY",
+    "NODE_FAIL",
+    "CANCELLED",
+    "BOOT_FAIL",
+];
+
+/// `lmfilm farm status DIR`: the frames done of the total with a bar
+/// and the time left at the tasks' own pace, the chain's jobs as Slurm
+/// accounts for them (`sacct`), and each failed job with its log.
 pub fn status(dir: &Path) -> Result<()> {
     let ids = jobs(dir)?;
+    let rec = job::open(dir).ok();
+    let mut all_done = false;
+    match &rec {
+        None => println!("frames: not derived yet (the derive job writes them)"),
+        Some(rec) => {
+            let total = rec.frame_count;
+            let name = &rec.inputs.name;
+            let written: Vec<std::time::SystemTime> = (0..total)
+                .filter_map(|k| {
+                    let path = dir.join(frame_record_path(name, k));
+                    std::fs::metadata(path).and_then(|m| m.modified()).ok()
+                })
+                .collect();
+            let done = written.len() as u64;
+            all_done = done == total;
+            println!(
+                "frames: {} {done}/{total} rendered ({:.0} %)",
+                bar(done, total, 30),
+                if total == 0 {
+                    100.0
+                } else {
+                    100.0 * done as f64 / total as f64
+                }
+            );
+            if done < total {
+                match time_left(&written, total - done) {
+                    Some((secs, pace)) => {
+                        let d = duration(secs);
+                        let about = if secs < 0.5 { d } else { format!("about {d}") };
+                        println!("time left: {about} at the tasks' pace ({pace})")
+                    }
+                    None => println!("time left: not known until two frames are rendered"),
+                }
+            }
+        }
+    }
     let out = Command::new("sacct")
         .args(["-n", "-P", "-X", "--format=JobID,JobName,State", "-j"])
         .arg(ids.join(","))
         .output();
+    let mut failed = Vec::new();
     match out {
         Ok(o) if o.status.success() => {
+            println!("jobs:");
             for line in String::from_utf8_lossy(&o.stdout).lines() {
                 let cols: Vec<&str> = line.split('|').collect();
                 if let [id, name, state] = cols[..] {
                     println!("{id:>14}  {name:<16} {state}");
+                    let word = state.split_whitespace().next().unwrap_or("");
+                    if FAILED.contains(&word) {
+                        failed.push((id.to_string(), log_of(dir, id, name)));
+                    }
                 }
             }
         }
         _ => println!(
-            "sacct is not available here: the jobs are {}",
+            "jobs: {} (sacct is not available here to say their states)",
             ids.join(", ")
         ),
     }
-    let snapshots = count(&dir.join("scene"), ".snap");
-    let rendered = count(&dir.join("frames"), ".json");
-    println!("frames: {snapshots} derived, {rendered} rendered");
+    for (id, log) in &failed {
+        println!("failed: job {id}, log {}", log.display());
+    }
     // The finishing job writes the soundtrack, then the manifest.
-    let finished = snapshots > 0 && rendered == snapshots && dir.join("soundtrack.wav").is_file();
+    let finished =
+        all_done && dir.join(job::SOUNDTRACK_FILE).is_file() && dir.join(MANIFEST_FILE).is_file();
     println!(
         "film: {}",
         if finished {
             "finished (`lmfilm verify` checks it)"
-        } else {
+        } else if failed.is_empty() {
             "not finished"
+        } else {
+            "not finished: submit again to resume (`lmfilm farm slurm` with the same scenes and -o)"
         }
     );
     Ok(())
@@ -410,6 +505,27 @@ mod tests {
             account: None,
             lmfilm: None,
         }
+    }
+
+    #[test]
+    fn status_shows_a_bar_and_the_time_left() {
+        assert_eq!(bar(3, 12, 12), "[###.........]");
+        assert_eq!(bar(0, 0, 4), "[....]");
+        assert_eq!(duration(200.0), "3 min 20 s");
+        assert_eq!(duration(7500.0), "2 h 5 min");
+        let t0 = std::time::SystemTime::UNIX_EPOCH;
+        let written: Vec<_> = (0..5)
+            .map(|k| t0 + std::time::Duration::from_secs(10 * k))
+            .collect();
+        // Four intervals of 10 s: 10 s a frame, 6 frames left.
+        let (left, pace) = time_left(&written, 6).unwrap();
+        assert_eq!(left, 60.0);
+        assert_eq!(pace, "5 frames in 40 s");
+        assert!(time_left(&written[..1], 6).is_none());
+        assert_eq!(
+            log_of(Path::new("/f"), "12_3", "lmfilm-render"),
+            Path::new("/f/farm/logs/render-12_3.out")
+        );
     }
 
     /// The chain runs the user's commands with the binary's absolute
