@@ -229,7 +229,10 @@ fn on_slurm_the_chain_finishes_resumes_and_matches_a_local_run() {
     assert_eq!(code, 0, "{out}{err}");
     let (code, out, err) = lmfilm(&["farm", "status", film.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("6/6 rendered") && out.contains("film: finished"), "{out}");
+    assert!(
+        out.contains("6/6 rendered") && out.contains("film: finished"),
+        "{out}"
+    );
     let (code, _, err) = lmfilm(&[
         "run",
         s,
