@@ -306,7 +306,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<()> {
         &dir,
         &request,
         film::defaults(&args.scenes),
-        loaded.film.window(),
+        (loaded.film.window(), &args.scenes[0].display().to_string()),
         None,
         limits.pixels,
     )?;

@@ -46,7 +46,8 @@ fn derive_into(loaded: &mut Loaded, dir: &Path, clean: bool, allow: bool) -> Res
 
 /// The film's render settings in `dir`: `request` over the folder's
 /// recorded settings, else the defaults, at the scene camera's size
-/// `camera`; recorded when new. `partial` names a selection that is not
+/// `camera` (`window_of` says where it was read, for a size over the
+/// limit); recorded when new. `partial` names a selection that is not
 /// the whole film (`--frames`, `--shard`): an option that changes the
 /// recorded settings is then refused, since the folder would hold frames
 /// of two settings.
@@ -54,13 +55,20 @@ pub(crate) fn resolve_render(
     dir: &Path,
     request: &RenderRequest,
     defaults: Defaults,
-    camera: (u32, u32),
+    (camera, window_of): ((u32, u32), &str),
     partial: Option<String>,
     max_pixels: u64,
 ) -> Result<RenderChoice> {
     let mut recorded = settings::read(dir)?;
     let choice = request.resolve(recorded.render.as_ref(), defaults, camera);
-    Limits::check_pixels(choice.width, choice.height, max_pixels).map_err(Error::input)?;
+    Limits::check_pixels(choice.width, choice.height, max_pixels).map_err(|e| {
+        let whose = if choice.size_given {
+            "the settings (--width, --height, settings.json)"
+        } else {
+            window_of
+        };
+        Error::input(format!("{whose}: the camera's window: {e}"))
+    })?;
     if let Some(old) = &recorded.render {
         // What the options change, beside what the scene's window does.
         let kept = RenderRequest::default().resolve(Some(old), defaults, camera);
@@ -208,12 +216,16 @@ pub fn run(
     let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
     let dir = scenes::output_dir(out, &loaded.film, &loaded.name);
     let camera = loaded.film.window();
+    let first = film
+        .scenes
+        .first()
+        .map_or("the built-in film".to_string(), |p| p.display().to_string());
     let derived = derive_into(&mut loaded, &dir, film.clean, film.allow_commands)?;
     let choice = resolve_render(
         &dir,
         &request,
         defaults(film.scenes),
-        camera,
+        (camera, &first),
         partial(work.frames, None),
         film.limits.pixels,
     )?;
@@ -306,11 +318,12 @@ pub fn render(
         Limits::check_pixels(w, h, max_pixels).map_err(Error::input)?;
     }
     let camera = job::camera_size(dir)?;
+    let first = dir.join(crate::film::frames::snapshot_path(0));
     let choice = resolve_render(
         dir,
         &request,
         Defaults::default(),
-        camera,
+        (camera, &first.display().to_string()),
         partial(work.frames, shard),
         max_pixels,
     )?;
