@@ -14,7 +14,7 @@ use lmfilm::commands::sound::SoundInput;
 use lmfilm::commands::{self, trace::trace};
 use lmfilm::film::frames::{FrameRange, Shard};
 use lmfilm::lsys::Limits;
-use lmfilm::render::tri4::{Simd, SIMD_VAR};
+use lmfilm::render::accel::tri4::{Simd, SIMD_VAR};
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.
 ///

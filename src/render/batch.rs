@@ -14,20 +14,21 @@
 
 use glam::{Vec3, Vec3A};
 
+use super::accel::packet::{Bits, RayPacket, Rays};
+use super::accel::ray::{frame, largest_axis, Ray};
+use super::accel::tri4::Simd;
 use super::accel::{Accel, Hit};
-use super::bvh4::{frame, largest_axis, Ray};
 use super::camera::CameraRays;
-use super::packet::{at, Bits, Lanes, RayPacket, Rays, LANES};
 use super::settings::Settings;
 use super::shade::{self, EPS};
-use super::tri4::Simd;
-use super::v3::V3;
+use super::simd::v3::V3;
 #[cfg(not(target_arch = "x86_64"))]
-use super::wide::Scalar as Base;
+use super::simd::wide::Scalar as Base;
 #[cfg(target_arch = "x86_64")]
-use super::wide::{Avx, Avx512, Sse as Base};
-use super::wide::{Mask, Wide};
+use super::simd::wide::{Avx, Avx512, Sse as Base};
+use super::simd::wide::{Mask, Wide};
 use crate::random::{self, Stream};
+use crate::render::simd::{at, Lanes, LANES};
 use crate::scene::material::Texture;
 use crate::scene::{LightKind, Material};
 
@@ -528,7 +529,7 @@ fn pick<W: Wide>([x_over_y, x_over_z, y_over_z]: [W::Mask; 3], a: W, b: W, c: W)
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
-    use crate::render::wide::{Scalar, Sse};
+    use crate::render::simd::wide::{Scalar, Sse};
 
     /// What `ray_lanes` made: the mask, the rays (a packet's made from
     /// its lanes), and its packet's bits where it made one.
@@ -665,7 +666,7 @@ mod tests {
                     checked += usize::from(w.is_some());
                 }
                 if let Some(packet) = packet {
-                    assert_eq!(super::super::packet::groups(rays, *valid).count(), 1);
+                    assert_eq!(super::super::accel::packet::groups(rays, *valid).count(), 1);
                     let gathered = packet_bits(&RayPacket::new(rays, *valid));
                     assert_eq!(packet, &gathered, "form {form}, round {round}");
                     packets += 1;

@@ -3,8 +3,8 @@
 
 use glam::Vec3A;
 
-use super::v3::V3;
-use super::wide::Wide;
+use super::simd::v3::V3;
+use super::simd::wide::Wide;
 use crate::scene::Camera;
 
 /// The pinhole camera as ray generator for an image of w × h.

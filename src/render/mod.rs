@@ -5,19 +5,13 @@
 
 pub mod accel;
 pub mod batch;
-pub mod bvh4;
 pub mod camera;
-pub mod hull;
-pub mod intersect;
 pub mod output;
-pub mod packet;
 pub mod sample;
 pub mod settings;
 pub mod shade;
+pub mod simd;
 pub mod texture;
-pub mod tri4;
-pub mod v3;
-pub mod wide;
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
@@ -40,7 +34,7 @@ pub fn check(scene: &Scene) -> Result<(), String> {
     for (k, g) in scene.geometries.iter().enumerate() {
         let mut b = Aabb::empty();
         for (i, s) in g.shapes.iter().enumerate() {
-            let sb = intersect::bounds(s).ok_or_else(|| {
+            let sb = accel::shapes::bounds(s).ok_or_else(|| {
                 format!(
                     "geometry {k} ({}): shape {i} (symbol {}) {beyond}",
                     g.name, s.symbol
@@ -50,7 +44,7 @@ pub fn check(scene: &Scene) -> Result<(), String> {
             b.extend(sb.max);
         }
         for (i, t) in g.triangles.iter().enumerate() {
-            let sb = intersect::triangle_bounds(&t.v).ok_or_else(|| {
+            let sb = accel::shapes::triangle_bounds(&t.v).ok_or_else(|| {
                 format!(
                     "geometry {k} ({}): triangle {i} (symbol {}) {beyond}",
                     g.name, t.symbol

@@ -229,7 +229,7 @@ pub fn pixel(
 mod tests {
     use super::*;
     use crate::lsys::{Animation, NoSensors};
-    use crate::render::tri4::Simd;
+    use crate::render::accel::tri4::Simd;
     use crate::scene::{Light, LightKind};
     use crate::turtle::{build_scene, NoWorld, Options, Surfaces};
 

@@ -133,7 +133,7 @@ fn outputs_do_not_depend_on_the_c_librarys_math_forms() {
 /// and the gallery's shapes. A value that names no path is refused.
 #[test]
 fn every_simd_path_renders_the_same_still() {
-    use lmfilm::render::tri4::Simd;
+    use lmfilm::render::accel::tri4::Simd;
     let dir = std::env::temp_dir().join(format!("lmfilm-simd-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/examples");

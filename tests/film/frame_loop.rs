@@ -69,7 +69,7 @@ fn widest(f: &Film) -> f32 {
     let mut w = 0.0f32;
     for g in &scene.geometries {
         for s in &g.shapes {
-            if let Some(b) = lmfilm::render::intersect::bounds(s) {
+            if let Some(b) = lmfilm::render::accel::shapes::bounds(s) {
                 w = w.max(b.max.x - b.min.x);
             }
         }

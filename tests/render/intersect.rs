@@ -5,8 +5,8 @@
 
 use glam::{Affine3A, DVec3, Mat3, Vec3, Vec3A};
 use lmfilm::aabb::Aabb;
-use lmfilm::render::intersect::*;
-use lmfilm::render::tri4::triangle;
+use lmfilm::render::accel::shapes::*;
+use lmfilm::render::accel::tri4::triangle;
 use lmfilm::scene::*;
 
 /// xorshift64*, so the rays are the same on every run.
@@ -796,8 +796,8 @@ fn trunk_seams_are_closed() {
 /// agrees.
 #[test]
 fn triangle_packs_match_single_tests() {
-    use lmfilm::render::bvh4::Ray;
-    use lmfilm::render::tri4::Tri4;
+    use lmfilm::render::accel::ray::Ray;
+    use lmfilm::render::accel::tri4::Tri4;
     let mut rng = Rng(17);
     let mut hits = 0;
     for i in 0..3000 {

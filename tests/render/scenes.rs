@@ -231,8 +231,8 @@ impl Lcg {
 /// Nearest hit over every primitive of every instance, by brute force:
 /// (t, instance, is shape, index).
 fn brute_force(s: &Scene, o: Vec3A, d: Vec3A, tmax: f32) -> Option<(f32, usize, bool, usize)> {
-    use lmfilm::render::intersect::shape;
-    use lmfilm::render::tri4::triangle;
+    use lmfilm::render::accel::shapes::shape;
+    use lmfilm::render::accel::tri4::triangle;
     let mut best: Option<(f32, usize, bool, usize)> = None;
     let mut keep = |h: (f32, usize, bool, usize)| {
         if best.is_none_or(|b| h.0 < b.0) {
@@ -347,7 +347,7 @@ fn two_level_bvh_matches_brute_force() {
 /// after obvhs's reinsertion pass (which moves the root's children).
 #[test]
 fn bvh4_leaves_cover_every_primitive_once() {
-    use lmfilm::render::bvh4::Bvh4;
+    use lmfilm::render::accel::bvh4::Bvh4;
     use obvhs::aabb::Aabb;
     let mut rng = Lcg(3);
     for n in [1usize, 2, 3, 5, 17, 100, 1000, 20000, 70000] {
@@ -472,7 +472,7 @@ fn soup_instances(rng: &mut Lcg, g: u32, n: u32, object: u32) -> Vec<lmfilm::sce
 /// rendered.
 #[test]
 fn every_simd_path_gives_the_same_hits_and_bytes() {
-    use lmfilm::render::tri4::Simd;
+    use lmfilm::render::accel::tri4::Simd;
     let paths = Simd::available();
     let mut rng = Lcg(11);
     let mut s = scene_of(SPHERE);
@@ -527,8 +527,8 @@ fn every_simd_path_gives_the_same_hits_and_bytes() {
 /// stop short among them.
 #[test]
 fn packets_find_what_single_rays_find() {
+    use lmfilm::render::accel::tri4::Simd;
     use lmfilm::render::accel::Query;
-    use lmfilm::render::tri4::Simd;
     let mut rng = Lcg(23);
     let mut s = scene_of(SPHERE);
     s.geometries.push(soup(&mut rng, 3000, 400));
@@ -595,8 +595,8 @@ fn packets_find_what_single_rays_find() {
 /// instances with transforms, in every SIMD path.
 #[test]
 fn bundles_find_what_single_shadow_rays_find() {
+    use lmfilm::render::accel::tri4::Simd;
     use lmfilm::render::accel::Query;
-    use lmfilm::render::tri4::Simd;
     let mut rng = Lcg(31);
     let mut s = scene_of(SPHERE);
     s.geometries.push(soup(&mut rng, 3000, 400));

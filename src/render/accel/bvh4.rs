@@ -11,10 +11,12 @@
 //! depth, so no tree is too deep for it.
 
 use super::hull::Hull;
-use super::packet::{Bits, Lanes, RayPacket};
-use super::wide::{Mask, Wide};
+use super::packet::{Bits, RayPacket};
+use super::ray::Ray;
 use crate::aabb::Aabb;
-use glam::{Vec3A, Vec4};
+use crate::render::simd::wide::{Mask, Wide};
+use crate::render::simd::Lanes;
+use glam::Vec4;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::bvh2::{Bvh2, Bvh2Node};
 use obvhs::ploc::build_ploc_from_leafs;
@@ -53,81 +55,6 @@ impl Node {
             self.side[1][a][lane] = b.max[a];
         }
         self.child[lane] = child;
-    }
-}
-
-/// A ray prepared for slab tests — reciprocal direction (finite, so no
-/// 0·∞ can make a NaN) and origin times it — and for watertight triangle
-/// tests: `axes` puts the direction's largest component last (z), `shear`
-/// maps the direction onto that axis.
-#[derive(Clone, Copy, Debug)]
-pub struct Ray {
-    pub origin: Vec3A,
-    pub direction: Vec3A,
-    pub tmin: f32,
-    pub(super) inv: Vec3A,
-    pub(super) origin_inv: Vec3A,
-    pub(super) negative: [bool; 3],
-    pub axes: [usize; 3],
-    pub shear: Vec3A,
-    /// The origin's coordinates in the order of `axes`.
-    pub permuted_origin: Vec3A,
-}
-
-impl Ray {
-    pub fn new(origin: Vec3A, direction: Vec3A, tmin: f32) -> Ray {
-        // Lane by lane, the same divisions as one at a time.
-        let r = Vec3A::ONE / direction;
-        let inv = Vec3A::select(
-            r.is_finite_mask(),
-            r,
-            Vec3A::splat(f32::MAX).copysign(direction),
-        );
-        let d = direction.to_array();
-        let ad = direction.abs();
-        let kz = largest_axis(ad.x > ad.y, ad.x > ad.z, ad.y > ad.z);
-        let [kx, ky, kz] = frame(kz, d[kz] < 0.0);
-        let o = origin.to_array();
-        Ray {
-            origin,
-            direction,
-            tmin,
-            inv,
-            origin_inv: origin * inv,
-            negative: d.map(|c| c.is_sign_negative()),
-            axes: [kx, ky, kz],
-            shear: Vec3A::new(d[kx], d[ky], 1.0) / Vec3A::splat(d[kz]),
-            permuted_origin: Vec3A::new(o[kx], o[ky], o[kz]),
-        }
-    }
-
-    /// What rays must share to be traced as one packet: their direction's
-    /// signs (a node's near sides) and axis order (a triangle's frame).
-    pub fn key(&self) -> ([bool; 3], [usize; 3]) {
-        (self.negative, self.axes)
-    }
-}
-
-/// The axis a ray's frame puts last (z), from the comparisons of its
-/// direction's magnitudes |x| > |y|, |x| > |z| and |y| > |z|: the largest
-/// (of equal ones, z before x and y, y before x).
-pub(super) fn largest_axis(x_over_y: bool, x_over_z: bool, y_over_z: bool) -> usize {
-    match (x_over_y, x_over_z, y_over_z) {
-        (true, true, _) => 0,
-        (false, _, true) => 1,
-        _ => 2,
-    }
-}
-
-/// The axes of a ray's frame with `kz` last, kept right-handed (x and y
-/// swapped where the direction's `kz` component is negative, `flip`) so
-/// the edge functions' signs hold.
-pub(super) fn frame(kz: usize, flip: bool) -> [usize; 3] {
-    let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-    if flip {
-        [ky, kx, kz]
-    } else {
-        [kx, ky, kz]
     }
 }
 
@@ -891,7 +818,7 @@ impl Span {
 }
 
 /// The least and greatest of a value's lanes (a function, not a closure:
-/// see [`super::wide`]).
+/// see [`crate::render::simd::wide`]).
 #[inline(always)]
 fn range<W: Wide>(v: &Lanes) -> [f32; 2] {
     let v = W::load(v);
@@ -928,7 +855,7 @@ pub fn prefetch<T: ?Sized>(data: &T) {
 
 /// The distance along each ray of a packet to the plane `side` of an
 /// axis, from the ray's `inv` and `origin·inv` on that axis (a function,
-/// not a closure: see [`super::wide`]).
+/// not a closure: see [`crate::render::simd::wide`]).
 #[inline(always)]
 fn slab<W: Wide>(side: f32, inv: W, o: W) -> W {
     W::splat(side).mul(inv).sub(o)
@@ -936,9 +863,10 @@ fn slab<W: Wide>(side: f32, inv: W, o: W) -> W {
 
 #[cfg(test)]
 mod tests {
-    use super::super::packet::LANES;
-    use super::super::wide::Scalar;
     use super::*;
+    use crate::render::simd::wide::Scalar;
+    use crate::render::simd::LANES;
+    use glam::Vec3A;
 
     /// A packet's bounds never exclude a box that one of its rays enters:
     /// packets from one point and from points apart, directions with tiny

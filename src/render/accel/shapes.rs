@@ -82,17 +82,17 @@ fn unit_box(o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<LocalHit> {
 /// A ray restarted at its closest approach to a centre, with unit
 /// direction: the point at parameter u is `o + u·d` and its t is
 /// `(s0 + u)·inv_len`.
-struct Ray {
+struct LocalRay {
     o: Vec3A,
     d: Vec3A,
     s0: f32,
     inv_len: f32,
 }
 
-impl Ray {
+impl LocalRay {
     /// None when the ray misses the ball (centre, radius) or d is zero.
     #[inline]
-    fn near(o: Vec3A, d: Vec3A, centre: Vec3A, radius: f32) -> Option<Ray> {
+    fn near(o: Vec3A, d: Vec3A, centre: Vec3A, radius: f32) -> Option<LocalRay> {
         let (dn, len) = unit_dir(d)?;
         let s0 = (centre - o).dot(dn);
         let o = o + s0 * dn;
@@ -100,7 +100,7 @@ impl Ray {
         if (o - centre).length_squared() > r * r {
             return None;
         }
-        Some(Ray {
+        Some(LocalRay {
             o,
             d: dn,
             s0,
@@ -185,7 +185,7 @@ fn unit_dir(d: Vec3A) -> Option<(Vec3A, f32)> {
 
 #[inline]
 fn unit_sphere(o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<LocalHit> {
-    let ray = Ray::near(o, d, Vec3A::ZERO, 1.0)?;
+    let ray = LocalRay::near(o, d, Vec3A::ZERO, 1.0)?;
     let (u0, u1) = ray.sphere(Vec3A::ZERO, 1.0)?;
     [u0, u1].into_iter().find_map(|u| {
         let t = ray.t(u);
@@ -199,7 +199,7 @@ fn unit_sphere(o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<LocalHit> {
 #[inline]
 fn cylinder(o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<LocalHit> {
     // Centre (½,0,0); the rims are √(1¼) away.
-    let ray = Ray::near(o, d, Vec3A::new(0.5, 0.0, 0.0), 1.118_034)?;
+    let ray = LocalRay::near(o, d, Vec3A::new(0.5, 0.0, 0.0), 1.118_034)?;
     let (s0, s1) = ray.side(1.0)?;
     let (x0, x1) = ray.slab(0.0, 1.0)?;
     let (u0, cap0) = if x0 > s0 { (x0, true) } else { (s0, false) };
@@ -233,7 +233,7 @@ fn capsule(length: f32, o: Vec3A, d: Vec3A, tmin: f32, tmax: f32) -> Option<Loca
         return None;
     }
     let half = 0.5 * length;
-    let ray = Ray::near(o, d, Vec3A::new(half, 0.0, 0.0), half + 1.0)?;
+    let ray = LocalRay::near(o, d, Vec3A::new(half, 0.0, 0.0), half + 1.0)?;
     let (s0, s1) = ray.side(1.0)?;
     // The capsule's crossing where the cylinder's is at u; parallel rays
     // (u infinite) land on the sphere ahead or behind.
@@ -285,7 +285,7 @@ fn trunk(
     let (lo, hi) = ((-r0).min(length - r1), r0.max(length + r1));
     let half = 0.5 * (hi - lo);
     let radius = (half * half + r * r).sqrt();
-    let ray = Ray::near(o, d, Vec3A::new(lo + half, 0.0, 0.0), radius)?;
+    let ray = LocalRay::near(o, d, Vec3A::new(lo + half, 0.0, 0.0), radius)?;
 
     let eps = SEAM * radius;
     let end = Vec3A::new(length, 0.0, 0.0);
@@ -363,7 +363,7 @@ impl Nearest {
     #[inline]
     fn offer(
         &mut self,
-        ray: &Ray,
+        ray: &LocalRay,
         (u0, u1): (f32, f32),
         lead: f32,
         visible: impl Fn(Vec3A) -> Option<Vec3A>,

@@ -1,26 +1,15 @@
 //! Up to sixteen rays traced together: a pixel's samples, which the
 //! renderer casts as one packet (`Accel::cast_all`). One fetch of a node
 //! or a triangle serves them all, and its test runs across the rays, one
-//! per SIMD lane, in the lane forms of [`super::wide`]. Every lane
+//! per SIMD lane, in the lane forms of [`crate::render::simd::wide`]. Every lane
 //! computes the single-ray test's operations in the same order, so each
 //! ray enters the boxes and hits the triangles its own walk would, and
 //! every form gives the same bits (DESIGN §4).
 
 use glam::Vec3A;
 
-use super::bvh4::Ray;
-
-/// Lane `i`'s vector of three lane values.
-#[inline(always)]
-pub fn at(v: &[Lanes; 3], i: usize) -> Vec3A {
-    Vec3A::new(v[0][i], v[1][i], v[2][i])
-}
-
-/// Rays a packet holds: one bit each of a `u32` mask.
-pub const LANES: usize = 16;
-
-/// One value per ray of a packet.
-pub type Lanes = [f32; LANES];
+use super::ray::Ray;
+use crate::render::simd::{at, Lanes, LANES};
 
 /// Rays whose directions have the same signs and the same largest axis,
 /// so that a node's near sides and a triangle's sheared frame are the

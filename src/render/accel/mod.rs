@@ -2,23 +2,31 @@
 //! shared geometry (4-wide trees built by obvhs, see [`super::bvh4`]),
 //! with exact intersection of every primitive.
 
+pub mod bvh4;
+pub mod hull;
+pub mod packet;
+pub mod ray;
+pub mod shapes;
+pub mod tri4;
+
 use std::sync::Arc;
 
 use crate::aabb;
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 
-use super::bvh4::{prefetch, Bvh4, Ray};
-use super::hull::Hull;
-use super::intersect;
-use super::packet::{self, Bits, Lanes, RayPacket, Rays, LANES};
-use super::tri4::{self, Simd, Tri4};
 #[cfg(not(target_arch = "x86_64"))]
-use super::wide::Scalar as Base;
-use super::wide::Wide;
+use crate::render::simd::wide::Scalar as Base;
+use crate::render::simd::wide::Wide;
 #[cfg(target_arch = "x86_64")]
-use super::wide::{Avx, Avx512, Sse as Base};
+use crate::render::simd::wide::{Avx, Avx512, Sse as Base};
+use crate::render::simd::{Lanes, LANES};
 use crate::scene::material::Texture;
 use crate::scene::{Geometry, Material, Scene};
+use bvh4::{prefetch, Bvh4};
+use hull::Hull;
+use packet::{Bits, RayPacket, Rays};
+use ray::Ray;
+use tri4::{Simd, Tri4};
 
 /// Most primitives a bottom-level leaf may hold (the surface-area
 /// heuristic decides below that; measured best on the forest).
@@ -44,10 +52,10 @@ impl ShapeLeaf {
     /// The ray `r` (in its geometry's space) against the shape, in its
     /// local space.
     #[inline(always)]
-    fn hit(&self, geo: &Geometry, r: &Ray, tmax: f32) -> Option<intersect::LocalHit> {
+    fn hit(&self, geo: &Geometry, r: &Ray, tmax: f32) -> Option<shapes::LocalHit> {
         let o = self.inverse.transform_point3a(r.origin);
         let d = self.inverse.transform_vector3a(r.direction);
-        intersect::shape(geo.shapes[self.index as usize].kind, o, d, r.tmin, tmax)
+        shapes::shape(geo.shapes[self.index as usize].kind, o, d, r.tmin, tmax)
     }
 }
 
@@ -239,7 +247,7 @@ pub struct Query {
 struct Closest {
     k: u32,
     prim: Prim,
-    hit: intersect::LocalHit,
+    hit: shapes::LocalHit,
 }
 
 /// A packet's closest-hit search: each ray's best hit so far and the
@@ -336,13 +344,13 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
     let mut prims = Vec::with_capacity(g.shapes.len() + g.triangles.len());
     let mut boxes = Vec::with_capacity(prims.capacity());
     for (i, s) in g.shapes.iter().enumerate() {
-        if let Some(b) = intersect::bounds(s) {
+        if let Some(b) = shapes::bounds(s) {
             prims.push(Prim::Shape(i as u32));
             boxes.push(b);
         }
     }
     for (i, t) in g.triangles.iter().enumerate() {
-        if let Some(b) = intersect::triangle_bounds(&t.v) {
+        if let Some(b) = shapes::triangle_bounds(&t.v) {
             prims.push(Prim::Triangle(i as u32));
             boxes.push(b);
         }
@@ -498,7 +506,7 @@ impl Accel {
                 let incoming = *tmax;
                 *tmax = tri4::nearest_each(packs, &r, incoming, self.simd, |j, t, lane| {
                     // The normal is computed for the closest only.
-                    let hit = intersect::LocalHit {
+                    let hit = shapes::LocalHit {
                         t,
                         normal: Vec3A::ZERO,
                     };
@@ -922,7 +930,7 @@ impl Accel {
                 Closest {
                     k,
                     prim: Prim::Triangle(id),
-                    hit: intersect::LocalHit {
+                    hit: shapes::LocalHit {
                         t,
                         normal: Vec3A::ZERO,
                     },
@@ -957,7 +965,7 @@ impl Accel {
     }
 
     /// World-space details of a local hit.
-    fn resolve(&self, k: u32, prim: Prim, h: intersect::LocalHit) -> Hit {
+    fn resolve(&self, k: u32, prim: Prim, h: shapes::LocalHit) -> Hit {
         let inst = &self.scene.instances[k as usize];
         let geo = &self.scene.geometries[inst.geometry as usize];
         let (n_geo, material, symbol) = match prim {

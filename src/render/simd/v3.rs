@@ -10,8 +10,8 @@ use std::ops::{Add, Mul, Neg, Sub};
 
 use glam::{Vec3, Vec3A};
 
-use super::packet::Lanes;
 use super::wide::{Mask, Wide};
+use super::Lanes;
 
 #[derive(Clone, Copy)]
 pub struct V3<W> {

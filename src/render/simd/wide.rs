@@ -12,7 +12,7 @@
 //! leaves out of line calls each AVX operation out of line (AVX2 packets
 //! ran 4× slower so; `scripts/bench_render.sh` refuses such a build).
 
-use super::packet::{Lanes, LANES};
+use super::{Lanes, LANES};
 
 /// Sixteen lanes of f32.
 pub trait Wide: Copy {

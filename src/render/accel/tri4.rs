@@ -9,9 +9,10 @@ use std::sync::OnceLock;
 
 use glam::{Vec3, Vec3A, Vec4};
 
-use super::bvh4::Ray;
-use super::packet::{Bits, Lanes, RayPacket, LANES};
-use super::wide::{Mask, Wide};
+use super::packet::{Bits, RayPacket};
+use super::ray::Ray;
+use crate::render::simd::wide::{Mask, Wide};
+use crate::render::simd::{Lanes, LANES};
 
 /// Up to four triangles, one `Vec4` per vertex coordinate (144 bytes:
 /// their indices are kept apart, as only a hit needs them). Unused lanes
@@ -182,7 +183,7 @@ impl Tri4 {
 
 /// A triangle corner `q` relative to the packet's origin, sheared (as
 /// [`Tri4::packet_lanes`] wants it; a function, not a closure: see
-/// [`super::wide`]).
+/// [`crate::render::simd::wide`]).
 #[inline(always)]
 fn corner<W: Wide>(q: [f32; 3], [sx, sy]: [W; 2], [ox, oy, oz]: [W; 3]) -> (W, W, W) {
     let z = W::splat(q[2]).sub(oz);

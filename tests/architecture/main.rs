@@ -1,0 +1,385 @@
+//! The house's rules, checked on the source (issue 44): every `use
+//! crate::…`, `super::…` and inline `crate::…` path of `src/` is
+//! resolved to the module file it names, and
+//! - a module imports only modules of a lower layer (the order written in
+//!   docs/design.md, "Layers, lowest first"), never a sibling of its own
+//!   layer nor a higher one;
+//! - no two files import each other.
+//!
+//! Test code (`#[cfg(test)]` to the end of a file, `tests.rs`,
+//! `*_tests.rs`) and comments are not read. Each violation names the file
+//! and the line.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// A module path inside the crate: `["actors", "navigate"]`.
+type Module = Vec<String>;
+
+/// One source file: its module and its text.
+struct File {
+    path: String,
+    module: Module,
+    text: String,
+}
+
+/// An import: from a file's line, the module it names.
+#[derive(Debug, Clone)]
+struct Import {
+    file: String,
+    line: usize,
+    from: Module,
+    to: Module,
+    written: String,
+}
+
+/// The module a file under `src/` holds.
+fn module_of(rel: &Path) -> Module {
+    let mut parts: Vec<String> = rel
+        .with_extension("")
+        .iter()
+        .map(|c| c.to_string_lossy().into_owned())
+        .collect();
+    if parts.last().is_some_and(|l| l == "mod" || l == "lib") {
+        parts.pop();
+    }
+    parts
+}
+
+/// Whether a file is test code only.
+fn is_test_file(rel: &str) -> bool {
+    rel.ends_with("/tests.rs") || rel.ends_with("_tests.rs")
+}
+
+/// The text the rules read: comments blanked and everything from the
+/// first `#[cfg(test)]` on dropped, lines kept in place.
+fn code(text: &str) -> String {
+    let mut out = Vec::new();
+    for l in text.lines() {
+        if l.trim_start().starts_with("#[cfg(test)]") {
+            break;
+        }
+        out.push(match l.find("//") {
+            Some(k) => &l[..k],
+            None => l,
+        });
+    }
+    out.join("\n")
+}
+
+/// The full paths a `use` tree stands for: `a::{b, c::{d, e}}` →
+/// `a::b`, `a::c::d`, `a::c::e`.
+fn expand(tree: &str) -> Vec<String> {
+    // Renames (`x as y`) name x.
+    let mut words = tree.split_whitespace();
+    let mut tree = String::new();
+    while let Some(w) = words.next() {
+        if w == "as" {
+            let renamed = words.next().unwrap_or("");
+            tree.extend(renamed.chars().filter(|c| matches!(c, ',' | '}')));
+        } else {
+            tree.push_str(w);
+        }
+    }
+    let Some(open) = tree.find('{') else {
+        return vec![tree];
+    };
+    let prefix = &tree[..open];
+    let inner = &tree[open + 1..tree.rfind('}').unwrap_or(tree.len())];
+    let mut parts = Vec::new();
+    let (mut depth, mut start) = (0, 0);
+    for (i, c) in inner.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                parts.push(&inner[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    parts.push(&inner[start..]);
+    parts
+        .into_iter()
+        .filter(|p| !p.is_empty())
+        .flat_map(|p| expand(p).into_iter().map(move |q| format!("{prefix}{q}")))
+        .collect()
+}
+
+/// Every crate-relative path a file names, with its line: the `use`
+/// trees expanded, and inline `crate::…` and `super::…` paths.
+fn paths(text: &str) -> Vec<(usize, String)> {
+    let line_of = |at: usize| text[..at].matches('\n').count() + 1;
+    let mut out = Vec::new();
+    let mut rest = 0;
+    while let Some(k) = text[rest..].find("use ") {
+        let at = rest + k;
+        rest = at + 4;
+        let before = text[..at].chars().last();
+        if before.is_some_and(|c| c.is_alphanumeric() || c == '_') {
+            continue;
+        }
+        let Some(end) = text[at..].find(';') else {
+            break;
+        };
+        let tree = &text[at + 4..at + end];
+        for p in expand(tree) {
+            out.push((line_of(at), p));
+        }
+        rest = at + end;
+    }
+    // Inline paths outside `use` lines.
+    for (i, l) in text.lines().enumerate() {
+        if l.trim_start().starts_with("use ") || l.trim_start().starts_with("pub use ") {
+            continue;
+        }
+        for start in ["crate::", "super::"] {
+            let mut from = 0;
+            while let Some(k) = l[from..].find(start) {
+                let at = from + k;
+                let end = l[at..]
+                    .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+                    .map_or(l.len(), |e| at + e);
+                let before = l[..at].chars().last();
+                if !before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+                    out.push((i + 1, l[at..end].trim_end_matches(':').to_string()));
+                }
+                from = end.max(at + 1);
+            }
+        }
+    }
+    out
+}
+
+/// The module file a path from `from` names: the longest module prefix
+/// of the path that is a file; None for paths outside the crate.
+fn resolve(from: &Module, path: &str, modules: &BTreeSet<Module>) -> Option<Module> {
+    let mut parts: Vec<&str> = path.split("::").filter(|p| !p.is_empty()).collect();
+    let mut base: Module = match parts.first()? {
+        &"crate" => {
+            parts.remove(0);
+            Vec::new()
+        }
+        &"super" | &"self" => from.clone(),
+        _ => return None,
+    };
+    while let Some(&p) = parts.first() {
+        match p {
+            "super" => {
+                base.pop();
+            }
+            "self" => {}
+            _ => break,
+        }
+        parts.remove(0);
+    }
+    let full: Module = base
+        .into_iter()
+        .chain(parts.iter().map(|s| s.to_string()))
+        .collect();
+    (1..=full.len())
+        .rev()
+        .map(|k| full[..k].to_vec())
+        .find(|m| modules.contains(m))
+}
+
+/// Every import between two different module files.
+fn imports(files: &[File]) -> Vec<Import> {
+    let modules: BTreeSet<Module> = files.iter().map(|f| f.module.clone()).collect();
+    let mut out = Vec::new();
+    for f in files {
+        for (line, p) in paths(&code(&f.text)) {
+            if let Some(to) = resolve(&f.module, &p, &modules) {
+                if to != f.module && !to.is_empty() {
+                    out.push(Import {
+                        file: f.path.clone(),
+                        line,
+                        from: f.module.clone(),
+                        to,
+                        written: p,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The layers, lowest first, as docs/design.md writes them: a line
+/// `Layers, lowest first: a | b c | …`.
+fn layers(design: &str) -> BTreeMap<String, usize> {
+    let line = design
+        .lines()
+        .find_map(|l| l.split("Layers, lowest first:").nth(1))
+        .expect("docs/design.md names the layers: `Layers, lowest first: a | b c | …`");
+    line.trim()
+        .trim_matches('`')
+        .split('|')
+        .enumerate()
+        .flat_map(|(k, group)| {
+            group
+                .split_whitespace()
+                .map(move |m| (m.trim_matches('`').to_string(), k))
+        })
+        .collect()
+}
+
+/// Every rule broken, one line each.
+fn violations(files: &[File], layers: &BTreeMap<String, usize>) -> Vec<String> {
+    let all = imports(files);
+    let mut out = Vec::new();
+    for f in files {
+        if let Some(top) = f.module.first() {
+            if !layers.contains_key(top) {
+                out.push(format!(
+                    "{}: module `{top}` is in no layer of docs/design.md",
+                    f.path
+                ));
+            }
+        }
+    }
+    for i in &all {
+        let (a, b) = (&i.from[0], &i.to[0]);
+        if a == b {
+            continue;
+        }
+        if let (Some(&la), Some(&lb)) = (layers.get(a), layers.get(b)) {
+            if lb >= la {
+                out.push(format!(
+                    "{}:{}: `{}`: {a} (layer {la}) imports {b} (layer {lb}), not a lower layer",
+                    i.file, i.line, i.written
+                ));
+            }
+        }
+    }
+    let mut seen = BTreeSet::new();
+    for i in &all {
+        if let Some(back) = all.iter().find(|j| j.from == i.to && j.to == i.from) {
+            let key = if i.from < i.to {
+                (i.from.clone(), i.to.clone())
+            } else {
+                (i.to.clone(), i.from.clone())
+            };
+            if seen.insert(key) {
+                out.push(format!(
+                    "{}:{} and {}:{}: the two files import each other (`{}`, `{}`)",
+                    i.file, i.line, back.file, back.line, i.written, back.written
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Every `.rs` file under `src/` but the binary's `main.rs` and test
+/// files.
+fn source_files() -> Vec<File> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut stack = vec![root.clone()];
+    let mut out = Vec::new();
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p: PathBuf = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+                continue;
+            }
+            let rel = p.strip_prefix(&root).unwrap();
+            let name = rel.to_string_lossy().replace('\\', "/");
+            if p.extension().is_none_or(|x| x != "rs") || name == "main.rs" || is_test_file(&name) {
+                continue;
+            }
+            out.push(File {
+                path: format!("src/{name}"),
+                module: module_of(rel),
+                text: std::fs::read_to_string(&p).unwrap(),
+            });
+        }
+    }
+    out.sort_by(|a, b| a.path.cmp(&b.path));
+    out
+}
+
+fn design() -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/design.md")).unwrap()
+}
+
+#[test]
+fn every_module_imports_only_lower_layers_and_no_two_files_import_each_other() {
+    let files = source_files();
+    assert!(files.len() > 100, "the sources are found");
+    let found = violations(&files, &layers(&design()));
+    assert!(
+        found.is_empty(),
+        "{} violations:\n{}",
+        found.len(),
+        found.join("\n")
+    );
+}
+
+fn file(path: &str, text: &str) -> File {
+    File {
+        path: path.into(),
+        module: module_of(Path::new(path.trim_start_matches("src/"))),
+        text: text.into(),
+    }
+}
+
+/// A planted back-import and a planted pair of files importing each
+/// other are found, named by file and line.
+#[test]
+fn planted_violations_are_found() {
+    let layers = layers("Layers, lowest first: `source | lsys | film`");
+    let files = vec![
+        file("src/source.rs", "pub struct S;\n"),
+        file(
+            "src/lsys/mod.rs",
+            "pub mod a;\npub mod b;\n\nuse crate::film::Film;\n",
+        ),
+        file("src/lsys/a.rs", "use super::{b::B, c};\npub struct A;\n"),
+        file(
+            "src/lsys/b.rs",
+            "use super::a::A;\npub struct B;\n#[cfg(test)]\nmod tests { use crate::film::X; }\n",
+        ),
+        file(
+            "src/film/mod.rs",
+            "use crate::{lsys::a::A, source::S};\n// use crate::film::nothing;\npub struct Film;\n",
+        ),
+    ];
+    let found = violations(&files, &layers);
+    assert_eq!(found.len(), 2, "{found:#?}");
+    assert!(
+        found[0].starts_with(
+            "src/lsys/mod.rs:4: `crate::film::Film`: lsys (layer 1) imports film (layer 2)"
+        ),
+        "{}",
+        found[0]
+    );
+    assert!(
+        found[1]
+            .starts_with("src/lsys/a.rs:1 and src/lsys/b.rs:1: the two files import each other"),
+        "{}",
+        found[1]
+    );
+    // The same tree without the plants keeps the rules.
+    let clean: Vec<File> = files
+        .into_iter()
+        .map(|mut f| {
+            f.text = f
+                .text
+                .replace("use crate::film::Film;", "")
+                .replace("b::B, ", "");
+            f
+        })
+        .collect();
+    assert!(violations(&clean, &layers).is_empty());
+}
+
+#[test]
+fn use_trees_expand() {
+    assert_eq!(
+        expand("super::{a, b::{c, d as e}}"),
+        ["super::a", "super::b::c", "super::b::d"]
+    );
+}
