@@ -2,7 +2,7 @@
 //! where the feature it declares belongs to a later layer.
 
 use super::automata::{parse_actor_automata, ActorAutomata, Located, Span};
-use super::parse::SECTIONS;
+use super::scan::SECTIONS;
 use super::scan::{suggestion, Scanner};
 use crate::source::{Diagnostic, FileRef};
 

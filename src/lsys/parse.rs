@@ -8,19 +8,8 @@ use super::definition::{
 use super::expr::{Code, Compiler, Expr, Op};
 use super::functions::{constant_arity, Constants, Spline};
 use super::options::{parse_option, unknown_option};
-use super::scan::{suggestion, Group, Scanner};
+use super::scan::{suggestion, Group, Scanner, SECTIONS};
 use crate::source::{Diagnostic, FileRef, Source};
-
-pub(super) const SECTIONS: [&str; 8] = [
-    "Camera_AnimationParameters",
-    "RepetitionParameters",
-    "Options",
-    "Splines",
-    "Constants",
-    "Surfaces",
-    "Axiom",
-    "Productions",
-];
 
 /// Largest window coordinate of `pref_pos_x1_x2_y1_y2`: far beyond any
 /// screen, and differences of two stay far inside `i64`.

@@ -319,6 +319,18 @@ fn number_shaped(w: &str) -> Option<f64> {
     w.parse::<f64>().ok()
 }
 
+/// The section keywords of a definition file, in the order they come.
+pub const SECTIONS: [&str; 8] = [
+    "Camera_AnimationParameters",
+    "RepetitionParameters",
+    "Options",
+    "Splines",
+    "Constants",
+    "Surfaces",
+    "Axiom",
+    "Productions",
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,7 +6,6 @@ use std::collections::BTreeMap;
 use glam::{Affine3A, DVec3, Vec3};
 
 use super::polygon::{newell, triangulate, PolygonStack};
-use super::special;
 use super::state::{bend, Turtle};
 use super::{ActorMapping, BodyPart, Builder, ParticleMapping, SoundRequest, TurtleWorld};
 use crate::lsys::step::ActorScope;
@@ -675,7 +674,7 @@ impl Interpreter<'_> {
                 let g = self.growth(&s);
                 self.polygon(&s, &poly, [x, y, z], g[0]);
             }
-            b'D' => special::d_symbol(self, &s),
+            b'D' => self.d_symbol(&s),
             b'T' => self.sound(&s, x),
             // C.6: script par1; par2 = 0 only for the interactive window,
             // so a film runs it only when par2 ≠ 0.

@@ -28,7 +28,14 @@ pub mod court {
     pub const NET_LENGTH: f64 = DOUBLES_WIDTH + 2.0 * 0.914;
 }
 
-pub(super) fn d_symbol(it: &mut Interpreter, s: &Symbol) {
+impl Interpreter<'_> {
+    /// `D` (C.5): the special objects of the thesis's worlds.
+    pub(super) fn d_symbol(&mut self, s: &Symbol) {
+        d_symbol(self, s);
+    }
+}
+
+fn d_symbol(it: &mut Interpreter, s: &Symbol) {
     let [x, y, _] = s.par;
     let g = it.growth_of(s);
     let pos = it.turtle().pos;
