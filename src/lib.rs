@@ -16,6 +16,7 @@ pub mod commands;
 pub mod film;
 pub mod lsys;
 pub mod physics;
+pub mod production;
 pub mod render;
 
 pub mod actors;

@@ -12,8 +12,8 @@ use lmfilm::commands::args::{
 use lmfilm::commands::film::FilmArgs;
 use lmfilm::commands::sound::SoundInput;
 use lmfilm::commands::{self, trace::trace};
-use lmfilm::film::frames::{FrameRange, Shard};
 use lmfilm::lsys::Limits;
+use lmfilm::production::frames::{FrameRange, Shard};
 use lmfilm::render::accel::tri4::{Simd, SIMD_VAR};
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.

@@ -5,10 +5,10 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use crate::film::frames::FrameRange;
-use crate::film::job::Formats;
-use crate::film::settings::{RenderRequest, SoundRequest};
 use crate::lsys::Limits;
+use crate::production::frames::FrameRange;
+use crate::production::settings::Formats;
+use crate::production::settings::{RenderRequest, SoundRequest};
 use crate::render::{Filter, Preset};
 use crate::sound::{self, Attenuation, SampleFormat};
 

@@ -7,6 +7,8 @@
 //! redoes only what is missing or invalid. `lmfilm farm status` reads
 //! the chain back from Slurm and counts the frames done.
 
+use crate::film::names;
+use crate::production::record;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -16,11 +18,10 @@ use clap::Args;
 use super::args::{RenderArgs, SceneArgs, SoundArgs};
 use super::{film, scenes};
 use crate::error::{Error, Result};
-use crate::film::job;
-use crate::film::manifest::MANIFEST_FILE;
-use crate::film::record::frame_record_path;
-use crate::film::settings;
+use crate::film::names::frame_record_path;
+use crate::film::names::MANIFEST_FILE;
 use crate::lsys::Limits;
+use crate::production::settings;
 
 /// The chain's folder inside the film folder, and its logs.
 use crate::film::names::FARM_DIR;
@@ -327,7 +328,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<()> {
         choice.height,
         choice.spp,
         choice.preset.name(),
-        dir.join(settings::SETTINGS_FILE).display()
+        dir.join(names::SETTINGS_FILE).display()
     );
     if args.dry_run {
         for (path, text) in scripts
@@ -412,7 +413,7 @@ const FAILED: [&str; 6] = [
 /// accounts for them (`sacct`), and each failed job with its log.
 pub fn status(dir: &Path) -> Result<()> {
     let ids = jobs(dir)?;
-    let rec = job::open(dir).ok();
+    let rec = record::open(dir).ok();
     let mut all_done = false;
     match &rec {
         None => println!("frames: not derived yet (the derive job writes them)"),
@@ -477,7 +478,7 @@ pub fn status(dir: &Path) -> Result<()> {
     }
     // The finishing job writes the soundtrack, then the manifest.
     let finished =
-        all_done && dir.join(job::SOUNDTRACK_FILE).is_file() && dir.join(MANIFEST_FILE).is_file();
+        all_done && dir.join(names::SOUNDTRACK_FILE).is_file() && dir.join(MANIFEST_FILE).is_file();
     println!(
         "film: {}",
         if finished {

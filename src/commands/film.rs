@@ -1,5 +1,5 @@
 //! The film commands of DESIGN §5: run, derive, render, mux, verify and
-//! `sound DIR`, over the stages of [`crate::film::job`].
+//! `sound DIR`, over the stages of [`crate::production::stages`].
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -8,13 +8,13 @@ use super::args::{RenderArgs, SceneArgs, SoundArgs, WorkArgs};
 use super::scenes::{self, Loaded};
 use super::Progress;
 use crate::error::{Error, Result};
-use crate::film::actor_images::ACTORS_DIR;
-use crate::film::frames::{FrameRange, FrameSelection, Shard, FRAMES_DIR};
-use crate::film::job::{self, EVENTS_FILE, SOUNDTRACK_FILE};
-use crate::film::record::DERIVE_RECORD;
-use crate::film::settings::{self, Defaults, RenderChoice, RenderRequest, SoundRequest};
-use crate::film::{assemble, manifest, mux, verify};
+use crate::film::names::{
+    self, ACTORS_DIR, DERIVE_RECORD, EVENTS_FILE, FRAMES_DIR, SOUNDTRACK_FILE,
+};
 use crate::lsys::Limits;
+use crate::production::frames::{FrameRange, FrameSelection, Shard};
+use crate::production::settings::{self, Defaults, RenderChoice, RenderRequest, SoundRequest};
+use crate::production::{assemble, mux, record, stages, verify};
 use crate::sound;
 use crate::turtle::Options;
 
@@ -36,9 +36,9 @@ fn derive_options(allow_commands: bool) -> BTreeMap<String, String> {
 /// and writes the manifest; returns whether it derived.
 fn derive_into(loaded: &mut Loaded, dir: &Path, clean: bool, allow: bool) -> Result<bool> {
     let Loaded { film, texts, name } = loaded;
-    let inputs = job::inputs(film, texts, name, derive_options(allow))?;
+    let inputs = stages::inputs(film, texts, name, derive_options(allow))?;
     let mut p = Progress::new("deriving frame");
-    let (_, derived) = job::derive(film, inputs, dir, clean, &mut |k, n| p.tick(k, n))?;
+    let (_, derived) = stages::derive(film, inputs, dir, clean, &mut |k, n| p.tick(k, n))?;
     p.done();
     assemble::finish(dir)?;
     Ok(derived)
@@ -79,7 +79,7 @@ pub(crate) fn resolve_render(
                     "{}: the options change the film's settings ({}; recorded in {}): rendering {part} alone would leave frames of two settings in one folder. Render every frame with them (no --frames, no --shard), or give no render option to keep the film's",
                     dir.display(),
                     changed.join(", "),
-                    settings::SETTINGS_FILE
+                    names::SETTINGS_FILE
                 )));
             }
             eprintln!(
@@ -118,7 +118,7 @@ fn render_into(
     shard: Shard,
     max_pixels: u64,
 ) -> Result<(u64, u64)> {
-    let rec = job::open(dir)?;
+    let rec = record::open(dir)?;
     let selection = match frames {
         Some(range) => FrameSelection::range(range),
         None => FrameSelection::from_text(&rec.selection).map_err(|e| {
@@ -130,7 +130,7 @@ fn render_into(
     };
     let frames = selection.frames(rec.frame_count, shard);
     let mut p = Progress::new("rendering frame");
-    let n = job::render_frames(dir, &frames, choice, max_pixels, &mut |k, n| p.tick(k, n))?;
+    let n = stages::render_frames(dir, &frames, choice, max_pixels, &mut |k, n| p.tick(k, n))?;
     p.done();
     Ok((n, frames.len() as u64))
 }
@@ -148,7 +148,7 @@ fn partial(frames: Option<FrameRange>, shard: Option<Shard>) -> Option<String> {
 /// vision and M memory images in DIR/actors/` and the trajectories `I`
 /// wrote, one line each (none without any).
 fn actor_summary(dir: &Path) -> Result<Vec<String>> {
-    let rec = job::open(dir)?;
+    let rec = record::open(dir)?;
     let count = |what: &str| {
         rec.actors
             .keys()
@@ -233,9 +233,9 @@ pub fn run(
     let (rendered, selected) =
         render_into(&dir, &choice, work.frames, Shard::all(), film.limits.pixels)?;
     let sounded = soundtrack(&dir, &sound_settings)?;
-    let complete = job::all_rendered(&dir)?;
+    let complete = stages::all_rendered(&dir)?;
     let mp4 = if complete && mux::ffmpeg_available() {
-        Some(job::mux(&dir)?)
+        Some(stages::mux(&dir)?)
     } else {
         None
     };
@@ -248,7 +248,7 @@ pub fn run(
         now(derived),
         dir.join(SOUNDTRACK_FILE).display(),
         now(sounded),
-        dir.join(manifest::MANIFEST_FILE).display()
+        dir.join(names::MANIFEST_FILE).display()
     );
     println!("settings: {}", describe(&choice));
     for line in actor_summary(&dir)? {
@@ -271,13 +271,13 @@ pub fn run(
 pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
     let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
     let derived = derive_into(&mut loaded, out, film.clean, film.allow_commands)?;
-    let rec = job::open(out)?;
+    let rec = record::open(out)?;
     println!(
         "{}: {} frames {} (scene/NNNN.snap, {EVENTS_FILE}, {DERIVE_RECORD}, {})",
         out.display(),
         rec.frame_count,
         if derived { "derived" } else { "up to date" },
-        manifest::MANIFEST_FILE
+        names::MANIFEST_FILE
     );
     for line in actor_summary(out)? {
         println!("{line}");
@@ -297,7 +297,7 @@ fn describe(c: &RenderChoice) -> String {
         c.max_depth,
         c.filter.name(),
         c.formats.name(),
-        settings::SETTINGS_FILE
+        names::SETTINGS_FILE
     )
 }
 
@@ -317,8 +317,8 @@ pub fn render(
     if let (Some(w), Some(h)) = (request.width, request.height) {
         Limits::check_pixels(w, h, max_pixels).map_err(Error::input)?;
     }
-    let camera = job::camera_size(dir)?;
-    let first = dir.join(crate::film::frames::snapshot_path(0));
+    let camera = stages::camera_size(dir)?;
+    let first = dir.join(crate::film::names::snapshot_path(0));
     let choice = resolve_render(
         dir,
         &request,
@@ -359,7 +359,7 @@ pub fn render(
 
 /// `lmfilm mux DIR`.
 pub fn mux(dir: &Path) -> Result<()> {
-    let (mp4, made) = job::mux(dir)?;
+    let (mp4, made) = stages::mux(dir)?;
     assemble::finish(dir)?;
     println!(
         "{}{}",
@@ -395,7 +395,7 @@ pub fn verify(dir: &Path) -> Result<()> {
 /// The folder's soundtrack (unless up to date), saying what loudness
 /// normalisation did.
 fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool> {
-    let report = job::soundtrack(dir, settings)?;
+    let report = stages::soundtrack(dir, settings)?;
     if let Some(n) = report.as_ref().and_then(|r| r.loudness.as_ref()) {
         eprintln!("{}: {}", dir.join(SOUNDTRACK_FILE).display(), n.summary());
         if let Some(w) = n.warning() {
@@ -409,7 +409,7 @@ fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool> {
 /// recorded settings and the options given over them, then the manifest
 /// (the stage that finishes a film rendered in shards).
 pub fn sound_dir(dir: &Path, request: &SoundRequest) -> Result<()> {
-    job::open(dir)?;
+    record::open(dir)?;
     let settings = resolve_sound(dir, request)?;
     let made = soundtrack(dir, &settings)?;
     assemble::finish(dir)?;
@@ -417,7 +417,7 @@ pub fn sound_dir(dir: &Path, request: &SoundRequest) -> Result<()> {
         "{}{}, {}",
         dir.join(SOUNDTRACK_FILE).display(),
         if made { "" } else { " (up to date)" },
-        dir.join(manifest::MANIFEST_FILE).display()
+        dir.join(names::MANIFEST_FILE).display()
     );
     Ok(())
 }

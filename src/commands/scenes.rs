@@ -4,9 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::film::job::SceneText;
 use crate::film::Film;
 use crate::lsys::{Limits, Source};
+use crate::production::stages::SceneText;
 use crate::turtle::Options;
 
 /// The built-in film (`lmfilm run` with no scene): the first 14 s of the

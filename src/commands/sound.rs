@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use super::args::SoundArgs;
 use super::{film, scenes, Percent, Progress};
 use crate::error::{Error, Result};
-use crate::film::job;
-use crate::film::record::DERIVE_RECORD;
+use crate::film::names::DERIVE_RECORD;
 use crate::lsys::Limits;
+use crate::production::stages;
 use crate::sound;
 use crate::turtle::Options;
 
@@ -45,9 +45,9 @@ fn scene_events(
     };
     let mut film = scenes::load_film(&scenes, allow_commands, opts)?;
     let mut progress = Progress::new("deriving frame");
-    job::every_frame(&mut film, &mut |k, n| progress.tick(k, n), |_, _| Ok(()))?;
+    stages::every_frame(&mut film, &mut |k, n| progress.tick(k, n), |_, _| Ok(()))?;
     progress.done();
-    job::write_events(&film, &events)?;
+    stages::write_events(&film, &events)?;
     Ok((events, wav))
 }
 

@@ -4,9 +4,9 @@ use std::path::PathBuf;
 
 use super::{print_line, scenes};
 use crate::error::Result;
-use crate::film::frames::FrameRange;
 use crate::film::trace::Record;
 use crate::lsys::Limits;
+use crate::production::frames::FrameRange;
 
 /// `lmfilm trace`: the frames of `frames` (default all), each derived
 /// through the frame loop like every other command's.

@@ -1,6 +1,9 @@
-//! The film driver (DESIGN §1, §5): the frame loop that ties the
-//! L-systems, the turtle, the renderer and the sound log together, frame
-//! ranges and shards, the manifest, resume and mux.
+//! The film's simulation (DESIGN §1): the frame loop that ties the
+//! L-systems, the turtle, the physics, the actors and the sound log
+//! together (`Film`, `Frame`, the lower layers' window), the data it
+//! imports and exports (channels, trajectories), what `trace` lists, and
+//! the names of a film folder. The production pipeline that turns it
+//! into a film folder is [`crate::production`].
 
 pub mod frame;
 mod window;
@@ -8,16 +11,7 @@ pub mod world;
 pub use frame::Frame;
 pub use world::Film;
 
-pub mod actor_images;
-pub mod assemble;
 pub mod channels;
-pub mod frames;
-pub mod job;
-pub mod manifest;
-pub mod mux;
 pub mod names;
-pub mod record;
-pub mod settings;
 pub mod trace;
 pub mod tracks;
-pub mod verify;

@@ -1,12 +1,92 @@
-//! The one registry of the names lmfilm writes in a film folder, so that
-//! a name a scene chooses (`trace_actor`) never lands on one of them.
+//! The names lmfilm writes in a film folder (DESIGN §5), in one place:
+//! the folders and files of every stage, the numbered paths of the
+//! frames and snapshots, and the registry that keeps a name a scene
+//! chooses (`trace_actor`) off them.
 
-use super::actor_images::ACTORS_DIR;
-use super::frames::{FRAMES_DIR, SCENE_DIR};
-use super::job::{EVENTS_FILE, SOUNDTRACK_FILE};
-use super::manifest::MANIFEST_FILE;
-use super::record::{DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD};
-use super::settings::SETTINGS_FILE;
+use std::path::{Path, PathBuf};
+
+/// Folder of the rendered images, inside the output folder.
+pub const FRAMES_DIR: &str = "frames";
+
+/// Folder of the scene snapshots, inside the output folder.
+pub const SCENE_DIR: &str = "scene";
+
+/// A frame number as it appears in file names: zero-padded to 4 digits,
+/// more digits from frame 10000 on.
+pub fn frame_number(frame: u64) -> String {
+    format!("{frame:04}")
+}
+
+/// `frames/<name>.NNNN.<ext>`, relative to the output folder.
+pub fn frame_path(name: &str, frame: u64, ext: &str) -> PathBuf {
+    PathBuf::from(FRAMES_DIR).join(format!("{name}.{}.{ext}", frame_number(frame)))
+}
+
+/// `scene/NNNN.snap`, relative to the output folder.
+pub fn snapshot_path(frame: u64) -> PathBuf {
+    PathBuf::from(SCENE_DIR).join(format!("{}.snap", frame_number(frame)))
+}
+
+/// The printf-style pattern of the frame files for ffmpeg,
+/// `frames/<name>.%04d.<ext>`; a `%` in the name is escaped as `%%`.
+pub fn frame_pattern(name: &str, ext: &str) -> String {
+    format!("{FRAMES_DIR}/{}.%04d.{ext}", name.replace('%', "%%"))
+}
+
+/// The derivation's record, at the folder's root.
+pub const DERIVE_RECORD: &str = "derive.json";
+
+/// The soundtrack's record, at the folder's root.
+pub const SOUND_RECORD: &str = "soundtrack.json";
+
+/// The folder of the scene's own sound files, inside the output folder.
+pub const SOUNDS_DIR: &str = "sounds";
+
+/// `frames/<name>.NNNN.json`, relative to the output folder.
+pub fn frame_record_path(name: &str, frame: u64) -> PathBuf {
+    frame_path(name, frame, "json")
+}
+
+/// `<name>.mp4` and `<name>.mp4.json`, relative to the output folder.
+pub fn mp4_paths(name: &str) -> (PathBuf, PathBuf) {
+    (
+        PathBuf::from(format!("{name}.mp4")),
+        PathBuf::from(format!("{name}.mp4.json")),
+    )
+}
+
+/// The names a frame of any film may have in `frames/`: `(name, frame,
+/// extension)` when `file` looks like `<name>.NNNN.<ext>`.
+pub fn parse_frame_file(file: &str) -> Option<(&str, u64, &str)> {
+    let (rest, ext) = file.rsplit_once('.')?;
+    let (name, number) = rest.rsplit_once('.')?;
+    if number.len() < 4 || !number.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    Some((name, number.parse().ok()?, ext))
+}
+
+/// The log and soundtrack names inside the folder.
+pub const EVENTS_FILE: &str = "soundtrack.events";
+
+pub const SOUNDTRACK_FILE: &str = "soundtrack.wav";
+
+/// `rel` as the records and the manifest key it: `/` separators.
+pub fn key(rel: &Path) -> String {
+    rel.iter()
+        .map(|c| c.to_string_lossy())
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
+/// The manifest's file name inside the output folder.
+pub const MANIFEST_FILE: &str = "manifest.json";
+
+/// Folder of the actors' images, inside the output folder.
+pub const ACTORS_DIR: &str = "actors";
+
+/// The folder's settings record.
+pub const SETTINGS_FILE: &str = "settings.json";
 
 /// The farm's scripts and logs (`lmfilm farm`), under the film folder.
 pub const FARM_DIR: &str = "farm";
@@ -39,6 +119,17 @@ pub fn is_own(first: &str, name: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn frame_files_parse_back() {
+        assert_eq!(
+            parse_frame_file("my.film.0012.png"),
+            Some(("my.film", 12, "png"))
+        );
+        assert_eq!(parse_frame_file("a.12345.json"), Some(("a", 12345, "json")));
+        assert_eq!(parse_frame_file("a.12.png"), None);
+        assert_eq!(parse_frame_file("notes.txt"), None);
+    }
 
     #[test]
     fn every_output_is_in_the_registry() {

@@ -23,7 +23,7 @@ use crate::actors::behaviour::{Deed, Script, Senses};
 use crate::actors::live::{self, Living};
 
 use super::frame::Frame;
-use super::frames::rs_switch;
+
 use super::tracks::Tracks;
 use super::window::{Scripts, Window};
 
@@ -299,7 +299,7 @@ impl Film {
 
     /// The first file's `rs_switch` frame intervals, if any.
     pub fn rs_switch(&self) -> Option<&[i64]> {
-        rs_switch(&self.anim.systems[0].def.options)
+        crate::lsys::options::rs_switch(&self.anim.systems[0].def.options)
     }
 
     /// Frames in the film: t_final / Δt + 1.

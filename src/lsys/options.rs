@@ -321,6 +321,15 @@ pub fn unknown_option(s: &Scanner, at: usize, w: &str) -> Diagnostic {
     )
 }
 
+/// The scene's `rs_switch` values, if it has one (the last one wins, as a
+/// later line of the Options section overrides an earlier one).
+pub fn rs_switch(options: &[OptionItem]) -> Option<&[i64]> {
+    options.iter().rev().find_map(|o| match o {
+        OptionItem::RsSwitch(values) => Some(values.as_slice()),
+        _ => None,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -72,7 +72,7 @@ fn any_thread_count_and_any_shard_split_give_the_same_film() {
     ok(&["render", s(&split), "--shard", "2/2"]);
     ok(&["render", s(&split), "--shard", "1/2"]);
     ok(&["sound", s(&split)]);
-    if lmfilm::film::mux::ffmpeg_available() {
+    if lmfilm::production::mux::ffmpeg_available() {
         ok(&["mux", s(&split)]);
     }
     assert_eq!(manifest(&one), manifest(&split));
@@ -86,7 +86,7 @@ fn any_thread_count_and_any_shard_split_give_the_same_film() {
     assert_eq!(wav.duration(), 26 * 1920);
     ok(&["verify", s(&one)]);
     // With ffmpeg installed, run ends with the MP4.
-    if lmfilm::film::mux::ffmpeg_available() {
+    if lmfilm::production::mux::ffmpeg_available() {
         assert!(one.join("flight.mp4").exists());
     }
     std::fs::remove_dir_all(&root).unwrap();

@@ -291,7 +291,7 @@ fn concurrent_shards_on_two_hosts_give_the_run_manifest() {
     let m = std::fs::read_to_string(split.join("manifest.json")).unwrap();
     assert!(!m.contains("frames/"), "{m}");
     ok(&["sound", s(&split)]);
-    if lmfilm::film::mux::ffmpeg_available() {
+    if lmfilm::production::mux::ffmpeg_available() {
         ok(&["mux", s(&split)]);
     }
     assert_eq!(
@@ -419,7 +419,7 @@ fn a_bare_scene_name_finds_its_scripts() {
 /// frame changes, and a damaged MP4 is named by verify.
 #[test]
 fn the_mp4_is_made_from_its_frames_and_soundtrack() {
-    if !lmfilm::film::mux::ffmpeg_available() {
+    if !lmfilm::production::mux::ffmpeg_available() {
         eprintln!("ffmpeg is not installed: skipped");
         return;
     }

@@ -6,14 +6,16 @@ use crate::common;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use lmfilm::film::frames::{
-    frame_number, frame_path, frame_pattern, rs_switch, snapshot_path, FrameRange, FrameSelection,
-    RangeError, Shard, ShardError,
-};
-use lmfilm::film::manifest::{sha256_bytes, sha256_file, Error, Manifest, MANIFEST_FILE};
-use lmfilm::film::mux::{ffmpeg_available, mux, FrameRate, MuxError};
-use lmfilm::film::verify::verify;
+use lmfilm::film::names::{frame_number, frame_path, frame_pattern, snapshot_path};
+use lmfilm::lsys::options::rs_switch;
+
+use lmfilm::film::names::MANIFEST_FILE;
 use lmfilm::lsys::options::OptionItem;
+use lmfilm::production::digest::{sha256_bytes, sha256_file};
+use lmfilm::production::frames::{FrameRange, FrameSelection, RangeError, Shard, ShardError};
+use lmfilm::production::manifest::{Error, Manifest};
+use lmfilm::production::mux::{ffmpeg_available, mux, FrameRate, MuxError};
+use lmfilm::production::verify::verify;
 
 fn temp_dir(name: &str) -> PathBuf {
     common::fresh_dir("film-support", name)

@@ -286,7 +286,7 @@ fn manifest_json() -> Vec<u8> {
 
 fn derive_json() -> Vec<u8> {
     let inputs = r#"{"files": [], "lmfilm_version": "0.1.0", "name": "film", "options": {}, "scenes": [{"file": "film.lm", "sha256": "00"}]}"#;
-    let parsed: lmfilm::film::record::Inputs = serde_json::from_str(inputs).unwrap();
+    let parsed: lmfilm::production::record::Inputs = serde_json::from_str(inputs).unwrap();
     format!(
         r#"{{"dt": 0.04, "events": "00", "frame_count": 2, "inputs": {inputs}, "key": "{}",
         "selection": ["0..", "3..=4"], "snapshots": ["00", "11"], "sounds": {{"sounds/a.wav": "22"}}}}"#,
@@ -338,7 +338,7 @@ fn readers() -> Vec<Target> {
             "manifest",
             |b: &[u8]| {
                 let text = String::from_utf8_lossy(b);
-                lmfilm::film::manifest::Manifest::parse(&text).is_ok()
+                lmfilm::production::manifest::Manifest::parse(&text).is_ok()
             },
             vec![manifest_json()],
             mutate,
@@ -366,7 +366,7 @@ fn readers() -> Vec<Target> {
         target(
             "derive record",
             |b: &[u8]| {
-                serde_json::from_slice::<lmfilm::film::record::DeriveRecord>(b)
+                serde_json::from_slice::<lmfilm::production::record::DeriveRecord>(b)
                     .is_ok_and(|r| r.validate().is_ok())
             },
             vec![derive_json()],

@@ -5,8 +5,8 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(text) = std::str::from_utf8(data) {
-        let _ = lmfilm::film::manifest::Manifest::parse(text);
-        if let Ok(r) = serde_json::from_str::<lmfilm::film::record::DeriveRecord>(text) {
+        let _ = lmfilm::production::manifest::Manifest::parse(text);
+        if let Ok(r) = serde_json::from_str::<lmfilm::production::record::DeriveRecord>(text) {
             let _ = r.validate();
         }
     }

@@ -7,15 +7,7 @@
 
 use std::fmt;
 use std::ops::Range;
-use std::path::PathBuf;
 use std::str::FromStr;
-
-use crate::lsys::options::OptionItem;
-
-/// Folder of the rendered images, inside the output folder.
-pub const FRAMES_DIR: &str = "frames";
-/// Folder of the scene snapshots, inside the output folder.
-pub const SCENE_DIR: &str = "scene";
 
 /// The forms `--frames` accepts, quoted by every range error.
 const RANGE_FORMS: &str = "write `A..B` (frames A to B-1), `A..=B` (A to B inclusive), \
@@ -321,35 +313,4 @@ impl FrameSelection {
         frames.dedup();
         frames
     }
-}
-
-/// The scene's `rs_switch` values, if it has one (the last one wins, as a
-/// later line of the Options section overrides an earlier one).
-pub fn rs_switch(options: &[OptionItem]) -> Option<&[i64]> {
-    options.iter().rev().find_map(|o| match o {
-        OptionItem::RsSwitch(values) => Some(values.as_slice()),
-        _ => None,
-    })
-}
-
-/// A frame number as it appears in file names: zero-padded to 4 digits,
-/// more digits from frame 10000 on.
-pub fn frame_number(frame: u64) -> String {
-    format!("{frame:04}")
-}
-
-/// `frames/<name>.NNNN.<ext>`, relative to the output folder.
-pub fn frame_path(name: &str, frame: u64, ext: &str) -> PathBuf {
-    PathBuf::from(FRAMES_DIR).join(format!("{name}.{}.{ext}", frame_number(frame)))
-}
-
-/// `scene/NNNN.snap`, relative to the output folder.
-pub fn snapshot_path(frame: u64) -> PathBuf {
-    PathBuf::from(SCENE_DIR).join(format!("{}.snap", frame_number(frame)))
-}
-
-/// The printf-style pattern of the frame files for ffmpeg,
-/// `frames/<name>.%04d.<ext>`; a `%` in the name is escaped as `%%`.
-pub fn frame_pattern(name: &str, ext: &str) -> String {
-    format!("{FRAMES_DIR}/{}.%04d.{ext}", name.replace('%', "%%"))
 }

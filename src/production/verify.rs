@@ -10,10 +10,12 @@ use std::io;
 use std::path::Path;
 
 use super::assemble;
+use super::digest::sha256_file;
 use super::frames::FrameSelection;
-use super::job::{self, EVENTS_FILE, SOUNDTRACK_FILE};
-use super::manifest::{self, sha256_file, Manifest};
-use super::record::{self, frame_record_path, mp4_paths, DeriveRecord, SOUND_RECORD};
+use super::manifest::{self, Manifest};
+use super::record::{self, DeriveRecord};
+use crate::film::names::{self, EVENTS_FILE, SOUNDTRACK_FILE};
+use crate::film::names::{frame_record_path, mp4_paths, SOUND_RECORD};
 
 /// One thing wrong with a folder.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -50,7 +52,7 @@ impl Problem {
             | Problem::Extra { file }
             | Problem::Stale { file, .. } => file,
             Problem::NotRendered { .. } => "frames",
-            Problem::Manifest { .. } => manifest::MANIFEST_FILE,
+            Problem::Manifest { .. } => names::MANIFEST_FILE,
             Problem::Records { .. } => "",
         }
     }
@@ -77,7 +79,7 @@ impl fmt::Display for Problem {
                 write!(f, "frames {frames}: not rendered (incomplete film)")
             }
             Problem::Stale { file, why } => write!(f, "{file}: {why}"),
-            Problem::Manifest { what } => write!(f, "{}: {what}", manifest::MANIFEST_FILE),
+            Problem::Manifest { what } => write!(f, "{}: {what}", names::MANIFEST_FILE),
             Problem::Records { what } => f.write_str(what),
         }
     }
@@ -107,7 +109,7 @@ pub fn verify(dir: &Path) -> Result<Report, manifest::Error> {
     match assemble::assemble(dir) {
         Ok(assembled) => {
             problems.extend(differences(&stored, &assembled));
-            let rec = job::open(dir).ok();
+            let rec = record::open(dir).ok();
             if let Some(rec) = &rec {
                 problems.extend(chain(dir, rec, &assembled));
             }
@@ -186,7 +188,7 @@ fn chain(dir: &Path, rec: &DeriveRecord, assembled: &Manifest) -> Vec<Problem> {
     let mut missing = Vec::new();
     for k in selection.frames(rec.frame_count, super::frames::Shard::all()) {
         let rel = frame_record_path(name, k);
-        let key = job::key(&rel);
+        let key = names::key(&rel);
         if assembled.files.contains_key(&key) {
             continue;
         }
@@ -216,7 +218,7 @@ fn chain(dir: &Path, rec: &DeriveRecord, assembled: &Manifest) -> Vec<Problem> {
         });
     }
     let (mp4, mp4_record) = mp4_paths(name);
-    let mp4_key = job::key(&mp4);
+    let mp4_key = names::key(&mp4);
     if dir.join(&mp4).exists() && !assembled.files.contains_key(&mp4_key) {
         let why = if dir.join(&mp4_record).exists() {
             "made from other frames or another soundtrack: `lmfilm mux DIR` makes it again"

@@ -9,19 +9,43 @@
 //! fills the rest. A resolved setting never holds a zero meaning
 //! "default".
 
+use crate::film::names::SETTINGS_FILE;
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::job::Formats;
 use super::record;
 use crate::error::Error;
 use crate::render::{Filter, Preset, Settings};
 use crate::sound;
 
-/// The folder's settings record.
-pub const SETTINGS_FILE: &str = "settings.json";
+/// Image formats a render writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Formats {
+    Png,
+    Exr,
+    Both,
+}
+
+impl Formats {
+    pub fn extensions(self) -> &'static [&'static str] {
+        match self {
+            Formats::Png => &["png"],
+            Formats::Exr => &["exr"],
+            Formats::Both => &["exr", "png"],
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Formats::Png => "png",
+            Formats::Exr => "exr",
+            Formats::Both => "both",
+        }
+    }
+}
 
 /// Render settings, every one resolved.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -5,23 +5,22 @@
 //! into the rendered frames (`--inset N`), taken from those files only,
 //! so a render on another machine needs nothing but the folder.
 
+use crate::film::names::ACTORS_DIR;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::frames::frame_number;
-use super::job::key;
-use super::manifest::{sha256_bytes, sha256_file};
-use super::record::{DeriveRecord, FileHash, DERIVE_RECORD};
+use super::digest::{sha256_bytes, sha256_file};
+use super::record::{DeriveRecord, FileHash};
 use crate::actors::display;
 use crate::actors::live::Living;
 use crate::atomic::write_atomic;
 use crate::error::Error;
+use crate::film::names::frame_number;
+use crate::film::names::key;
+use crate::film::names::DERIVE_RECORD;
 use crate::render::output::{self, linear8, Image};
-
-/// Folder of the actors' images, inside the output folder.
-pub const ACTORS_DIR: &str = "actors";
 
 /// `actors/N/vision.NNNN.png`, relative to the output folder.
 pub fn vision_path(actor: usize, frame: u64) -> PathBuf {

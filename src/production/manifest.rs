@@ -7,20 +7,16 @@
 //! and floats are written in their shortest round-trip form, so identical
 //! inputs give identical bytes.
 
+use crate::film::names::MANIFEST_FILE;
 use std::collections::BTreeMap;
 use std::fmt;
-use std::fs::File;
-use std::io::{self, Read};
+use std::io;
 use std::path::{Component, Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 
 use super::record::{DeriveRecord, FileHash};
 use crate::atomic::write_atomic;
-
-/// The manifest's file name inside the output folder.
-pub const MANIFEST_FILE: &str = "manifest.json";
 
 /// The contents of `manifest.json`: assembled from the folder's records
 /// (see [`super::record`]) by the stage that finishes the film. Fields are
@@ -195,29 +191,4 @@ fn manifest_key(rel: &Path) -> Result<String, Error> {
         return Err(unsafe_path());
     }
     Ok(parts.join("/"))
-}
-
-/// Lowercase hex sha256 of `bytes`.
-pub fn sha256_bytes(bytes: &[u8]) -> String {
-    hex(&Sha256::digest(bytes))
-}
-
-/// Lowercase hex sha256 of a file, read in blocks so that large EXRs are
-/// never held in memory whole.
-pub fn sha256_file(path: &Path) -> io::Result<String> {
-    let mut file = File::open(path)?;
-    let mut hasher = Sha256::new();
-    let mut buf = vec![0u8; 1 << 16];
-    loop {
-        match file.read(&mut buf) {
-            Ok(0) => return Ok(hex(&hasher.finalize())),
-            Ok(n) => hasher.update(&buf[..n]),
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
-        }
-    }
-}
-
-fn hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }

@@ -18,23 +18,18 @@
 //! Records hold no host names, times or paths outside the folder, so the
 //! same inputs give the same records on any machine.
 
+use crate::film::names::DERIVE_RECORD;
 use std::collections::BTreeMap;
 use std::io;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
-use super::frames::frame_path;
-use super::manifest::{sha256_bytes, sha256_file};
+use super::digest::{sha256_bytes, sha256_file};
 use crate::atomic::write_atomic;
+use crate::error::Error;
 
-/// The derivation's record, at the folder's root.
-pub const DERIVE_RECORD: &str = "derive.json";
-/// The soundtrack's record, at the folder's root.
-pub const SOUND_RECORD: &str = "soundtrack.json";
-/// The folder of the scene's own sound files, inside the output folder.
-pub const SOUNDS_DIR: &str = "sounds";
 /// Largest record read (a derive record of a long film is the biggest:
 /// ~70 bytes a frame).
 const MAX_RECORD: u64 = 256 << 20;
@@ -155,7 +150,7 @@ impl DeriveRecord {
         }
         for path in self.tracks.keys() {
             let first = path.split('/').next().unwrap_or_default();
-            if super::names::is_own(first, path) {
+            if crate::film::names::is_own(first, path) {
                 return Err(format!(
                     "the trajectory `{path}` is listed among lmfilm's own outputs"
                 ));
@@ -247,47 +242,29 @@ pub fn read<T: DeserializeOwned>(path: &Path) -> Result<Option<T>, String> {
         .map_err(|e| format!("{}: not a valid lmfilm record ({e})", path.display()))
 }
 
-/// `frames/<name>.NNNN.json`, relative to the output folder.
-pub fn frame_record_path(name: &str, frame: u64) -> PathBuf {
-    frame_path(name, frame, "json")
-}
-
-/// `<name>.mp4` and `<name>.mp4.json`, relative to the output folder.
-pub fn mp4_paths(name: &str) -> (PathBuf, PathBuf) {
-    (
-        PathBuf::from(format!("{name}.mp4")),
-        PathBuf::from(format!("{name}.mp4.json")),
-    )
-}
-
 /// Whether `dir/rel` exists and its bytes hash to `sha256`.
 pub fn intact(dir: &Path, rel: &Path, sha256: &str) -> bool {
     sha256_file(&dir.join(rel)).is_ok_and(|h| h == sha256)
 }
 
-/// The names a frame of any film may have in `frames/`: `(name, frame,
-/// extension)` when `file` looks like `<name>.NNNN.<ext>`.
-pub fn parse_frame_file(file: &str) -> Option<(&str, u64, &str)> {
-    let (rest, ext) = file.rsplit_once('.')?;
-    let (name, number) = rest.rsplit_once('.')?;
-    if number.len() < 4 || !number.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    Some((name, number.parse().ok()?, ext))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn frame_files_parse_back() {
-        assert_eq!(
-            parse_frame_file("my.film.0012.png"),
-            Some(("my.film", 12, "png"))
-        );
-        assert_eq!(parse_frame_file("a.12345.json"), Some(("a", 12345, "json")));
-        assert_eq!(parse_frame_file("a.12.png"), None);
-        assert_eq!(parse_frame_file("notes.txt"), None);
+/// The derive record of a folder (what `render`, `sound` and `mux` start
+/// from), checked, with a message that says what to do when it is
+/// missing or damaged.
+pub fn open(dir: &Path) -> Result<DeriveRecord, Error> {
+    let path = dir.join(DERIVE_RECORD);
+    let again = format!(
+        "derive the film first: lmfilm derive SCENE.lm -o {}",
+        dir.display()
+    );
+    match read::<DeriveRecord>(&path) {
+        Ok(Some(r)) => match r.validate() {
+            Ok(()) => Ok(r),
+            Err(why) => Err(Error::input(format!("{}: {why}; {again}", path.display()))),
+        },
+        Ok(None) => Err(Error::input(format!(
+            "{}: no {DERIVE_RECORD} — {again}",
+            dir.display()
+        ))),
+        Err(e) => Err(Error::input(format!("{e}; {again}"))),
     }
 }

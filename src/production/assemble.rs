@@ -6,14 +6,14 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::frames::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
-use super::job::{key, open, EVENTS_FILE, SOUNDTRACK_FILE};
-use super::manifest::{sha256_bytes, sha256_file, Manifest};
-use super::record::{
-    self, frame_record_path, mp4_paths, DeriveRecord, FrameRecord, MuxRecord, SoundRecord,
-    DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
-};
+use super::digest::{sha256_bytes, sha256_file};
+use super::manifest::Manifest;
+use super::record::open;
+use super::record::{self, DeriveRecord, FrameRecord, MuxRecord, SoundRecord};
 use crate::error::Error;
+use crate::film::names::{self, key, EVENTS_FILE, SOUNDTRACK_FILE};
+use crate::film::names::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
+use crate::film::names::{frame_record_path, mp4_paths, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD};
 
 /// Assembles `manifest.json` from the records and writes it: the stage
 /// that finishes the film (and any single-process stage) calls it.
@@ -33,10 +33,10 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     let mut m = Manifest::new(&rec);
     let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| Error::io(dir, e))?;
     m.files.insert(DERIVE_RECORD.into(), derive_hash);
-    let settings = dir.join(super::settings::SETTINGS_FILE);
+    let settings = dir.join(names::SETTINGS_FILE);
     if settings.is_file() {
         let hash = sha256_file(&settings).map_err(|e| Error::io(&settings, e))?;
-        m.files.insert(super::settings::SETTINGS_FILE.into(), hash);
+        m.files.insert(names::SETTINGS_FILE.into(), hash);
     }
     m.files.insert(EVENTS_FILE.into(), rec.events.clone());
     m.files.extend(rec.sounds.clone());

@@ -15,58 +15,33 @@
 //! current ones and its bytes still hash to its record; otherwise it makes
 //! it again. Every file is written atomically.
 
+use super::record::open;
+use crate::film::names::{self, key, EVENTS_FILE, SOUNDTRACK_FILE};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use super::actor_images::{self, ACTORS_DIR};
-use super::frames::{
-    frame_path, frame_pattern, snapshot_path, FrameSelection, FRAMES_DIR, SCENE_DIR,
-};
-use super::manifest::{self, sha256_bytes, sha256_file};
+use super::actor_images;
+
+use super::digest::{sha256_bytes, sha256_file};
+use super::frames::FrameSelection;
 use super::record::{
-    self, frame_record_path, intact, mp4_paths, parse_frame_file, DeriveRecord, FileHash,
-    FrameRecord, Inputs, MuxRecord, SoundRecord, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
+    self, intact, DeriveRecord, FileHash, FrameRecord, Inputs, MuxRecord, SoundRecord,
 };
 use super::settings::RenderChoice;
-use super::{assemble, mux as ffmpeg, Film, Frame};
+use super::{assemble, mux as ffmpeg};
 use crate::actors::live::Living;
 use crate::atomic::{remove_stale_temps, write_atomic};
 use crate::error::Error;
+use crate::film::names::ACTORS_DIR;
+use crate::film::names::{frame_path, frame_pattern, snapshot_path, FRAMES_DIR, SCENE_DIR};
+use crate::film::names::{
+    frame_record_path, mp4_paths, parse_frame_file, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
+};
+use crate::film::{Film, Frame};
 use crate::lsys::Limits;
 use crate::render::{self, output};
 use crate::scene::snapshot;
 use crate::sound;
-
-/// The log and soundtrack names inside the folder.
-pub const EVENTS_FILE: &str = "soundtrack.events";
-pub const SOUNDTRACK_FILE: &str = "soundtrack.wav";
-
-/// Image formats a render writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Formats {
-    Png,
-    Exr,
-    Both,
-}
-
-impl Formats {
-    pub fn extensions(self) -> &'static [&'static str] {
-        match self {
-            Formats::Png => &["png"],
-            Formats::Exr => &["exr"],
-            Formats::Both => &["exr", "png"],
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Formats::Png => "png",
-            Formats::Exr => "exr",
-            Formats::Both => "both",
-        }
-    }
-}
 
 /// A scene file as the records name it, with its bytes.
 pub struct SceneText {
@@ -125,11 +100,11 @@ fn clear(dir: &Path) -> Result<(), Error> {
         let name = e.file_name().to_string_lossy().into_owned();
         let ours = [
             DERIVE_RECORD,
-            super::settings::SETTINGS_FILE,
+            names::SETTINGS_FILE,
             SOUND_RECORD,
             EVENTS_FILE,
             SOUNDTRACK_FILE,
-            manifest::MANIFEST_FILE,
+            names::MANIFEST_FILE,
         ]
         .contains(&name.as_str())
             || name.ends_with(".mp4")
@@ -147,7 +122,7 @@ fn film_in(dir: &Path) -> Option<Vec<String>> {
     if let Ok(Some(r)) = record::read::<DeriveRecord>(&dir.join(DERIVE_RECORD)) {
         return Some(r.inputs.film());
     }
-    let text = std::fs::read(dir.join(manifest::MANIFEST_FILE)).ok()?;
+    let text = std::fs::read(dir.join(names::MANIFEST_FILE)).ok()?;
     let json: serde_json::Value = serde_json::from_slice(&text).ok()?;
     let scenes = json.get("scenes")?.as_array()?;
     Some(record::film_of(
@@ -290,7 +265,7 @@ fn write_tracks(
 ) -> Result<BTreeMap<String, String>, Error> {
     let mut written = BTreeMap::new();
     for (file, text) in film.exported_traces() {
-        super::tracks::output_name(&file.name).map_err(|m| Error::from(file.error(m)))?;
+        crate::film::tracks::output_name(&file.name).map_err(|m| Error::from(file.error(m)))?;
         let to = dir.join(&file.name);
         if let Some(parent) = to.parent() {
             std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
@@ -311,7 +286,7 @@ fn write_tracks(
 /// its name is one lmfilm could have written, inside the folder.
 fn remove_tracks(dir: &Path, tracks: &BTreeMap<String, String>) -> Result<(), Error> {
     for name in tracks.keys() {
-        if super::tracks::output_name(name).is_ok() {
+        if crate::film::tracks::output_name(name).is_ok() {
             let path = dir.join(name);
             if path.is_file() {
                 std::fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
@@ -385,28 +360,6 @@ pub fn write_events(film: &Film, path: &Path) -> Result<String, Error> {
     let text = sound::events::write(film.events());
     write_atomic(path, text.as_bytes()).map_err(|e| Error::io(path, e))?;
     Ok(text)
-}
-
-/// The derive record of a folder (what `render`, `sound` and `mux` start
-/// from), checked, with a message that says what to do when it is
-/// missing or damaged.
-pub fn open(dir: &Path) -> Result<DeriveRecord, Error> {
-    let path = dir.join(DERIVE_RECORD);
-    let again = format!(
-        "derive the film first: lmfilm derive SCENE.lm -o {}",
-        dir.display()
-    );
-    match record::read::<DeriveRecord>(&path) {
-        Ok(Some(r)) => match r.validate() {
-            Ok(()) => Ok(r),
-            Err(why) => Err(Error::input(format!("{}: {why}; {again}", path.display()))),
-        },
-        Ok(None) => Err(Error::input(format!(
-            "{}: no {DERIVE_RECORD} — {again}",
-            dir.display()
-        ))),
-        Err(e) => Err(Error::input(format!("{e}; {again}"))),
-    }
 }
 
 /// The scene camera's window (width, height in pixels) of the derived
@@ -533,14 +486,6 @@ pub fn render_frames(
         progress(i as u64 + 1, frames.len() as u64);
     }
     Ok(rendered)
-}
-
-/// `rel` as the records and the manifest key it: `/` separators.
-pub(super) fn key(rel: &Path) -> String {
-    rel.iter()
-        .map(|c| c.to_string_lossy())
-        .collect::<Vec<_>>()
-        .join("/")
 }
 
 /// The sound options as the soundtrack's record keeps them.
