@@ -1,11 +1,12 @@
-//! Actors (thesis 3.1, 5.1): the actor table built from the Options
-//! section's `NBR_actors`, `iVisionWinSize` and `actorNbr_automata`.
-//!
-//! Today the table holds what the scene declares — each actor's vision
-//! window and its automata stack with their typed commands — and refuses,
-//! with a located error, what no actor could run. The visual memory
-//! ([`memory`], [`octree`]) exists but is not yet fed by a vision window;
-//! vision and the behaviours come later (docs/actors.md).
+//! Actors (thesis 3.1, 5): the actor table built from the Options
+//! section's `NBR_actors`, `iVisionWinSize` and `actorNbr_automata` —
+//! each actor's vision window and its automata stack with their typed
+//! commands, refusing with a located error what no actor could run — and
+//! the actors themselves: their state ([`live`]), what they perceive
+//! (vision into the frame's BVH, the visual memory it feeds, their
+//! images), how they plan (path search, heuristics, spline, footholds)
+//! and the automata that act on it (behaviour, navigation, tennis);
+//! docs/actors.md.
 
 pub mod behaviour;
 pub mod display;

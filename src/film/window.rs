@@ -74,12 +74,15 @@ fn particle_of<'p>(
 }
 
 impl<'a> Window<'a> {
-    /// The window on `air` and `physics` at frame `frame`, with the
-    /// current particle `current`; it runs no script.
-    pub fn new(
+    /// The window on the film's live parts at frame `frame`, with the
+    /// current particle and actor; it runs no script until given them.
+    pub fn on(
         air: &'a mut Air,
         physics: &'a mut Physics,
+        living: &'a mut [Living],
+        tracks: &'a mut Tracks,
         current: Option<Who>,
+        actor: Option<u32>,
         frame: u64,
     ) -> Self {
         Window {
@@ -87,11 +90,11 @@ impl<'a> Window<'a> {
             physics,
             current,
             scripts: None,
-            living: &mut [],
-            actor: None,
+            living,
+            actor,
             frame,
             error: None,
-            tracks: None,
+            tracks: Some(tracks),
         }
     }
 

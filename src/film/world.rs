@@ -392,11 +392,16 @@ impl Film {
         for a in &mut self.living {
             a.body.clear();
         }
-        let mut window = Window::new(&mut self.air, &mut self.physics, None, number);
+        let mut window = Window::on(
+            &mut self.air,
+            &mut self.physics,
+            &mut self.living,
+            &mut self.tracks,
+            None,
+            self.actor,
+            number,
+        );
         window.scripts = self.scripts.as_ref();
-        window.living = &mut self.living;
-        window.actor = self.actor;
-        window.tracks = Some(&mut self.tracks);
         let built = build_scene(
             &mut self.anim,
             &self.surfaces,
@@ -494,15 +499,15 @@ impl Film {
     /// function S, then the particles — those the step declared join the
     /// table, and the table evolves over Δt.
     fn step(&mut self) -> Result<()> {
-        let mut window = Window::new(
+        let mut window = Window::on(
             &mut self.air,
             &mut self.physics,
+            &mut self.living,
+            &mut self.tracks,
             self.current,
+            self.actor,
             self.anim.frame,
         );
-        window.living = &mut self.living;
-        window.actor = self.actor;
-        window.tracks = Some(&mut self.tracks);
         self.anim
             .step(&mut window)
             .map_err(|e| Error::input(e.to_string()))?;
@@ -559,15 +564,15 @@ impl Film {
     /// growth functions as the frame's expressions see the world.
     pub fn words(&mut self, format: Format) -> Vec<String> {
         let (time, seed) = (self.anim.time(), self.anim.camera.seed);
-        let mut window = Window::new(
+        let mut window = Window::on(
             &mut self.air,
             &mut self.physics,
+            &mut self.living,
+            &mut self.tracks,
             self.current,
+            self.actor,
             self.anim.frame,
         );
-        window.living = &mut self.living;
-        window.actor = self.actor;
-        window.tracks = Some(&mut self.tracks);
         self.anim
             .systems
             .iter_mut()
