@@ -12,7 +12,7 @@ use criterion::Criterion;
 use glam::Vec2;
 use lmfilm::actors::footholds::map::{local_map, Region};
 use lmfilm::actors::footholds::plan::{plan, Gait, Weights};
-use lmfilm::actors::octree::{Cube, Octree};
+use lmfilm::actors::perception::octree::{Cube, Octree};
 
 /// The stones, row by row from the corner at the origin, each jittered
 /// by up to ±0.1 from the crate's keyed random stream.

@@ -22,8 +22,8 @@ use std::time::Instant;
 
 use criterion::{Criterion, Throughput};
 use glam::DVec3;
-use lmfilm::actors::memory::{DepthView, VisualMemory};
-use lmfilm::actors::octree::Cube;
+use lmfilm::actors::perception::memory::{DepthView, VisualMemory};
+use lmfilm::actors::perception::octree::Cube;
 
 const VOXEL: f64 = 0.25;
 

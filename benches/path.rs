@@ -18,9 +18,9 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use criterion::Criterion;
-use lmfilm::actors::heuristics::{candidates, heuristic, Heuristic};
-use lmfilm::actors::octree::{Cube, Octree, Voxel};
-use lmfilm::actors::path::{plan, plan_voxels, search, SearchGrid};
+use lmfilm::actors::perception::octree::{Cube, Octree, Voxel};
+use lmfilm::actors::planning::heuristics::{candidates, heuristic, Heuristic};
+use lmfilm::actors::planning::path::{plan, plan_voxels, search, SearchGrid};
 use rustc_hash::FxHashMap;
 
 const EDGE: u32 = 128;

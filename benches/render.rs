@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use criterion::Criterion;
 use glam::{Vec3, Vec3A};
-use lmfilm::actors::vision::{self, OwnBody, View};
+use lmfilm::actors::perception::vision::{self, OwnBody, View};
 use lmfilm::lsys::{Animation, NoSensors};
 use lmfilm::render::accel::Query;
 use lmfilm::render::camera::CameraRays;

@@ -12,13 +12,15 @@ use rayon::prelude::*;
 use super::behaviour::{Deed, Progress, Script, Senses};
 use super::footholds::plan::{Gait, Weights};
 use super::footholds::walk::Footing;
-use super::memory::{Forgetting, VisualMemory};
 use super::navigate::Navigation;
-use super::octree::Cube;
 use super::tennis::player::Player;
 use super::tennis::referee::Umpire;
-use super::vision::{self, Body, Interest, OwnBody, Percepts, View, Window, THESIS_THRESHOLD};
 use super::{Actor, Table};
+use crate::actors::perception::memory::{Forgetting, VisualMemory};
+use crate::actors::perception::octree::Cube;
+use crate::actors::perception::vision::{
+    self, Body, Interest, OwnBody, Percepts, View, Window, THESIS_THRESHOLD,
+};
 use crate::lsys::automata::{Automata, AutomataCommand};
 use crate::lsys::Limits;
 use crate::render::Accel;

@@ -9,24 +9,18 @@
 //! docs/actors.md.
 
 pub mod behaviour;
-pub mod display;
 pub mod footholds;
-pub mod heuristics;
 pub mod live;
-pub mod memory;
 pub mod navigate;
-pub mod octree;
-pub mod path;
-pub mod spline;
+pub mod perception;
+pub mod planning;
 pub mod tennis;
-
-pub mod vision;
 
 use crate::lsys::automata::{ActorAutomata, Automata, AutomataCommand, CommandAt, Located, Span};
 use crate::lsys::options::OptionItem;
 use crate::lsys::Animation;
 use crate::source::Diagnostic;
-use heuristics::Kind;
+use planning::heuristics::{self, Kind};
 
 /// Most actors a scene may declare.
 pub const MAX_ACTORS: i64 = 100_000;
@@ -476,6 +470,3 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
 
 #[cfg(test)]
 mod tests;
-
-#[cfg(test)]
-mod memory_tests;

@@ -13,8 +13,8 @@ use rayon::prelude::*;
 
 use super::digest::{sha256_bytes, sha256_file};
 use super::record::{DeriveRecord, FileHash};
-use crate::actors::display;
 use crate::actors::live::Living;
+use crate::actors::perception::display;
 use crate::atomic::write_atomic;
 use crate::error::Error;
 use crate::film::names::frame_number;

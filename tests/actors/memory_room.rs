@@ -5,9 +5,9 @@
 use std::collections::BTreeSet;
 
 use glam::Vec3;
-use lmfilm::actors::memory::VisualMemory;
-use lmfilm::actors::octree::Cube;
-use lmfilm::actors::vision::{self, OwnBody, View};
+use lmfilm::actors::perception::memory::VisualMemory;
+use lmfilm::actors::perception::octree::Cube;
+use lmfilm::actors::perception::vision::{self, OwnBody, View};
 use lmfilm::render::Accel;
 use lmfilm::scene::ShapeKind;
 

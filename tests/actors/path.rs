@@ -3,9 +3,9 @@
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
-use lmfilm::actors::heuristics::{candidates, heuristic, Heuristic};
-use lmfilm::actors::octree::{Cube, Octree, Voxel};
-use lmfilm::actors::path::{
+use lmfilm::actors::perception::octree::{Cube, Octree, Voxel};
+use lmfilm::actors::planning::heuristics::{candidates, heuristic, Heuristic};
+use lmfilm::actors::planning::path::{
     extend, label, plan, plan_voxels, search, shortest, Explorer, NoPlan, Step, MAX_LABEL,
 };
 use proptest::prelude::*;

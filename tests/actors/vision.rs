@@ -4,7 +4,7 @@
 use std::f32::consts::PI;
 
 use glam::{Affine3A, Vec3};
-use lmfilm::actors::vision::{self, Body, Interest, OwnBody, View, Window, NOTHING};
+use lmfilm::actors::perception::vision::{self, Body, Interest, OwnBody, View, Window, NOTHING};
 use lmfilm::render::Accel;
 use lmfilm::scene::material::{self, Material};
 use lmfilm::scene::{Camera, Geometry, Instance, Light, Scene, Shape, ShapeKind};

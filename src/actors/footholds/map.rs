@@ -15,7 +15,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::{Vec2, Vec3};
 
-use crate::actors::octree::{Octree, Voxel};
+use crate::actors::perception::octree::{Octree, Voxel};
 
 /// A foothold location: where (on the plane) and how big, in cells.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -370,7 +370,7 @@ pub fn way_blocked(memory: &Octree, plane: f32, a: Vec3, b: Vec3, top: f32) -> b
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::actors::octree::Cube;
+    use crate::actors::perception::octree::Cube;
 
     /// A memory of voxel 0.1 over −8..8 with square stones (centre x, z
     /// and n cells a side) whose tops fill layer 79 (y −0.1..0), their

@@ -1,8 +1,8 @@
 //! The navigation automata `walk_continuously` (thesis 5.2.4): the states
 //! search_new_path and move. Searching pops a goal from the goal stack
 //! and plans a path through the free voxels of the actor's visual memory
-//! (Algorithms 1–4, [`super::path`]); moving follows the path spline
-//! through its key points ([`super::spline`], shaped by `inertia`) at
+//! (Algorithms 1–4, [`crate::actors::planning::path`]); moving follows the path spline
+//! through its key points ([`crate::actors::planning::spline`], shaped by `inertia`) at
 //! `speed`, and tests the next `ahead` key points with the
 //! `coll_test_func` heuristic against the memory as vision updates it,
 //! searching again when one is blocked.
@@ -16,12 +16,12 @@ use glam::Vec3;
 
 use super::behaviour::Script;
 use super::footholds::map::{ground_layers, Region};
-use super::heuristics::{self, collision_free, Heuristic};
-use super::memory::DepthView;
-use super::octree::{Octree, Voxel};
-use super::path::{self, Band, Explorer, NoPlan, SearchGrid, Step};
-use super::spline::{self, Piece};
-use super::vision::{Pixel, Window};
+use crate::actors::perception::memory::DepthView;
+use crate::actors::perception::octree::{Octree, Voxel};
+use crate::actors::perception::vision::{Pixel, Window};
+use crate::actors::planning::heuristics::{self, collision_free, Heuristic};
+use crate::actors::planning::path::{self, Band, Explorer, NoPlan, SearchGrid, Step};
+use crate::actors::planning::spline::{self, Piece};
 use crate::lsys::automata::Automata;
 
 mod walk_continuously;

@@ -12,7 +12,7 @@ use glam::{DVec3, Vec3};
 
 use crate::actors::live::state::{FIX_THING, LOOK_AROUND};
 use crate::actors::live::Living;
-use crate::actors::vision::Found;
+use crate::actors::perception::vision::Found;
 
 /// `interest` numbers of the colour-coded things: the ball (material
 /// 10), player 0 (11) and player 1 (12).

@@ -9,9 +9,9 @@
 
 use glam::{Affine3A, Vec3};
 
-use super::live::{DisplayMode, Living};
 use super::memory::VisualMemory;
 use super::vision::Window;
+use crate::actors::live::{DisplayMode, Living};
 use crate::render::{self, output, Settings};
 use crate::scene::{material, Camera, Geometry, Instance, Light, Scene, Shape, ShapeKind};
 
@@ -196,7 +196,7 @@ pub fn memory_image(actor: &Living, frame: u64) -> Option<output::Image> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::actors::octree::Cube;
+    use crate::actors::perception::octree::Cube;
 
     #[test]
     fn scale_brings_windows_near_256() {

@@ -16,7 +16,7 @@ use std::collections::VecDeque;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::heuristics::{candidates, Heuristic};
-use super::octree::{Octree, Voxel};
+use crate::actors::perception::octree::{Octree, Voxel};
 
 /// The label of a corridor voxel Algorithm 3 has not reached.
 pub const MAX_LABEL: u32 = u32::MAX;
@@ -654,8 +654,8 @@ pub fn plan_on(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::actors::heuristics::heuristic;
-    use crate::actors::octree::Cube;
+    use crate::actors::perception::octree::Cube;
+    use crate::actors::planning::heuristics::heuristic;
 
     /// The nearest candidate to the aim goes first; equal distances keep
     /// the table's order (1 = +x before 4 = +z); the candidate list holds

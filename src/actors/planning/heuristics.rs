@@ -12,7 +12,7 @@
 //! against the scan; docs/actors.md ("Path search") gives the
 //! reconstruction and every reading chosen where the scan is garbled.
 
-use super::octree::Voxel;
+use crate::actors::perception::octree::Voxel;
 
 /// What a heuristic is for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
