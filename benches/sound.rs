@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use criterion::{Criterion, Throughput};
 use glam::DVec3;
-use lmfilm::sound::{render, EventLog, Settings, Signal, Sounds};
+use lmfilm::sound::{render, EventLog, Signal, SoundSettings, Sounds};
 
 /// A library-like signal: 22,050 Hz, a chord that keeps the cubic
 /// interpolation honest.
@@ -68,7 +68,7 @@ fn main() {
     }
     let mut sounds = Sounds::new();
     sounds.insert("sound.wav", signal(61.0));
-    let settings = Settings::default();
+    let settings = SoundSettings::default();
 
     let secs = 10.0;
     let pair = scene(1, 1, secs);

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::behaviour::{Deed, Progress, Script, Senses};
+use super::behaviour::{Behaviour, Deed, Progress, Senses};
 use super::footholds::plan::{Gait, Weights};
 use super::footholds::walk::Footing;
 use super::navigate::Navigation;
@@ -130,7 +130,7 @@ pub struct Living {
     pub window: Option<Window>,
     pub percepts: Option<Percepts>,
     /// The behaviour stack (5.1): the next command string is the last.
-    pub stack: Vec<Script>,
+    pub stack: Vec<Behaviour>,
     /// Where the running automata is.
     pub progress: Progress,
     /// `speed`: how fast it walks, world units a second.
@@ -232,7 +232,7 @@ impl Living {
             max_plan_voxels: Limits::default().plan_voxels,
         };
         for entry in actor.automata().iter().rev() {
-            me.push(Script {
+            me.push(Behaviour {
                 automata: entry.automata,
                 commands: entry.commands.iter().map(|c| c.command.clone()).collect(),
             });

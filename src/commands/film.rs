@@ -98,7 +98,7 @@ pub(crate) fn resolve_render(
 
 /// The film's sound settings in `dir`: `request` over the recorded
 /// ones, else the defaults; recorded when new.
-pub(crate) fn resolve_sound(dir: &Path, request: &SoundRequest) -> Result<sound::Settings> {
+pub(crate) fn resolve_sound(dir: &Path, request: &SoundRequest) -> Result<sound::SoundSettings> {
     let mut recorded = settings::read(dir)?;
     let chosen = request.resolve(recorded.sound.as_ref());
     if recorded.sound != Some(chosen) {
@@ -394,7 +394,7 @@ pub fn verify(dir: &Path) -> Result<()> {
 
 /// The folder's soundtrack (unless up to date), saying what loudness
 /// normalisation did.
-fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<bool> {
+fn soundtrack(dir: &Path, settings: &sound::SoundSettings) -> Result<bool> {
     let report = stages::soundtrack(dir, settings)?;
     if let Some(n) = report.as_ref().and_then(|r| r.loudness.as_ref()) {
         eprintln!("{}: {}", dir.join(SOUNDTRACK_FILE).display(), n.summary());

@@ -6,7 +6,7 @@
 //! into a film folder is [`crate::production`].
 
 pub mod frame;
-mod window;
+mod view;
 pub mod world;
 pub use frame::Frame;
 pub use world::Film;

@@ -19,13 +19,13 @@ use crate::sound::EventLog;
 use crate::turtle::interpret::Tables;
 use crate::turtle::{build_scene, Options, Surfaces};
 
-use crate::actors::behaviour::{Deed, Script, Senses};
+use crate::actors::behaviour::{Behaviour, Deed, Senses};
 use crate::actors::live::{self, Living};
 
 use super::frame::Frame;
 
 use super::tracks::Tracks;
-use super::window::{Scripts, Window};
+use super::view::{Scripts, WorldView};
 
 /// Sound source of particle row 0's collisions; row k uses this + k.
 pub const PARTICLE_SOURCE: u32 = 1000;
@@ -392,7 +392,7 @@ impl Film {
         for a in &mut self.living {
             a.body.clear();
         }
-        let mut window = Window::on(
+        let mut window = WorldView::on(
             &mut self.air,
             &mut self.physics,
             &mut self.living,
@@ -499,7 +499,7 @@ impl Film {
     /// function S, then the particles — those the step declared join the
     /// table, and the table evolves over Δt.
     fn step(&mut self) -> Result<()> {
-        let mut window = Window::on(
+        let mut window = WorldView::on(
             &mut self.air,
             &mut self.physics,
             &mut self.living,
@@ -550,7 +550,7 @@ impl Film {
                         ))
                         .into());
                 };
-                actor.activate(Script {
+                actor.activate(Behaviour {
                     automata: script.automata.value,
                     commands: script.commands.iter().map(|c| c.command.clone()).collect(),
                 });
@@ -564,7 +564,7 @@ impl Film {
     /// growth functions as the frame's expressions see the world.
     pub fn words(&mut self, format: Format) -> Vec<String> {
         let (time, seed) = (self.anim.time(), self.anim.camera.seed);
-        let mut window = Window::on(
+        let mut window = WorldView::on(
             &mut self.air,
             &mut self.physics,
             &mut self.living,

@@ -460,7 +460,7 @@ pub struct ActorAutomata {
 /// `[actor] automata commands…`; without the actor number it is the
 /// current actor of the `e`'s branch (the last `M` par1 = 7 before it).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Script {
+pub struct BehaviourString {
     pub actor: Option<Located<i64>>,
     pub automata: Located<Automata>,
     pub commands: Vec<CommandAt>,
@@ -468,7 +468,7 @@ pub struct Script {
 
 /// Parses the text of an `e` par1 = 0 (a group's, from byte `at`): an
 /// automata name or number alone, or the forms of `actorNbr_automata`.
-pub fn parse_script(s: &mut Scanner, at: usize) -> Result<Script, Diagnostic> {
+pub fn parse_script(s: &mut Scanner, at: usize) -> Result<BehaviourString, Diagnostic> {
     let (first_at, first) = s.peek_word()?;
     let alone = if let Some(a) = Automata::from_name(first) {
         Some(a)
@@ -497,7 +497,7 @@ pub fn parse_script(s: &mut Scanner, at: usize) -> Result<Script, Diagnostic> {
     };
     if let Some(a) = alone {
         s.word("the automata")?;
-        return Ok(Script {
+        return Ok(BehaviourString {
             actor: None,
             automata: Located {
                 value: a,
@@ -507,7 +507,7 @@ pub fn parse_script(s: &mut Scanner, at: usize) -> Result<Script, Diagnostic> {
         });
     }
     let a = parse_actor_automata(s, at)?;
-    Ok(Script {
+    Ok(BehaviourString {
         actor: Some(a.actor),
         automata: a.automata,
         commands: a.commands,

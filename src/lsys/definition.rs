@@ -107,7 +107,7 @@ pub struct Growth {
     pub f: [Option<Expr>; 3],
     /// The behaviour command string of `e` with par1 = 0 (C.6): its first
     /// growth group is text rather than an expression.
-    pub script: Option<crate::lsys::automata::Script>,
+    pub script: Option<crate::lsys::automata::BehaviourString>,
 }
 
 /// One `probability … EndProb` part of a production.

@@ -12,7 +12,7 @@ pub const MEMORY_SLOTS: usize = 100;
 
 /// What an expression's parameters refer to.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Frame {
+pub struct Bindings {
     /// `T`: global time.
     pub time: f64,
     /// `t`: local age.
@@ -94,7 +94,7 @@ impl<'a> Machine<'a> {
     }
 
     #[inline]
-    pub fn eval(&mut self, e: Expr, f: &Frame) -> f64 {
+    pub fn eval(&mut self, e: Expr, f: &Bindings) -> f64 {
         match e {
             Expr::Const(v) => v,
             Expr::Prog { start, len } => self.run(start as usize, len as usize, f),
@@ -102,14 +102,14 @@ impl<'a> Machine<'a> {
     }
 
     #[inline]
-    pub fn eval_or(&mut self, e: Option<Expr>, f: &Frame, default: f64) -> f64 {
+    pub fn eval_or(&mut self, e: Option<Expr>, f: &Bindings, default: f64) -> f64 {
         e.map_or(default, |e| self.eval(e, f))
     }
 
     /// The three growth function values of a symbol (0 where absent).
-    pub fn growth(&mut self, f: &Frame) -> [f64; 3] {
+    pub fn growth(&mut self, f: &Bindings) -> [f64; 3] {
         let g = self.def.growth[f.growth as usize].f;
-        let frame = Frame {
+        let frame = Bindings {
             key: random::key(self.seed, Stream::Growth, f.who.symbol, 0),
             ..*f
         };
@@ -123,7 +123,7 @@ impl<'a> Machine<'a> {
         v
     }
 
-    fn run(&mut self, start: usize, len: usize, f: &Frame) -> f64 {
+    fn run(&mut self, start: usize, len: usize, f: &Bindings) -> f64 {
         let def = self.def;
         let ops = &def.code.ops[start..start + len];
         let mut st = [0.0f64; MAX_DEPTH];
@@ -236,7 +236,7 @@ impl<'a> Machine<'a> {
     }
 
     /// Asks the world for tennis force field `code` at the symbol.
-    fn tennis(&mut self, code: u8, f: &Frame) -> FieldValue {
+    fn tennis(&mut self, code: u8, f: &Bindings) -> FieldValue {
         let row = FieldQuery::row_of(code);
         let q = FieldQuery {
             code,
@@ -248,7 +248,7 @@ impl<'a> Machine<'a> {
     }
 
     /// Nullary special functions (table B5).
-    fn special(&mut self, n: u8, f: &Frame) -> f64 {
+    fn special(&mut self, n: u8, f: &Bindings) -> f64 {
         let [x, y, z] = f.par;
         let [ox, .., r] = f.field;
         let s = &mut *self.state;

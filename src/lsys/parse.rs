@@ -1,7 +1,7 @@
 //! The definition file parser (appendix A, code 6.2.1): sections in their
 //! fixed order, any of them omitted when empty.
 
-use super::automata::{parse_script, Script};
+use super::automata::{parse_script, BehaviourString};
 use super::definition::{
     CameraParams, Definition, Growth, Production, RepetitionParams, RightSide, SymbolTemplate,
 };
@@ -378,7 +378,7 @@ impl<'a> Parser<'a> {
 
     /// The behaviour command string of an `e` par1 = 0 in group `g`,
     /// nothing but commands left in it.
-    fn script(&mut self, g: Group) -> Result<Script, Diagnostic> {
+    fn script(&mut self, g: Group) -> Result<BehaviourString, Diagnostic> {
         let end = g.offset + g.text.len();
         let mut s = Scanner::within(self.s.src, g.offset, end);
         let script = parse_script(&mut s, g.offset)?;

@@ -5,7 +5,7 @@
 
 use super::context::{left_matches, right_matches};
 use super::definition::{Definition, Production, RightSide, SymbolTemplate};
-use super::eval::{Frame, Machine, State};
+use super::eval::{Bindings, Machine, State};
 use super::expr::Expr;
 use super::sensors::{Sensors, Who};
 use super::word::{branch_end, Symbol};
@@ -156,7 +156,7 @@ impl LSystem {
             marks: Vec::new(),
             pending_ids: None,
         };
-        let frame = Frame {
+        let frame = Bindings {
             time: 0.0,
             age: 0.0,
             par: [0.0; 3],
@@ -210,8 +210,8 @@ impl LSystem {
         Machine::new(&self.def, &mut self.state, sensors, seed).growth(&frame)
     }
 
-    fn frame(&self, s: &Symbol, time: f64, key: u64, actor: Option<u32>) -> Frame {
-        Frame {
+    fn frame(&self, s: &Symbol, time: f64, key: u64, actor: Option<u32>) -> Bindings {
+        Bindings {
             time,
             age: s.age(self.dt),
             par: s.par,
@@ -428,7 +428,7 @@ impl Scratch {
         &mut self,
         m: &mut Machine,
         templates: &[SymbolTemplate],
-        frame: &Frame,
+        frame: &Bindings,
     ) -> Option<Cut> {
         self.symbols.clear();
         self.events.clear();
@@ -444,7 +444,7 @@ impl Scratch {
             } else {
                 0
             };
-            let f = Frame { key, ..*frame };
+            let f = Bindings { key, ..*frame };
             let birth = m.eval_or(t.age, &f, 0.0);
             let par = [
                 m.eval_or(t.par[0], &f, 0.0),

@@ -18,7 +18,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::lsys::eval::{Frame, Machine, State};
+use crate::lsys::eval::{Bindings, Machine, State};
 use crate::lsys::options::OptionItem;
 use crate::lsys::{Animation, Definition, FieldQuery, FieldValue, Sensors, Who};
 use crate::random::{self, Stream};
@@ -525,7 +525,7 @@ impl<'a> Laws<'a> {
         let (Some(def), Some(state)) = (self.defs.get(p.lsys), self.states.get_mut(p.lsys)) else {
             return DVec3::ZERO;
         };
-        let frame = Frame {
+        let frame = Bindings {
             time: t,
             age: t - p.born,
             par: at.to_array(),

@@ -240,9 +240,9 @@ pub struct SoundRequest {
 
 impl SoundRequest {
     /// The settings: the request over `base`, else over the defaults.
-    pub fn resolve(&self, base: Option<&sound::Settings>) -> sound::Settings {
+    pub fn resolve(&self, base: Option<&sound::SoundSettings>) -> sound::SoundSettings {
         let b = base.copied().unwrap_or_default();
-        sound::Settings {
+        sound::SoundSettings {
             rate: self.rate.unwrap_or(b.rate),
             speed_of_sound: self.speed_of_sound.unwrap_or(b.speed_of_sound),
             attenuation: self.attenuation.unwrap_or(b.attenuation),
@@ -253,7 +253,7 @@ impl SoundRequest {
 }
 
 /// The command-line options that ask for exactly the sound settings `s`.
-pub fn sound_args(s: &sound::Settings) -> Vec<String> {
+pub fn sound_args(s: &sound::SoundSettings) -> Vec<String> {
     vec![
         format!("--rate={}", s.rate),
         format!("--speed-of-sound={}", s.speed_of_sound),
@@ -270,7 +270,7 @@ pub fn sound_args(s: &sound::Settings) -> Vec<String> {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FilmSettings {
     pub render: Option<RenderChoice>,
-    pub sound: Option<sound::Settings>,
+    pub sound: Option<sound::SoundSettings>,
 }
 
 /// The folder's recorded settings (none recorded: both `None`); a
@@ -371,7 +371,7 @@ mod tests {
         ] {
             assert!(a.contains(want), "{a}");
         }
-        let s = sound_args(&sound::Settings::default()).join(" ");
+        let s = sound_args(&sound::SoundSettings::default()).join(" ");
         assert!(
             s.contains("--rate=48000") && s.contains("--samples=pcm16"),
             "{s}"

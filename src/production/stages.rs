@@ -489,7 +489,7 @@ pub fn render_frames(
 }
 
 /// The sound options as the soundtrack's record keeps them.
-fn sound_record(settings: &sound::Settings) -> BTreeMap<String, String> {
+fn sound_record(settings: &sound::SoundSettings) -> BTreeMap<String, String> {
     [
         ("rate", settings.rate.to_string()),
         ("speed_of_sound", settings.speed_of_sound.to_string()),
@@ -510,7 +510,10 @@ fn sound_record(settings: &sound::Settings) -> BTreeMap<String, String> {
 /// Renders the folder's sound event log into its soundtrack, unless the
 /// soundtrack's record shows the same log and options and its bytes are
 /// intact. Returns the renderer's report when it rendered.
-pub fn soundtrack(dir: &Path, settings: &sound::Settings) -> Result<Option<sound::Report>, Error> {
+pub fn soundtrack(
+    dir: &Path,
+    settings: &sound::SoundSettings,
+) -> Result<Option<sound::Report>, Error> {
     let rec = open(dir)?;
     if !intact(dir, Path::new(EVENTS_FILE), &rec.events) {
         return Err(Error::input(format!(

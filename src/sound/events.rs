@@ -59,7 +59,7 @@ pub enum Event {
 
 /// A `TIME t` line and the events that follow it up to the next one.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Frame {
+pub struct TimedEvents {
     /// Seconds.
     pub time: f64,
     pub events: Vec<Event>,
@@ -101,7 +101,7 @@ enum SourceKind {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct EventLog {
     init: Vec<Event>,
-    frames: Vec<Frame>,
+    frames: Vec<TimedEvents>,
     sources: BTreeMap<u32, SourceKind>,
     mics: BTreeSet<u32>,
 }
@@ -116,7 +116,7 @@ impl EventLog {
         &self.init
     }
 
-    pub fn frames(&self) -> &[Frame] {
+    pub fn frames(&self) -> &[TimedEvents] {
         &self.frames
     }
 
@@ -173,7 +173,7 @@ impl EventLog {
                 ));
             }
         }
-        self.frames.push(Frame {
+        self.frames.push(TimedEvents {
             time,
             events: Vec::new(),
         });

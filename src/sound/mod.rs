@@ -13,9 +13,9 @@ pub mod wav;
 
 use std::path::{Path, PathBuf};
 
-pub use events::{Event, EventLog, EventsFile, Frame, LogError};
+pub use events::{Event, EventLog, EventsFile, LogError, TimedEvents};
 pub use library::{Library, Sounds};
-pub use render::{render, Attenuation, Settings, Soundtrack};
+pub use render::{render, Attenuation, SoundSettings, Soundtrack};
 pub use wav::{SampleFormat, Signal};
 
 use crate::atomic::write_atomic;
@@ -56,7 +56,7 @@ pub const MAX_EVENTS_BYTES: u64 = 1 << 30;
 pub fn render_file(
     events: &Path,
     output: &Path,
-    settings: &Settings,
+    settings: &SoundSettings,
     library: Option<&Path>,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Report, Error> {

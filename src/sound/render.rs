@@ -10,7 +10,7 @@
 //! interpolation, which also resamples files of any rate, and weighted by
 //! the attenuation of the distance c·(t − τ).
 //!
-//! The mix is then normalised in loudness unless [`Settings::loudness`]
+//! The mix is then normalised in loudness unless [`SoundSettings::loudness`]
 //! is `None`.
 //!
 //! Work is split into (microphone, block of samples) tasks on rayon; each
@@ -76,7 +76,7 @@ impl Attenuation {
 
 /// What the renderer makes of a log.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Settings {
+pub struct SoundSettings {
     /// Output sample rate in Hz.
     pub rate: u32,
     /// Metres per second.
@@ -90,9 +90,9 @@ pub struct Settings {
     pub loudness: Option<f64>,
 }
 
-impl Default for Settings {
+impl Default for SoundSettings {
     fn default() -> Self {
-        Settings {
+        SoundSettings {
             rate: 48_000,
             speed_of_sound: 343.0,
             attenuation: Attenuation::Inverse,
@@ -125,7 +125,11 @@ const BLOCK: usize = 8192;
 const TOLERANCE: f64 = 1e-9;
 
 /// Renders `log` with the signals of `sounds`.
-pub fn render(log: &EventLog, sounds: &Sounds, settings: &Settings) -> Result<Soundtrack, Error> {
+pub fn render(
+    log: &EventLog,
+    sounds: &Sounds,
+    settings: &SoundSettings,
+) -> Result<Soundtrack, Error> {
     render_with(log, sounds, settings, &|_, _| {})
 }
 
@@ -134,7 +138,7 @@ pub fn render(log: &EventLog, sounds: &Sounds, settings: &Settings) -> Result<So
 pub fn render_with(
     log: &EventLog,
     sounds: &Sounds,
-    settings: &Settings,
+    settings: &SoundSettings,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Soundtrack, Error> {
     let c = settings.speed_of_sound;
@@ -222,7 +226,7 @@ struct World<'a> {
 }
 
 impl<'a> World<'a> {
-    fn new(log: &'a EventLog, sounds: &'a Sounds, settings: &Settings) -> Result<Self, Error> {
+    fn new(log: &'a EventLog, sounds: &'a Sounds, settings: &SoundSettings) -> Result<Self, Error> {
         // Every object's position at every frame: its declared position
         // until an SP/MP moves it, kept until the next one (table B7).
         let times: Vec<f64> = log.frames().iter().map(|f| f.time).collect();
@@ -324,7 +328,7 @@ impl<'a> World<'a> {
         m: usize,
         first: usize,
         out: &mut [f32],
-        settings: &Settings,
+        settings: &SoundSettings,
     ) -> Result<(), Error> {
         let rate = settings.rate as f64;
         let c = settings.speed_of_sound;

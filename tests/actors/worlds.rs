@@ -1,4 +1,4 @@
-//! Generated worlds (issue 36): seeded mazes, traps, pillar fields and
+//! Generated worlds: seeded mazes, traps, pillar fields and
 //! closed rooms a person would find fair, each with its ground truth
 //! computed from its own geometry, walked by a `walk_continuously` actor
 //! who knows nothing of them, over the range of settings the thesis

@@ -2,7 +2,7 @@
 //! each against its formula, and the contact levels they report to the
 //! peak detectors (thesis 7.4).
 
-use lmfilm::lsys::eval::{Frame, Machine, State};
+use lmfilm::lsys::eval::{Bindings, Machine, State};
 use lmfilm::lsys::functions::hermite;
 use lmfilm::lsys::{Animation, FieldQuery, FieldValue, NoSensors, Sensors, Source, Who};
 use lmfilm::physics::tennis;
@@ -41,7 +41,7 @@ fn eval(expr: &str, at: [f64; 3], field: [f64; 7], t: f64) -> (f64, Vec<(u8, f64
     let mut state = State::new(&ls.def);
     let mut ear = Ear::default();
     let mut m = Machine::new(&ls.def, &mut state, &mut ear, 1);
-    let frame = Frame {
+    let frame = Bindings {
         time: 0.0,
         age: t,
         par: at,
@@ -191,7 +191,7 @@ fn tennis_fields_are_zero_without_physics() {
     let mut state = State::new(&ls.def);
     let mut none = NoSensors;
     let mut m = Machine::new(&ls.def, &mut state, &mut none, 1);
-    let frame = Frame {
+    let frame = Bindings {
         time: 0.0,
         age: 0.0,
         par: [1.0, 0.45, 0.0],

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use crate::common::fresh_dir;
-use lmfilm::sound::{self, EventsFile, Settings, Sounds};
+use lmfilm::sound::{self, EventsFile, SoundSettings, Sounds};
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
@@ -355,9 +355,9 @@ fn no_normalize_writes_the_raw_mix_of_the_renderer() {
     let file = EventsFile::parse(lmfilm::lsys::Source::new("flyby.events", text)).unwrap();
     let search = sound::library::search_path(None, None);
     let sounds = Sounds::load(&file.log, &search).unwrap();
-    let settings = Settings {
+    let settings = SoundSettings {
         loudness: None,
-        ..Settings::default()
+        ..SoundSettings::default()
     };
     let track = sound::render(&file.log, &sounds, &settings).unwrap();
     assert_eq!(track.loudness, None);
@@ -400,9 +400,9 @@ fn a_bad_target_is_a_usage_error_naming_the_option() {
     let (code, err) = lmfilm(&["sound", e, "--loudness", "-20", "--no-normalize"]);
     assert_eq!(code, 2, "{err}");
     // The library refuses such a target too.
-    let settings = Settings {
+    let settings = SoundSettings {
         loudness: Some(f64::NAN),
-        ..Settings::default()
+        ..SoundSettings::default()
     };
     let r = sound::render(&sound::EventLog::new(), &Sounds::new(), &settings);
     assert!(r.is_err_and(|e| e.to_string().contains("loudness")));

@@ -11,7 +11,7 @@ use std::time::Duration;
 use glam::DVec3;
 use lmfilm::sound::events::write;
 use lmfilm::sound::render::sample_count;
-use lmfilm::sound::{render, Attenuation, EventLog, Settings, Signal, Sounds, Soundtrack};
+use lmfilm::sound::{render, Attenuation, EventLog, Signal, SoundSettings, Sounds, Soundtrack};
 
 const C: f64 = 343.0;
 const RATE: f64 = 48_000.0;
@@ -60,10 +60,10 @@ fn sounds(list: &[(&str, Signal)]) -> Sounds {
 
 /// The raw mix (no loudness normalisation): these tests check the physics.
 fn run(log: &EventLog, sounds: &Sounds, attenuation: Attenuation) -> Soundtrack {
-    let settings = Settings {
+    let settings = SoundSettings {
         attenuation,
         loudness: None,
-        ..Settings::default()
+        ..SoundSettings::default()
     };
     render(log, sounds, &settings).unwrap_or_else(|e| panic!("{e}"))
 }
@@ -322,9 +322,9 @@ fn length_is_last_time_plus_one_frame_interval_to_the_sample() {
         log.declare_mic(0, [0.0, 0.0, 0.0]).unwrap();
         frames(&mut log, last, |_, _| {});
         assert_eq!(sample_count(&log, rate), expected);
-        let settings = Settings {
+        let settings = SoundSettings {
             rate,
-            ..Settings::default()
+            ..SoundSettings::default()
         };
         let track = render(&log, &Sounds::new(), &settings).unwrap();
         assert_eq!(
@@ -360,8 +360,8 @@ fn a_supersonic_source_is_an_error_naming_the_time_not_a_hang() {
     let (tx, rx) = mpsc::channel();
     std::thread::spawn(move || {
         let s = sounds(&[("tone.wav", tone(200.0, 2.0, 8000))]);
-        let fast = render(&approaching(400.0), &s, &Settings::default()).map(|_| ());
-        let slow = render(&approaching(300.0), &s, &Settings::default()).map(|_| ());
+        let fast = render(&approaching(400.0), &s, &SoundSettings::default()).map(|_| ());
+        let slow = render(&approaching(300.0), &s, &SoundSettings::default()).map(|_| ());
         tx.send((fast, slow)).unwrap();
     });
     let (fast, slow) = rx

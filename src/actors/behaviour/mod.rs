@@ -30,15 +30,15 @@ const TURN_SPEED: f32 = std::f32::consts::FRAC_PI_2;
 /// One command string of a behaviour stack: an automata and the
 /// commands that set the actor's state when it is popped.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Script {
+pub struct Behaviour {
     pub automata: Automata,
     pub commands: Vec<AutomataCommand>,
 }
 
-impl Script {
+impl Behaviour {
     /// A command string that only names its automata.
     pub fn of(automata: Automata) -> Self {
-        Script {
+        Behaviour {
             automata,
             commands: Vec::new(),
         }

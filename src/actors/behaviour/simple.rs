@@ -6,7 +6,7 @@ use crate::actors::live::Living;
 
 impl Living {
     /// Pushes a command string on the behaviour stack.
-    pub fn push(&mut self, script: Script) {
+    pub fn push(&mut self, script: Behaviour) {
         self.stack.push(script);
     }
 
@@ -28,7 +28,7 @@ impl Living {
 
     /// `e` par1 = 0 (C.6): the command string is pushed and popped at
     /// once, so its automata replaces the running one.
-    pub fn activate(&mut self, script: Script) {
+    pub fn activate(&mut self, script: Behaviour) {
         self.push(script);
         self.pop();
     }

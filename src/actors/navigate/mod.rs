@@ -14,7 +14,7 @@
 
 use glam::Vec3;
 
-use super::behaviour::Script;
+use super::behaviour::Behaviour;
 use super::footholds::map::{ground_layers, Region};
 use crate::actors::perception::memory::DepthView;
 use crate::actors::perception::octree::{Octree, Voxel};

@@ -301,8 +301,8 @@ impl Living {
     fn look_around(&mut self) {
         let dist = (self.look_at - self.eye).length().max(1.0);
         self.look_at = self.eye + self.gaze_along(self.heading()) * dist;
-        self.push(Script::of(Automata::WalkContinuously));
-        self.activate(Script::of(Automata::Observe));
+        self.push(Behaviour::of(Automata::WalkContinuously));
+        self.activate(Behaviour::of(Automata::Observe));
     }
 
     /// Where the actor's eye goes in search voxel `v`: its centre, at the

@@ -9,7 +9,7 @@
 //! library has no "finished"; the referee ends the match with "exit"
 //! (58, table D.2).
 
-use super::court::{Half, Player};
+use super::court::{Half, Side};
 use super::judge::{Cause, Verdict};
 use super::score::{GameScore, Match, Scored};
 
@@ -121,10 +121,10 @@ pub fn text(words: &[u32]) -> String {
 }
 
 /// The player's colour word.
-pub fn colour(p: Player) -> u32 {
+pub fn colour(p: Side) -> u32 {
     match p {
-        Player::Green => GREEN,
-        Player::Blue => BLUE,
+        Side::Green => GREEN,
+        Side::Blue => BLUE,
     }
 }
 
@@ -169,9 +169,9 @@ fn game_score(g: GameScore) -> Vec<u32> {
 /// first, "green four two".
 fn games(g: [u32; 2]) -> Vec<u32> {
     let leader = if g[0] >= g[1] {
-        Player::Green
+        Side::Green
     } else {
-        Player::Blue
+        Side::Blue
     };
     let (lead, trail) = (g[leader.index()], g[leader.opponent().index()]);
     if lead == trail {
@@ -199,9 +199,9 @@ mod tests {
     use super::*;
     use crate::sound::Library;
     use proptest::prelude::*;
-    use Player::{Blue, Green};
+    use Side::{Blue, Green};
 
-    fn point(loser: Player, cause: Cause) -> Verdict {
+    fn point(loser: Side, cause: Cause) -> Verdict {
         Verdict::Point { loser, cause }
     }
 

@@ -29,14 +29,14 @@ pub const BALL_LOW: f64 = 0.14;
 /// A player, named by its colour (thesis 7.4: "the blue and the green
 /// actors"). Green is player 0 and plays on x < 0, blue is player 1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Player {
+pub enum Side {
     Green,
     Blue,
 }
 
-impl Player {
+impl Side {
     /// Both players, in player order.
-    pub const BOTH: [Player; 2] = [Player::Green, Player::Blue];
+    pub const BOTH: [Side; 2] = [Side::Green, Side::Blue];
 
     /// 0 for green, 1 for blue.
     pub fn index(self) -> usize {
@@ -44,18 +44,18 @@ impl Player {
     }
 
     /// The one across the net.
-    pub fn opponent(self) -> Player {
+    pub fn opponent(self) -> Side {
         match self {
-            Player::Green => Player::Blue,
-            Player::Blue => Player::Green,
+            Side::Green => Side::Blue,
+            Side::Blue => Side::Green,
         }
     }
 
     /// The sign of x on this player's side of the net.
     fn x_sign(self) -> f64 {
         match self {
-            Player::Green => -1.0,
-            Player::Blue => 1.0,
+            Side::Green => -1.0,
+            Side::Blue => 1.0,
         }
     }
 
@@ -97,16 +97,16 @@ fn span(a: f64, b: f64) -> [f64; 2] {
 
 /// The player whose side of the net a ground point is on; the net plane
 /// itself (x = 0) counts as blue's.
-pub fn side_of([x, _]: [f64; 2]) -> Player {
+pub fn side_of([x, _]: [f64; 2]) -> Side {
     if x < 0.0 {
-        Player::Green
+        Side::Green
     } else {
-        Player::Blue
+        Side::Blue
     }
 }
 
 /// A player's singles court, from the net to its base line.
-pub fn court(p: Player) -> Rect {
+pub fn court(p: Side) -> Rect {
     Rect {
         x: span(0.0, BASE_LINE * p.x_sign()),
         z: [-SIDELINE, SIDELINE],
@@ -116,7 +116,7 @@ pub fn court(p: Player) -> Rect {
 /// The box a service from `half` must land in: on the receiver's side,
 /// diagonally opposite the server, so in the receiver's own half of the
 /// same name (right to right).
-pub fn service_box(server: Player, half: Half) -> Rect {
+pub fn service_box(server: Side, half: Half) -> Rect {
     let receiver = server.opponent();
     let z = match half {
         Half::Right => receiver.right_sign(),
@@ -132,7 +132,7 @@ pub fn service_box(server: Player, half: Half) -> Rect {
 mod tests {
     use super::*;
     use Half::{Left, Right};
-    use Player::{Blue, Green};
+    use Side::{Blue, Green};
 
     const EPS: f64 = 1e-9;
 

@@ -10,14 +10,14 @@
 //! and then lands in the box is a let (ITF rule 22); on a rally the net
 //! is no error by itself — the bounce that follows decides.
 
-use super::court::{court, service_box, side_of, Half, Player};
+use super::court::{court, service_box, side_of, Half, Side};
 
 /// A collision the referee hears (sound events 0, 1 and 9), the striker
 /// and the landing point as its vision places them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Heard {
     /// `ball_racket`: `striker` hit the ball.
-    BallRacket { striker: Player },
+    BallRacket { striker: Side },
     /// `ball_ground`: the ball bounced at `[x, z]`.
     BallGround { at: [f64; 2] },
     /// `ball_net`: the ball touched the net.
@@ -47,13 +47,13 @@ pub enum Verdict {
     /// The service touched the net and landed in the box: serve again.
     Let,
     /// The point is over: `loser` made the error.
-    Point { loser: Player, cause: Cause },
+    Point { loser: Side, cause: Cause },
 }
 
 impl Verdict {
     /// The player whose error it is (the server's, for a fault); nobody's
     /// for a let.
-    pub fn faulty(self, server: Player) -> Option<Player> {
+    pub fn faulty(self, server: Side) -> Option<Side> {
         match self {
             Verdict::Fault(_) => Some(server),
             Verdict::Let => None,
@@ -65,10 +65,10 @@ impl Verdict {
 /// The judge of one service and the rally after it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Judge {
-    server: Player,
+    server: Side,
     half: Half,
     /// The last player to hit the ball; `None` until the service.
-    striker: Option<Player>,
+    striker: Option<Side>,
     /// On from the service until the receiver returns it.
     service_phase: bool,
     /// Bounces since the last stroke.
@@ -80,7 +80,7 @@ pub struct Judge {
 
 impl Judge {
     /// Ready for `server`'s service from `half`.
-    pub fn new(server: Player, half: Half) -> Judge {
+    pub fn new(server: Side, half: Half) -> Judge {
         Judge {
             server,
             half,
@@ -124,7 +124,7 @@ impl Judge {
     /// A stroke by `p` after `striker`'s. The striker's racket again is
     /// the same stroke heard twice (the ball can touch a racket on two
     /// frames) and changes nothing.
-    fn racket(&mut self, striker: Player, p: Player) -> Option<Verdict> {
+    fn racket(&mut self, striker: Side, p: Side) -> Option<Verdict> {
         if p == striker {
             return None;
         }
@@ -142,7 +142,7 @@ impl Judge {
     }
 
     /// A bounce at `at` after `striker`'s stroke.
-    fn ground(&mut self, striker: Player, at: [f64; 2]) -> Option<Verdict> {
+    fn ground(&mut self, striker: Side, at: [f64; 2]) -> Option<Verdict> {
         self.bounces += 1;
         if self.bounces > 1 {
             return Some(Verdict::Point {
@@ -179,9 +179,9 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
     use Heard::{BallGround, BallNet, BallRacket};
-    use Player::{Blue, Green};
+    use Side::{Blue, Green};
 
-    fn hit(p: Player) -> Heard {
+    fn hit(p: Side) -> Heard {
         BallRacket { striker: p }
     }
 
@@ -190,7 +190,7 @@ mod tests {
     }
 
     /// The verdicts heard along `events`, with the index of each.
-    fn judge(server: Player, half: Half, events: &[Heard]) -> Vec<(usize, Verdict)> {
+    fn judge(server: Side, half: Half, events: &[Heard]) -> Vec<(usize, Verdict)> {
         let mut j = Judge::new(server, half);
         events
             .iter()

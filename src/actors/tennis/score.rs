@@ -4,7 +4,7 @@
 //! there is no tie-break (a set goes on until a player leads by two
 //! games) and no change of ends.
 
-use super::court::{Half, Player};
+use super::court::{Half, Side};
 
 /// Games that win a set, given a two-game lead.
 pub const SET_GAMES: u32 = 6;
@@ -29,7 +29,7 @@ pub enum GameScore {
     /// Forty all, or level again after an advantage.
     Deuce,
     /// One point ahead after deuce.
-    Advantage(Player),
+    Advantage(Side),
 }
 
 /// What a point changed beyond the game's score.
@@ -38,12 +38,12 @@ pub enum Scored {
     /// The game goes on.
     Point,
     /// The winner took the game; the set goes on.
-    Game(Player),
+    Game(Side),
     /// The winner took the game and the set; `games` is the set's final
     /// count by [green, blue].
-    Set { winner: Player, games: [u32; 2] },
+    Set { winner: Side, games: [u32; 2] },
     /// The winner took the last set and the match.
-    Match { winner: Player, games: [u32; 2] },
+    Match { winner: Side, games: [u32; 2] },
 }
 
 /// A match: its state is counts only, so every state is a pure function
@@ -55,15 +55,15 @@ pub struct Match {
     points: [u32; 2],
     games: [u32; 2],
     sets: [u32; 2],
-    server: Player,
+    server: Side,
     service: Service,
-    winner: Option<Player>,
+    winner: Option<Side>,
 }
 
 impl Default for Match {
     /// One set, green serves first.
     fn default() -> Self {
-        Match::new(1, Player::Green)
+        Match::new(1, Side::Green)
     }
 }
 
@@ -76,7 +76,7 @@ fn wins(a: u32, b: u32, target: u32) -> bool {
 impl Match {
     /// A match over the best of `best_of` sets (made odd, at least one,
     /// so that it always has a winner), `first_server` serving.
-    pub fn new(best_of: u32, first_server: Player) -> Match {
+    pub fn new(best_of: u32, first_server: Side) -> Match {
         Match {
             best_of: best_of.max(1) | 1,
             points: [0; 2],
@@ -94,12 +94,12 @@ impl Match {
     }
 
     /// Who serves the next service.
-    pub fn server(&self) -> Player {
+    pub fn server(&self) -> Side {
         self.server
     }
 
     /// The receiver of the next service.
-    pub fn receiver(&self) -> Player {
+    pub fn receiver(&self) -> Side {
         self.server.opponent()
     }
 
@@ -134,7 +134,7 @@ impl Match {
     }
 
     /// The match's winner, once it is over.
-    pub fn winner(&self) -> Option<Player> {
+    pub fn winner(&self) -> Option<Side> {
         self.winner
     }
 
@@ -158,7 +158,7 @@ impl Match {
     }
 
     /// `by` won the point. After the match is over nothing changes.
-    pub fn point_won(&mut self, by: Player) -> Scored {
+    pub fn point_won(&mut self, by: Side) -> Scored {
         if let Some(winner) = self.winner {
             return Scored::Match {
                 winner,
@@ -209,7 +209,7 @@ impl Match {
 mod tests {
     use super::*;
     use proptest::prelude::*;
-    use Player::{Blue, Green};
+    use Side::{Blue, Green};
 
     /// Plays points won by the players named "g"/"b" in `seq`.
     fn play(m: &mut Match, seq: &str) -> Vec<Scored> {
@@ -219,7 +219,7 @@ mod tests {
     }
 
     /// Gives `p` a game from love (four straight points).
-    fn game(m: &mut Match, p: Player) -> Scored {
+    fn game(m: &mut Match, p: Side) -> Scored {
         (0..4).map(|_| m.point_won(p)).last().unwrap()
     }
 
@@ -261,7 +261,7 @@ mod tests {
 
     #[test]
     fn deuce_advantage_both_ways_then_game() {
-        for p in Player::BOTH {
+        for p in Side::BOTH {
             let mut m = Match::default();
             play(&mut m, "gggbbb");
             assert_eq!(m.point_won(p), Scored::Point);

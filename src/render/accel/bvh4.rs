@@ -547,7 +547,7 @@ impl Bvh4 {
             stack: Vec::with_capacity(self.stack_size),
             cur: (self.root, f32::NEG_INFINITY, live),
             pop: false,
-            span: Span::of::<W>(p, self.scale()),
+            span: PacketBounds::of::<W>(p, self.scale()),
         }
     }
 }
@@ -634,7 +634,7 @@ impl BundleWalk {
 /// Nearer boxes come first for the packet as a whole.
 ///
 /// An inner node's four boxes are tested once for the whole packet, with
-/// bounds on its rays' entry and exit distances ([`Span`]) that never
+/// bounds on its rays' entry and exit distances ([`PacketBounds`]) that never
 /// exclude a box some ray enters; a leaf's box is tested lane by lane,
 /// exactly as each ray's single walk tests it. So each ray meets the
 /// triangles of the leaves its own walk enters (a box containing a leaf
@@ -649,7 +649,7 @@ pub struct PacketWalk {
     cur: (u32, f32, u32),
     /// Whether `cur` is done with (the next visit pops the stack).
     pop: bool,
-    span: Span,
+    span: PacketBounds,
 }
 
 impl PacketWalk {
@@ -750,7 +750,7 @@ fn enters<W: Wide>(p: &RayPacket, near: [f32; 3], far: [f32; 3], tfar: &Lanes) -
 /// it, with `|side|` at most the tree's largest coordinate. (With 0·∞ or
 /// ∞ − ∞ a bound is NaN, and a NaN bound excludes nothing.)
 #[derive(Clone, Copy, Debug)]
-pub struct Span {
+pub struct PacketBounds {
     inv: [[f32; 2]; 3],
     origin: [[f32; 2]; 3],
     pad: [f32; 3],
@@ -760,11 +760,11 @@ pub struct Span {
     common: bool,
 }
 
-impl Span {
+impl PacketBounds {
     /// The span of packet `p` (all its lanes) for a tree whose largest
     /// coordinate is `scale`.
     #[inline(always)]
-    fn of<W: Wide>(p: &RayPacket, scale: f32) -> Span {
+    fn of<W: Wide>(p: &RayPacket, scale: f32) -> PacketBounds {
         // Loops, not `map`: its closure would call the lane form's
         // instructions out of line (see `super::wide`).
         let (mut inv, mut origin) = ([[0.0; 2]; 3], [[0.0; 2]; 3]);
@@ -777,7 +777,7 @@ impl Span {
             let o = origin[a][0].abs().max(origin[a][1].abs());
             (scale + o) * i * (1.0 / 1_048_576.0)
         });
-        Span {
+        PacketBounds {
             inv,
             origin,
             pad,
@@ -911,7 +911,7 @@ mod tests {
                     f32::INFINITY
                 }
             });
-            let span = Span::of::<Scalar>(&p, 25.0);
+            let span = PacketBounds::of::<Scalar>(&p, 25.0);
             let far = greatest(Scalar::load(&tfar));
             for _ in 0..8 {
                 // Near the packet's way, mostly.

@@ -13,7 +13,7 @@ use glam::{Vec2, Vec3};
 
 use super::map::{self, Foothold, Region};
 use super::plan::{self, Foot, Gait, Weights};
-use crate::actors::behaviour::{angle_to, turn, Script};
+use crate::actors::behaviour::{angle_to, turn, Behaviour};
 use crate::lsys::automata::Automata;
 
 mod walk_stepworthy;
@@ -45,7 +45,7 @@ const DEFAULT_FOOT: f32 = 0.3;
 
 /// The configuration of `walk_stepworthy`, set by its commands.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Settings {
+pub struct WalkSettings {
     /// `foothold_plane`: the plane's height; None: the busiest layer of
     /// the memory under the eye, found at the first map.
     pub plane: Option<f32>,
@@ -59,9 +59,9 @@ pub struct Settings {
     pub foot: f32,
 }
 
-impl Default for Settings {
+impl Default for WalkSettings {
     fn default() -> Self {
-        Settings {
+        WalkSettings {
             plane: None,
             gait: Gait::default(),
             weights: Weights::default(),
@@ -103,7 +103,7 @@ enum Motion {
 /// What a `walk_stepworthy` actor keeps between frames.
 #[derive(Debug, Clone, Default)]
 pub struct Footing {
-    pub settings: Settings,
+    pub settings: WalkSettings,
     phase: Phase,
     /// The foothold plane, once known, and the eye's height over it.
     pub plane: Option<f32>,

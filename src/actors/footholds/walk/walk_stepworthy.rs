@@ -44,8 +44,8 @@ impl Living {
             let at = self.eye + self.footing.heading * reach;
             self.look_at = Vec3::new(at.x, plane, at.z);
         }
-        self.push(Script::of(Automata::WalkStepworthy));
-        self.activate(Script::of(Automata::Observe));
+        self.push(Behaviour::of(Automata::WalkStepworthy));
+        self.activate(Behaviour::of(Automata::Observe));
     }
 
     /// The local map around the eye, on the plane (found first, when the

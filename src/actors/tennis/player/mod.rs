@@ -14,7 +14,7 @@
 use glam::{DVec3, Vec3};
 
 use super::call::word::{BLUE, EXIT, FAULT, GREEN, LEFT, LET, RIGHT, SERVICE};
-use super::court::{court, service_box, side_of, Half, Player as Side, BALL_LOW, BASE_LINE};
+use super::court::{court, service_box, side_of, Half, Side, BALL_LOW, BASE_LINE};
 use super::ears::Ears;
 use super::eyes::{player_thing, Sightings, BALL};
 use super::hit::{aim_point, hit, Aim, Hit, Shot};
@@ -23,7 +23,7 @@ use super::impact::{
     velocity_now, Impact, Learner,
 };
 use super::racket_path::{RacketPath, StrokePlan};
-use crate::actors::behaviour::{is_voice, Deed, Script, Senses};
+use crate::actors::behaviour::{is_voice, Behaviour, Deed, Senses};
 use crate::lsys::automata::{Automata, AutomataCommand};
 
 /// `tennis_state` values (table B6).

@@ -52,8 +52,8 @@ impl Living {
                     p.end_point();
                     p.interpret = true;
                     self.listen_to = Some((e.source, 2));
-                    self.push(Script::of(Automata::PlayTennis));
-                    self.activate(Script::of(Automata::Listen));
+                    self.push(Behaviour::of(Automata::PlayTennis));
+                    self.activate(Behaviour::of(Automata::Listen));
                     return true;
                 }
                 EXIT if voice => {
@@ -130,12 +130,12 @@ impl Living {
         };
         p.stroke = None;
         self.tennis_state = GOTO_PLAY_POSITION;
-        self.push(Script {
+        self.push(Behaviour {
             automata: Automata::PlayTennis,
             commands: vec![AutomataCommand::TennisState(GOTO_PLAY_POSITION)],
         });
         self.goals.push(mine.as_vec3());
-        self.activate(Script::of(Automata::WalkContinuously));
+        self.activate(Behaviour::of(Automata::WalkContinuously));
         true
     }
 

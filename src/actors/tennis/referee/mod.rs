@@ -18,7 +18,7 @@ use super::ears::Ears;
 use super::eyes::{Sightings, BALL};
 use super::judge::{Heard, Judge, Verdict};
 use super::score::Match;
-use crate::actors::behaviour::{Script, Senses};
+use crate::actors::behaviour::{Behaviour, Senses};
 use crate::lsys::automata::Automata;
 
 mod referee_automata;

@@ -23,7 +23,7 @@ impl Living {
                 self.state = UPDATE_TENNIS_GAME;
                 let Some(verdict) = u.verdict.take() else {
                     // Nothing to call: watch the play.
-                    return self.activate(Script::of(Automata::TennisErrorDetection));
+                    return self.activate(Behaviour::of(Automata::TennisErrorDetection));
                 };
                 let words = call::update(&mut u.game, verdict);
                 u.judge = Judge::new(u.game.server(), u.game.half());
@@ -32,11 +32,11 @@ impl Living {
         };
         let finished = self.umpire.as_ref().is_some_and(|u| u.game.finished());
         if !finished {
-            self.push(Script::of(Automata::Referee));
-            self.push(Script::of(Automata::TennisErrorDetection));
+            self.push(Behaviour::of(Automata::Referee));
+            self.push(Behaviour::of(Automata::TennisErrorDetection));
         }
         self.words = words;
-        self.activate(Script::of(Automata::Talk));
+        self.activate(Behaviour::of(Automata::Talk));
     }
 
     /// `tennis_error_detection` (5.7): follows the ball with its eyes and
@@ -56,7 +56,7 @@ impl Living {
         let Some(u) = self.umpire.as_mut() else {
             // Without a match there is nothing to judge: the referee
             // automata starts one.
-            return self.activate(Script::of(Automata::Referee));
+            return self.activate(Behaviour::of(Automata::Referee));
         };
         let since = *self.progress.since.get_or_insert(senses.time);
         let heard = u.ears.news(senses.heard).into_iter();

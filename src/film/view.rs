@@ -37,14 +37,14 @@ const RACKET: i64 = 2;
 const INTERACTIVE_RACKET: i64 = 4;
 
 /// A `command_file` declaration: number, script, two text arguments.
-pub(super) type Script = (i64, FileRef, String, String);
+pub(super) type CommandScript = (i64, FileRef, String, String);
 
 /// The scripts a scene may run (only with the user's consent) and the
 /// folder they live in.
-pub(super) type Scripts = (Vec<Script>, PathBuf);
+pub(super) type Scripts = (Vec<CommandScript>, PathBuf);
 
 /// The world as one frame's interpretation or derivation sees it.
-pub(super) struct Window<'a> {
+pub(super) struct WorldView<'a> {
     pub air: &'a mut Air,
     pub physics: &'a mut Physics,
     /// The particle of the last `C` interpreted: the "current particle"
@@ -73,7 +73,7 @@ fn particle_of<'p>(
     get(who.symbol).or_else(|| get(current.filter(|c| c.lsys == who.lsys)?.symbol))
 }
 
-impl<'a> Window<'a> {
+impl<'a> WorldView<'a> {
     /// The window on the film's live parts at frame `frame`, with the
     /// current particle and actor; it runs no script until given them.
     pub fn on(
@@ -85,7 +85,7 @@ impl<'a> Window<'a> {
         actor: Option<u32>,
         frame: u64,
     ) -> Self {
-        Window {
+        WorldView {
             air,
             physics,
             current,
@@ -170,7 +170,7 @@ fn whole(v: f64) -> Option<u32> {
     (f64::from(n) == v).then_some(n)
 }
 
-impl Sensors for Window<'_> {
+impl Sensors for WorldView<'_> {
     /// `?30`–`?39`: the percepts and state of the symbol's actor.
     fn actor(&mut self, code: u8, who: Who) -> f64 {
         match self.actor_of(who.actor) {
@@ -234,7 +234,7 @@ impl Sensors for Window<'_> {
 
 /// Microphones and sound events go to the handler, `C` and tropism to
 /// the particles; the first error stops the frame.
-impl TurtleWorld for Window<'_> {
+impl TurtleWorld for WorldView<'_> {
     fn field(&mut self, p: DVec3) -> DVec3 {
         self.physics.field_at(p)
     }
