@@ -103,23 +103,28 @@ impl RenderChoice {
         }
     }
 
-    /// The settings as a frame's record keeps them, as text.
+    /// The settings as a frame's record keeps them, as text: every field
+    /// of the type (a field added is recorded, so a resumed run never
+    /// keeps frames made with another value), but `size_given`, which
+    /// says how the size was chosen, not what the image is.
     pub fn record(&self) -> BTreeMap<String, String> {
-        [
-            ("preset", self.preset.name().to_string()),
-            ("inset", self.inset.map_or("none".into(), |a| a.to_string())),
-            ("width", self.width.to_string()),
-            ("height", self.height.to_string()),
-            ("spp", self.spp.to_string()),
-            ("shadows", self.shadows.to_string()),
-            ("max_depth", self.max_depth.to_string()),
-            ("light_samples", self.light_samples.to_string()),
-            ("filter", self.filter.name().to_string()),
-            ("formats", self.formats.name().to_string()),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), v))
-        .collect()
+        let serde_json::Value::Object(fields) =
+            serde_json::to_value(self).expect("the settings serialize")
+        else {
+            unreachable!("a struct serializes to an object")
+        };
+        fields
+            .into_iter()
+            .filter(|(k, _)| k != "size_given")
+            .map(|(k, v)| {
+                let text = match v {
+                    serde_json::Value::String(s) => s,
+                    serde_json::Value::Null => "none".to_string(),
+                    other => other.to_string(),
+                };
+                (k, text)
+            })
+            .collect()
     }
 
     /// The command-line options that ask for exactly these settings (a
@@ -348,6 +353,23 @@ mod tests {
         let kept = none.resolve(Some(&w), Defaults::default(), (64, 64));
         assert_eq!((kept.width, kept.height), (160, 120));
         assert!(!c.record().values().any(|v| v == "0"), "{:?}", c.record());
+    }
+
+    /// A frame's record holds every setting, as text, as the records
+    /// on disk have it.
+    #[test]
+    fn the_record_is_every_field() {
+        let c = RenderChoice {
+            inset: Some(2),
+            ..RenderChoice::of_preset(Preset::Final, (64, 48))
+        };
+        let text: Vec<String> = c.record().iter().map(|(k, v)| format!("{k}={v}")).collect();
+        assert_eq!(
+            text.join(" "),
+            "filter=box formats=both height=48 inset=2 light_samples=4 max_depth=5 preset=final shadows=true spp=16 width=64"
+        );
+        let none = RenderChoice::of_preset(Preset::Preview, (8, 8)).record();
+        assert_eq!(none["inset"], "none");
     }
 
     /// The options a farm passes ask for the same settings again.

@@ -459,10 +459,43 @@ impl Interpreter<'_> {
         let s = self.ls.word()[i];
         self.origin = s.origin;
         self.actor = self.scope.visit(&s);
-        let [x, y, z] = s.par;
+        let [x, y, _] = s.par;
+        match s.ch {
+            b'+' | b'-' | b'&' | b'^' | b'/' | b'$' | b'f' => self.motion(&s),
+            b'[' | b']' => self.bracket(&s, tables),
+            b'?' => {
+                // The query symbol learns the turtle position (C.6).
+                self.ls.word_mut()[i].par = self.t.pos.to_array();
+            }
+            b'm' | b'r' | b'n' | b'v' => self.drawing_state(&s),
+            b'C' => self.particle(&s),
+            b'M' => self.actor_to_turtle(&s),
+            b'g' => self.turtle_to_actor(&s),
+            b'I' => self.world.record_actors(),
+            b'l' => {
+                let g = DVec3::from_array(self.growth(&s));
+                self.b.camera_symbol(s.par, g, self.who(&s), self.world);
+            }
+            b'R' | b'S' | b'c' | b'd' | b'O' | b'N' | b'o' | b'P' | b'Q' | b'a' | b's' | b'p'
+            | b'q' | b'{' | b'.' | b'}' | b'B' => self.draw(&s),
+            b'D' => self.d_symbol(&s),
+            b'T' => self.sound(&s, x),
+            // C.6: script par1; par2 = 0 only for the interactive window,
+            // so a film runs it only when par2 ≠ 0.
+            b'E' if y != 0.0 => {
+                let g = self.growth(&s).map(|v| v as i64);
+                self.world.command(x as i64, g);
+            }
+            _ => {}
+        }
+    }
+
+    /// The turtle's motion: turns, pitches, rolls, orientation resets and moves (`+ - & ^ / $ f`, C.3).
+    fn motion(&mut self, s: &Symbol) {
+        let [_, y, z] = s.par;
         match s.ch {
             b'+' | b'-' | b'&' | b'^' | b'/' => {
-                let a = self.growth(&s)[0];
+                let a = self.growth(s)[0];
                 match s.ch {
                     b'+' => self.t.turn(a),
                     b'-' => self.t.turn(-a),
@@ -476,7 +509,7 @@ impl Interpreter<'_> {
                 2 => self.t.hang(),
                 3 => self.t.reset_orientation(),
                 4 => {
-                    if let Some(v) = self.world.particle_velocity(self.who(&s)) {
+                    if let Some(v) = self.world.particle_velocity(self.who(s)) {
                         self.t.align(v);
                     }
                 }
@@ -489,12 +522,12 @@ impl Interpreter<'_> {
                 }
                 6 => self.t.horizontal(),
                 _ => {
-                    let a = self.growth(&s)[0];
+                    let a = self.growth(s)[0];
                     self.t.roll(a);
                 }
             },
             b'f' => {
-                let g = DVec3::from_array(self.growth(&s));
+                let g = DVec3::from_array(self.growth(s));
                 if !g.is_finite() {
                     self.warn("`f` by a vector that is not a number is skipped");
                     return;
@@ -506,6 +539,14 @@ impl Interpreter<'_> {
                     _ => self.forward(g.x),
                 }
             }
+            _ => {}
+        }
+    }
+
+    /// `[` and `]`: the turtle's stack, and its position and state tables (C.3).
+    fn bracket(&mut self, s: &Symbol, tables: &mut Tables) {
+        let [x, y, _] = s.par;
+        match s.ch {
             b'[' => {
                 let k = x as i64;
                 if x == 0.0 {
@@ -537,20 +578,24 @@ impl Interpreter<'_> {
                     self.t = *st;
                 }
             }
-            b'?' => {
-                // The query symbol learns the turtle position (C.6).
-                self.ls.word_mut()[i].par = self.t.pos.to_array();
-            }
+            _ => {}
+        }
+    }
+
+    /// What the next shapes are drawn with: material, segment colour, resolution and tropism (`m r n v`, C.4).
+    fn drawing_state(&mut self, s: &Symbol) {
+        let [x, _, z] = s.par;
+        match s.ch {
             b'm' => {
                 if z == 1.0 {
-                    let rgb = Vec3::from_array(self.growth(&s).map(|v| v as f32));
+                    let rgb = Vec3::from_array(self.growth(s).map(|v| v as f32));
                     self.material = self.b.animated(self.material, rgb);
                 } else if z != 2.0 {
                     self.material = material::by_number(x) as u32;
                 }
             }
             b'r' => {
-                let rgb = self.growth(&s);
+                let rgb = self.growth(s);
                 self.segment = Some(self.b.segment(rgb, self.material));
             }
             b'n' => {
@@ -560,11 +605,11 @@ impl Interpreter<'_> {
             }
             b'v' => match x as i64 {
                 0 => {
-                    self.tropism.field = Some(s);
+                    self.tropism.field = Some(*s);
                     self.tropism.on = true;
                 }
                 1 => {
-                    let g = self.growth(&s);
+                    let g = self.growth(s);
                     self.tropism.elasticity = g[0];
                     self.tropism.mass = if g[1] == 0.0 { 1.0 } else { g[1] };
                     self.tropism.on = true;
@@ -572,21 +617,21 @@ impl Interpreter<'_> {
                 2 => self.tropism.on = false,
                 _ => {}
             },
-            b'C' => self.particle(&s),
-            b'M' => self.actor_to_turtle(&s),
-            b'g' => self.turtle_to_actor(&s),
-            b'I' => self.world.record_actors(),
-            b'l' => {
-                let g = DVec3::from_array(self.growth(&s));
-                self.b.camera_symbol(s.par, g, self.who(&s), self.world);
-            }
+            _ => {}
+        }
+    }
+
+    /// The shapes, polygons and placed surfaces (`R S c d O N o P Q a s p q { . } B`, C.2).
+    fn draw(&mut self, s: &Symbol) {
+        let [x, y, z] = s.par;
+        match s.ch {
             b'R' | b'S' => {
                 self.tropism();
-                let len = self.growth(&s)[0];
+                let len = self.growth(s)[0];
                 let r = self.opts.segment_width / 2.0;
                 let m = self.segment.unwrap_or(self.material);
                 self.shape(
-                    &s,
+                    s,
                     ShapeKind::Cylinder,
                     &[len, r],
                     placed(&self.t, len, r, r),
@@ -595,9 +640,9 @@ impl Interpreter<'_> {
                 self.forward(len);
             }
             b'c' | b'd' => {
-                let g = self.growth(&s);
+                let g = self.growth(s);
                 self.shape(
-                    &s,
+                    s,
                     ShapeKind::Box,
                     &g,
                     placed(&self.t, g[0], g[1], g[2]),
@@ -608,21 +653,21 @@ impl Interpreter<'_> {
             }
             b'O' | b'N' => {
                 self.tropism();
-                let g = self.growth(&s);
+                let g = self.growth(s);
                 // Unit-radius capsule scaled by (k, par5, par6), k the mean
                 // radius, so equal radii give exact half spheres.
                 let k = (g[1] * g[2]).sqrt();
                 let kind = ShapeKind::Capsule {
                     length: (g[0] / k) as f32,
                 };
-                self.shape(&s, kind, &g, placed(&self.t, k, g[1], g[2]), self.material);
+                self.shape(s, kind, &g, placed(&self.t, k, g[1], g[2]), self.material);
                 self.forward(g[0]);
             }
             b'o' => {
                 self.tropism();
-                let g = self.growth(&s);
+                let g = self.growth(s);
                 self.shape(
-                    &s,
+                    s,
                     ShapeKind::Cylinder,
                     &g,
                     placed(&self.t, g[0], g[1], g[2]),
@@ -631,20 +676,20 @@ impl Interpreter<'_> {
                 self.forward(g[0]);
             }
             b'P' | b'Q' => {
-                let g = self.growth(&s);
+                let g = self.growth(s);
                 let kind = ShapeKind::Trunk {
                     length: g[0] as f32,
                     r0: g[1] as f32,
                     r1: g[2] as f32,
                 };
-                self.shape(&s, kind, &g, placed(&self.t, 1.0, 1.0, 1.0), self.material);
+                self.shape(s, kind, &g, placed(&self.t, 1.0, 1.0, 1.0), self.material);
                 self.forward(g[0]);
                 self.tropism();
             }
             b'a' => {
-                let r = self.growth(&s)[0] / 2.0;
+                let r = self.growth(s)[0] / 2.0;
                 self.shape(
-                    &s,
+                    s,
                     ShapeKind::Sphere,
                     &[r],
                     placed(&self.t, r, r, r),
@@ -652,9 +697,9 @@ impl Interpreter<'_> {
                 );
             }
             b's' => {
-                let g = self.growth(&s).map(|v| v / 2.0);
+                let g = self.growth(s).map(|v| v / 2.0);
                 self.shape(
-                    &s,
+                    s,
                     ShapeKind::Sphere,
                     &g,
                     placed(&self.t, g[0], g[1], g[2]),
@@ -663,35 +708,16 @@ impl Interpreter<'_> {
                 self.tropism();
             }
             b'p' | b'q' => {
-                let g = self.growth(&s);
-                self.pyramid(&s, g);
+                let g = self.growth(s);
+                self.pyramid(s, g);
                 self.tropism();
             }
             b'{' => self.polygons.open(),
             b'.' => self.polygons.vertex(self.t.pos),
             b'}' => {
                 let poly = self.polygons.close();
-                let g = self.growth(&s);
-                self.polygon(&s, &poly, [x, y, z], g[0]);
-            }
-            b'D' => self.d_symbol(&s),
-            b'T' => self.sound(&s, x),
-            // C.6: script par1; par2 = 0 only for the interactive window,
-            // so a film runs it only when par2 ≠ 0.
-            b'E' if y != 0.0 => {
-                let g = self.growth(&s).map(|v| v as i64);
-                self.world.command(x as i64, g);
-            }
-            b'B' => {
-                let g = self.growth(&s);
-                if g.iter().all(|v| v.is_finite() && *v != 0.0) {
-                    let m = placed(&self.t, g[0], g[1], g[2]);
-                    let placement = (Placed::Surface(x as i64), m, self.material, self.actor);
-                    self.out.placements.push(placement);
-                } else if g.iter().any(|v| !v.is_finite()) {
-                    // A zero scale is a surface not grown yet: no warning.
-                    self.warn("`B` with a scale that is not a number is skipped");
-                }
+                let g = self.growth(s);
+                self.polygon(s, &poly, [x, y, z], g[0]);
             }
             _ => {}
         }
