@@ -258,7 +258,7 @@ impl Table {
 /// points at the offending argument.
 fn check(c: &CommandAt) -> Result<(), Diagnostic> {
     use AutomataCommand as C;
-    let name = c.command.name();
+    let name = c.keyword;
     // `k` counts arguments from the last one backwards (0 = last).
     let refuse = |k: usize, what: String| Err(c.arg_error_from_end(k, format!("`{name}`: {what}")));
     let int_in = |k: usize, v: i64, lo: i64, hi: i64, what: &str| -> Result<(), Diagnostic> {

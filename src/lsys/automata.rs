@@ -315,108 +315,395 @@ pub enum AutomataCommand {
     },
 }
 
-/// (name, fewest numbers, most numbers, takes a word after the numbers).
-type Spec = (&'static str, usize, usize, bool);
+/// One automata command: its keyword, the fewest and most numbers it
+/// takes, whether a word follows them, and how its arguments build the
+/// typed command. The one definition of each command: parsing, its name
+/// in messages and its arity all come from here.
+struct Spec {
+    name: &'static str,
+    min: usize,
+    max: usize,
+    takes_word: bool,
+    build: fn(&Args) -> Result<AutomataCommand, Diagnostic>,
+}
+
+use AutomataCommand as C;
 
 /// Automata commands of the BNF and table B6 (where they disagree on the
 /// argument count, both counts are accepted).
 const COMMANDS: &[Spec] = &[
-    ("KEYFRAMEdef", 1, 1, true),
-    ("coll_test_func", 1, 1, false),
-    ("heuristic", 1, 1, false),
-    ("rel_search_level", 0, 1, false),
-    ("goal", 3, 3, false),
-    ("local_goal", 3, 4, false),
-    ("rgb_interest", 4, 4, false),
-    ("eps_arrived", 1, 2, false),
-    ("eps_look_at_goal", 1, 2, false),
-    ("eps_look_at", 1, 2, false),
-    ("reset_goal", 0, 0, false),
-    ("turtle", 1, 1, false),
-    ("mem_displ_cubes", 0, 0, false),
-    ("mem_no_displ", 0, 0, false),
-    ("mem_displ_points", 0, 0, false),
-    ("vis_mem_on", 0, 0, false),
-    ("vis_mem_off", 0, 0, false),
-    ("obs", 3, 3, false),
-    ("lat", 3, 3, false),
-    ("align", 3, 3, false),
-    ("init", 4, 4, false),
-    ("fov", 1, 1, false),
-    ("interest", 2, 2, false),
-    ("size_actor", 1, 1, false),
-    ("dist_coll", 1, 1, false),
-    ("tennis_state", 1, 1, false),
-    ("state", 1, 1, false),
-    ("optim_rate", 1, 1, false),
-    ("speed", 1, 1, false),
-    ("inertia", 1, 1, false),
-    ("ahead", 1, 1, false),
-    ("optim_ahead", 1, 1, false),
-    ("vision_range", 3, 3, false),
-    ("motor_init", 3, 3, false),
-    ("words_to_speak", 1, MAX_WORDS, false),
-    ("listen_to", 2, 2, false),
-    ("foothold_plane", 1, 1, false),
-    ("foothold_step", 2, 2, false),
-    ("step_weights", 6, 6, false),
-    ("foothold_map", 2, 3, false),
+    Spec {
+        name: "KEYFRAMEdef",
+        min: 1,
+        max: 1,
+        takes_word: true,
+        build: |a| {
+            Ok(C::KeyframeDef {
+                n: a.int(0)?,
+                file: a.file(),
+            })
+        },
+    },
+    Spec {
+        name: "coll_test_func",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::CollTestFunc(a.int(0)?)),
+    },
+    Spec {
+        name: "heuristic",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::Heuristic(a.int(0)?)),
+    },
+    Spec {
+        name: "rel_search_level",
+        min: 0,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::RelSearchLevel((a.n() == 1).then(|| a.f(0)))),
+    },
+    Spec {
+        name: "goal",
+        min: 3,
+        max: 3,
+        takes_word: false,
+        build: |a| Ok(C::Goal(a.v3(0))),
+    },
+    Spec {
+        name: "local_goal",
+        min: 3,
+        max: 4,
+        takes_word: false,
+        build: |a| {
+            Ok(C::LocalGoal {
+                index: a.index(4)?,
+                at: a.v3(a.n() - 3),
+            })
+        },
+    },
+    Spec {
+        name: "rgb_interest",
+        min: 4,
+        max: 4,
+        takes_word: false,
+        build: |a| {
+            Ok(C::RgbInterest {
+                rgb: [a.int(0)?, a.int(1)?, a.int(2)?],
+                active: a.int(3)?,
+            })
+        },
+    },
+    Spec {
+        name: "eps_arrived",
+        min: 1,
+        max: 2,
+        takes_word: false,
+        build: |a| {
+            Ok(C::EpsArrived {
+                index: a.index(2)?,
+                distance: a.f(a.n() - 1),
+            })
+        },
+    },
+    Spec {
+        name: "eps_look_at_goal",
+        min: 1,
+        max: 2,
+        takes_word: false,
+        build: |a| {
+            Ok(C::EpsLookAtGoal {
+                index: a.index(2)?,
+                threshold: a.f(a.n() - 1),
+            })
+        },
+    },
+    Spec {
+        name: "eps_look_at",
+        min: 1,
+        max: 2,
+        takes_word: false,
+        build: |a| {
+            Ok(C::EpsLookAt {
+                index: a.index(2)?,
+                threshold: a.f(a.n() - 1),
+            })
+        },
+    },
+    Spec {
+        name: "reset_goal",
+        min: 0,
+        max: 0,
+        takes_word: false,
+        build: |_| Ok(C::ResetGoal),
+    },
+    Spec {
+        name: "turtle",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::Turtle(a.int(0)?)),
+    },
+    Spec {
+        name: "mem_displ_cubes",
+        min: 0,
+        max: 0,
+        takes_word: false,
+        build: |_| Ok(C::MemDisplCubes),
+    },
+    Spec {
+        name: "mem_no_displ",
+        min: 0,
+        max: 0,
+        takes_word: false,
+        build: |_| Ok(C::MemNoDispl),
+    },
+    Spec {
+        name: "mem_displ_points",
+        min: 0,
+        max: 0,
+        takes_word: false,
+        build: |_| Ok(C::MemDisplPoints),
+    },
+    Spec {
+        name: "vis_mem_on",
+        min: 0,
+        max: 0,
+        takes_word: false,
+        build: |_| Ok(C::VisMemOn),
+    },
+    Spec {
+        name: "vis_mem_off",
+        min: 0,
+        max: 0,
+        takes_word: false,
+        build: |_| Ok(C::VisMemOff),
+    },
+    Spec {
+        name: "obs",
+        min: 3,
+        max: 3,
+        takes_word: false,
+        build: |a| Ok(C::Obs(a.v3(0))),
+    },
+    Spec {
+        name: "lat",
+        min: 3,
+        max: 3,
+        takes_word: false,
+        build: |a| Ok(C::Lat(a.v3(0))),
+    },
+    Spec {
+        name: "align",
+        min: 3,
+        max: 3,
+        takes_word: false,
+        build: |a| Ok(C::Align(a.v3(0))),
+    },
+    Spec {
+        name: "init",
+        min: 4,
+        max: 4,
+        takes_word: false,
+        build: |a| {
+            Ok(C::Init {
+                display_every: a.int(0)?,
+                min: a.f(1),
+                max: a.f(2),
+                voxel_edge: a.f(3),
+            })
+        },
+    },
+    Spec {
+        name: "fov",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::Fov(a.int(0)?)),
+    },
+    Spec {
+        name: "interest",
+        min: 2,
+        max: 2,
+        takes_word: false,
+        build: |a| {
+            Ok(C::Interest {
+                active: a.int(0)?,
+                thing: a.int(1)?,
+            })
+        },
+    },
+    Spec {
+        name: "size_actor",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::SizeActor(a.f(0))),
+    },
+    Spec {
+        name: "dist_coll",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::DistColl(a.f(0))),
+    },
+    Spec {
+        name: "tennis_state",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::TennisState(a.int(0)?)),
+    },
+    Spec {
+        name: "state",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::State(a.int(0)?)),
+    },
+    Spec {
+        name: "optim_rate",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::OptimRate(a.int(0)?)),
+    },
+    Spec {
+        name: "speed",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::Speed(a.f(0))),
+    },
+    Spec {
+        name: "inertia",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::Inertia(a.f(0))),
+    },
+    Spec {
+        name: "ahead",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::Ahead(a.int(0)?)),
+    },
+    Spec {
+        name: "optim_ahead",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::OptimAhead(a.int(0)?)),
+    },
+    Spec {
+        name: "vision_range",
+        min: 3,
+        max: 3,
+        takes_word: false,
+        build: |a| {
+            Ok(C::VisionRange {
+                near: a.f(0),
+                far: a.f(1),
+                memory_range: a.f(2),
+            })
+        },
+    },
+    Spec {
+        name: "motor_init",
+        min: 3,
+        max: 3,
+        takes_word: false,
+        build: |a| {
+            Ok(C::MotorInit {
+                max_speed: a.f(0),
+                scale: a.f(1),
+                ray_trace: a.int(2)?,
+            })
+        },
+    },
+    Spec {
+        name: "words_to_speak",
+        min: 1,
+        max: MAX_WORDS,
+        takes_word: false,
+        build: |a| {
+            Ok(C::WordsToSpeak(
+                (0..a.n()).map(|i| a.int(i)).collect::<Result<_, _>>()?,
+            ))
+        },
+    },
+    Spec {
+        name: "listen_to",
+        min: 2,
+        max: 2,
+        takes_word: false,
+        build: |a| {
+            Ok(C::ListenTo {
+                source: a.int(0)?,
+                count: a.int(1)?,
+            })
+        },
+    },
+    Spec {
+        name: "foothold_plane",
+        min: 1,
+        max: 1,
+        takes_word: false,
+        build: |a| Ok(C::FootholdPlane(a.f(0))),
+    },
+    Spec {
+        name: "foothold_step",
+        min: 2,
+        max: 2,
+        takes_word: false,
+        build: |a| {
+            Ok(C::FootholdStep {
+                df_max: a.f(0),
+                max_change: a.f(1),
+            })
+        },
+    },
+    Spec {
+        name: "step_weights",
+        min: 6,
+        max: 6,
+        takes_word: false,
+        build: |a| {
+            Ok(C::StepWeights([
+                a.f(0),
+                a.f(1),
+                a.f(2),
+                a.f(3),
+                a.f(4),
+                a.f(5),
+            ]))
+        },
+    },
+    Spec {
+        name: "foothold_map",
+        min: 2,
+        max: 3,
+        takes_word: false,
+        build: |a| {
+            Ok(C::FootholdMap {
+                range: a.f(0),
+                min_voxels: a.int(1)?,
+                foot: (a.n() == 3).then(|| a.f(2)),
+            })
+        },
+    },
 ];
 
 /// Most words one `words_to_speak` may give.
 pub const MAX_WORDS: usize = 64;
 
 impl AutomataCommand {
-    /// The command's keyword.
-    pub fn name(&self) -> &'static str {
-        use AutomataCommand as C;
-        match self {
-            C::KeyframeDef { .. } => "KEYFRAMEdef",
-            C::CollTestFunc(_) => "coll_test_func",
-            C::Heuristic(_) => "heuristic",
-            C::RelSearchLevel(_) => "rel_search_level",
-            C::Goal(_) => "goal",
-            C::LocalGoal { .. } => "local_goal",
-            C::RgbInterest { .. } => "rgb_interest",
-            C::EpsArrived { .. } => "eps_arrived",
-            C::EpsLookAtGoal { .. } => "eps_look_at_goal",
-            C::EpsLookAt { .. } => "eps_look_at",
-            C::ResetGoal => "reset_goal",
-            C::Turtle(_) => "turtle",
-            C::MemDisplCubes => "mem_displ_cubes",
-            C::MemNoDispl => "mem_no_displ",
-            C::MemDisplPoints => "mem_displ_points",
-            C::VisMemOn => "vis_mem_on",
-            C::VisMemOff => "vis_mem_off",
-            C::Obs(_) => "obs",
-            C::Lat(_) => "lat",
-            C::Align(_) => "align",
-            C::Init { .. } => "init",
-            C::Fov(_) => "fov",
-            C::Interest { .. } => "interest",
-            C::SizeActor(_) => "size_actor",
-            C::DistColl(_) => "dist_coll",
-            C::TennisState(_) => "tennis_state",
-            C::State(_) => "state",
-            C::OptimRate(_) => "optim_rate",
-            C::Speed(_) => "speed",
-            C::Inertia(_) => "inertia",
-            C::Ahead(_) => "ahead",
-            C::OptimAhead(_) => "optim_ahead",
-            C::VisionRange { .. } => "vision_range",
-            C::MotorInit { .. } => "motor_init",
-            C::FootholdPlane(_) => "foothold_plane",
-            C::FootholdStep { .. } => "foothold_step",
-            C::StepWeights(_) => "step_weights",
-            C::FootholdMap { .. } => "foothold_map",
-            C::WordsToSpeak(_) => "words_to_speak",
-            C::ListenTo { .. } => "listen_to",
-        }
-    }
-
     /// Whether `word` is a command keyword.
     pub fn is_keyword(word: &str) -> bool {
-        COMMANDS.iter().any(|c| c.0 == word)
+        COMMANDS.iter().any(|c| c.name == word)
     }
 }
 
@@ -426,6 +713,8 @@ impl AutomataCommand {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommandAt {
     pub command: AutomataCommand,
+    /// The keyword it was written with.
+    pub keyword: &'static str,
     pub span: Span,
     pub args: Vec<Span>,
 }
@@ -613,9 +902,10 @@ pub fn parse_commands(s: &mut Scanner) -> Result<Vec<CommandAt>, Diagnostic> {
     let mut out = Vec::new();
     loop {
         let (_, w) = s.peek_word()?;
-        let Some(&(name, min, max, takes_word)) = COMMANDS.iter().find(|sp| sp.0 == w) else {
+        let Some(spec) = COMMANDS.iter().find(|sp| sp.name == w) else {
             return Ok(out);
         };
+        let (name, min, max) = (spec.name, spec.min, spec.max);
         let (at, _) = s.word(name)?;
         let mut numbers = Vec::new();
         let mut args = Vec::new();
@@ -639,137 +929,77 @@ pub fn parse_commands(s: &mut Scanner) -> Result<Vec<CommandAt>, Diagnostic> {
                 ),
             ));
         }
-        let file = if takes_word {
+        let file = if spec.takes_word {
             let (w_at, w) = s.word(&format!("a file name after `{name}`"))?;
             args.push(Span::new(s.src, w_at));
             Some(FileRef::new(s.src, w_at, w))
         } else {
             None
         };
-        let command = typed(s, name, &numbers, file)?;
+        let command = (spec.build)(&Args {
+            s,
+            name,
+            numbers: &numbers,
+            file,
+        })?;
         out.push(CommandAt {
             command,
+            keyword: name,
             span: Span::new(s.src, at),
             args,
         });
     }
 }
 
-/// The typed command `name` of `numbers` (each with its offset), whose
-/// count the caller checked against [`COMMANDS`].
-fn typed(
-    s: &Scanner,
-    name: &str,
-    numbers: &[(f64, usize)],
+/// A command's arguments as written: the numbers with their offsets,
+/// and the word after them.
+struct Args<'a> {
+    s: &'a Scanner<'a>,
+    name: &'static str,
+    numbers: &'a [(f64, usize)],
     file: Option<FileRef>,
-) -> Result<AutomataCommand, Diagnostic> {
-    use AutomataCommand as C;
-    let int = |i: usize| -> Result<i64, Diagnostic> {
-        let (v, offset) = numbers[i];
+}
+
+impl Args<'_> {
+    fn n(&self) -> usize {
+        self.numbers.len()
+    }
+
+    /// Number `i`, which must be an integer.
+    fn int(&self, i: usize) -> Result<i64, Diagnostic> {
+        let (v, offset) = self.numbers[i];
         // Integers up to 2^53 are exact in an f64.
         if v.fract() != 0.0 || v.abs() > 9_007_199_254_740_992.0 {
-            return Err(s.error(offset, format!("`{name}` takes an integer here, found {v}")));
+            let name = self.name;
+            return Err(self
+                .s
+                .error(offset, format!("`{name}` takes an integer here, found {v}")));
         }
         Ok(v as i64)
-    };
-    let f = |i: usize| numbers[i].0;
-    let v3 = |i: usize| [f(i), f(i + 1), f(i + 2)];
-    let n = numbers.len();
-    // The optional leading local goal number of the longer forms.
-    let index = |full: usize| -> Result<Option<i64>, Diagnostic> {
-        if n == full {
-            int(0).map(Some)
+    }
+
+    fn f(&self, i: usize) -> f64 {
+        self.numbers[i].0
+    }
+
+    fn v3(&self, i: usize) -> [f64; 3] {
+        [self.f(i), self.f(i + 1), self.f(i + 2)]
+    }
+
+    /// The optional leading local goal number of the longer forms.
+    fn index(&self, full: usize) -> Result<Option<i64>, Diagnostic> {
+        if self.n() == full {
+            self.int(0).map(Some)
         } else {
             Ok(None)
         }
-    };
-    Ok(match name {
-        "KEYFRAMEdef" => C::KeyframeDef {
-            n: int(0)?,
-            file: file.expect("KEYFRAMEdef takes a word"),
-        },
-        "coll_test_func" => C::CollTestFunc(int(0)?),
-        "heuristic" => C::Heuristic(int(0)?),
-        "rel_search_level" => C::RelSearchLevel((n == 1).then(|| f(0))),
-        "goal" => C::Goal(v3(0)),
-        "local_goal" => C::LocalGoal {
-            index: index(4)?,
-            at: v3(n - 3),
-        },
-        "rgb_interest" => C::RgbInterest {
-            rgb: [int(0)?, int(1)?, int(2)?],
-            active: int(3)?,
-        },
-        "eps_arrived" => C::EpsArrived {
-            index: index(2)?,
-            distance: f(n - 1),
-        },
-        "eps_look_at_goal" => C::EpsLookAtGoal {
-            index: index(2)?,
-            threshold: f(n - 1),
-        },
-        "eps_look_at" => C::EpsLookAt {
-            index: index(2)?,
-            threshold: f(n - 1),
-        },
-        "reset_goal" => C::ResetGoal,
-        "turtle" => C::Turtle(int(0)?),
-        "mem_displ_cubes" => C::MemDisplCubes,
-        "mem_no_displ" => C::MemNoDispl,
-        "mem_displ_points" => C::MemDisplPoints,
-        "vis_mem_on" => C::VisMemOn,
-        "vis_mem_off" => C::VisMemOff,
-        "obs" => C::Obs(v3(0)),
-        "lat" => C::Lat(v3(0)),
-        "align" => C::Align(v3(0)),
-        "init" => C::Init {
-            display_every: int(0)?,
-            min: f(1),
-            max: f(2),
-            voxel_edge: f(3),
-        },
-        "fov" => C::Fov(int(0)?),
-        "interest" => C::Interest {
-            active: int(0)?,
-            thing: int(1)?,
-        },
-        "size_actor" => C::SizeActor(f(0)),
-        "dist_coll" => C::DistColl(f(0)),
-        "tennis_state" => C::TennisState(int(0)?),
-        "state" => C::State(int(0)?),
-        "optim_rate" => C::OptimRate(int(0)?),
-        "speed" => C::Speed(f(0)),
-        "inertia" => C::Inertia(f(0)),
-        "ahead" => C::Ahead(int(0)?),
-        "optim_ahead" => C::OptimAhead(int(0)?),
-        "vision_range" => C::VisionRange {
-            near: f(0),
-            far: f(1),
-            memory_range: f(2),
-        },
-        "motor_init" => C::MotorInit {
-            max_speed: f(0),
-            scale: f(1),
-            ray_trace: int(2)?,
-        },
-        "words_to_speak" => C::WordsToSpeak((0..n).map(int).collect::<Result<_, _>>()?),
-        "listen_to" => C::ListenTo {
-            source: int(0)?,
-            count: int(1)?,
-        },
-        "foothold_plane" => C::FootholdPlane(f(0)),
-        "foothold_step" => C::FootholdStep {
-            df_max: f(0),
-            max_change: f(1),
-        },
-        "step_weights" => C::StepWeights([f(0), f(1), f(2), f(3), f(4), f(5)]),
-        "foothold_map" => C::FootholdMap {
-            range: f(0),
-            min_voxels: int(1)?,
-            foot: (n == 3).then(|| f(2)),
-        },
-        _ => unreachable!("every command of COMMANDS has an arm"),
-    })
+    }
+
+    fn file(&self) -> FileRef {
+        self.file
+            .clone()
+            .expect("a command that takes a word has one")
+    }
 }
 
 #[cfg(test)]
