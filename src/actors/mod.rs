@@ -254,41 +254,53 @@ impl Table {
     }
 }
 
-/// Refuses a command whose arguments no actor could use; the error
-/// points at the offending argument.
-fn check(c: &CommandAt) -> Result<(), Diagnostic> {
-    use AutomataCommand as C;
-    let name = c.keyword;
-    // `k` counts arguments from the last one backwards (0 = last).
-    let refuse = |k: usize, what: String| Err(c.arg_error_from_end(k, format!("`{name}`: {what}")));
-    let int_in = |k: usize, v: i64, lo: i64, hi: i64, what: &str| -> Result<(), Diagnostic> {
+/// The checks an automata command's arguments share; each refusal
+/// points at the argument, counted from the last one backwards (0 =
+/// last: optional arguments come first).
+struct Check<'a>(&'a CommandAt);
+
+/// Whole numbers without an upper bound of their own.
+const BIG: i64 = i64::MAX;
+
+impl Check<'_> {
+    fn refuse(&self, k: usize, what: String) -> Result<(), Diagnostic> {
+        let name = self.0.keyword;
+        Err(self.0.arg_error_from_end(k, format!("`{name}`: {what}")))
+    }
+
+    fn int_in(&self, k: usize, v: i64, lo: i64, hi: i64, what: &str) -> Result<(), Diagnostic> {
         if (lo..=hi).contains(&v) {
             Ok(())
         } else {
-            refuse(k, format!("{what} must be {lo}..={hi}, found {v}"))
+            self.refuse(k, format!("{what} must be {lo}..={hi}, found {v}"))
         }
-    };
-    let at_least = |k: usize, v: f64, lo: f64, what: &str| -> Result<(), Diagnostic> {
+    }
+
+    fn at_least(&self, k: usize, v: f64, lo: f64, what: &str) -> Result<(), Diagnostic> {
         if v >= lo {
             Ok(())
         } else {
-            refuse(k, format!("{what} must be at least {lo}, found {v}"))
+            self.refuse(k, format!("{what} must be at least {lo}, found {v}"))
         }
-    };
-    let positive = |k: usize, v: f64, what: &str| -> Result<(), Diagnostic> {
+    }
+
+    fn positive(&self, k: usize, v: f64, what: &str) -> Result<(), Diagnostic> {
         if v > 0.0 {
             Ok(())
         } else {
-            refuse(k, format!("{what} must be greater than 0, found {v}"))
+            self.refuse(k, format!("{what} must be greater than 0, found {v}"))
         }
-    };
-    let index = |k: usize, i: Option<i64>| match i {
-        Some(i) => int_in(k, i, 0, i64::MAX, "the local goal number"),
-        None => Ok(()),
-    };
-    const BIG: i64 = i64::MAX;
-    // A number of table G.1 of the kind the command needs.
-    let heuristic_of = |n: i64, kind: Kind, what: &str| {
+    }
+
+    fn index(&self, k: usize, i: Option<i64>) -> Result<(), Diagnostic> {
+        match i {
+            Some(i) => self.int_in(k, i, 0, BIG, "the local goal number"),
+            None => Ok(()),
+        }
+    }
+
+    /// A number of table G.1 of the kind the command needs.
+    fn heuristic_of(&self, n: i64, kind: Kind, what: &str) -> Result<(), Diagnostic> {
         let found = u32::try_from(n).ok().and_then(heuristics::heuristic);
         if found.is_some_and(|h| h.kind == kind) {
             return Ok(());
@@ -298,35 +310,131 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
             .filter(|h| h.kind == kind)
             .map(|h| h.number.to_string())
             .collect();
-        refuse(
+        self.refuse(
             0,
             format!("{n} is not {what} of table G.1: {}", numbers.join(", ")),
         )
-    };
+    }
+
+    /// `init`: the memory display modulo and the world cube, cut into at
+    /// most [`MAX_VOXELS_PER_EDGE`] voxels a side.
+    fn world_cube(
+        &self,
+        display_every: i64,
+        min: f64,
+        max: f64,
+        voxel_edge: f64,
+    ) -> Result<(), Diagnostic> {
+        self.int_in(3, display_every, 0, BIG, "the memory display modulo")?;
+        if min >= max {
+            return self.refuse(
+                1,
+                format!(
+                    "the world cube's maximum must be greater than its minimum {min}, found {max}"
+                ),
+            );
+        }
+        self.positive(0, voxel_edge, "the voxel edge")?;
+        if (max - min) / voxel_edge > MAX_VOXELS_PER_EDGE {
+            return self.refuse(
+                0,
+                format!(
+                    "a voxel edge of {voxel_edge} cuts the world cube's edge {} into more than {MAX_VOXELS_PER_EDGE} voxels",
+                    max - min
+                ),
+            );
+        }
+        Ok(())
+    }
+
+    /// `eps_look_at[_goal] [n] threshold`: a scalar product of unit vectors.
+    fn look_threshold(&self, i: Option<i64>, threshold: f64) -> Result<(), Diagnostic> {
+        self.index(1, i)?;
+        if (-1.0..=1.0).contains(&threshold) {
+            Ok(())
+        } else {
+            self.refuse(
+                0,
+                format!(
+                    "the threshold is a scalar product of unit vectors, -1..=1, found {threshold}"
+                ),
+            )
+        }
+    }
+
+    /// `vision_range near far memory_range`.
+    fn vision_range(&self, near: f64, far: f64, memory_range: f64) -> Result<(), Diagnostic> {
+        self.at_least(2, near, 0.0, "the near distance")?;
+        if far <= near {
+            return self.refuse(
+                1,
+                format!(
+                    "the far distance must be greater than the near distance {near}, found {far}"
+                ),
+            );
+        }
+        self.at_least(0, memory_range, 0.0, "the memory update range")
+    }
+
+    /// `step_weights`: weights and exponents, none negative.
+    fn step_weights(&self, w: &[f64; 6]) -> Result<(), Diagnostic> {
+        for (k, v) in w.iter().enumerate() {
+            let what = if k % 2 == 0 {
+                "a weight"
+            } else {
+                "an exponent"
+            };
+            self.at_least(5 - k, *v, 0.0, what)?;
+        }
+        Ok(())
+    }
+
+    /// `foothold_map range min_voxels [foot]`.
+    fn foothold_map(
+        &self,
+        range: f64,
+        min_voxels: i64,
+        foot: Option<f64>,
+    ) -> Result<(), Diagnostic> {
+        let k = usize::from(foot.is_some());
+        self.positive(1 + k, range, "the map's range")?;
+        self.int_in(k, min_voxels, 1, BIG, "the smallest foothold (voxels)")?;
+        match foot {
+            Some(f) => self.at_least(0, f, 0.0, "the largest foothold"),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Refuses a command whose arguments no actor could use; the error
+/// points at the offending argument.
+fn check(c: &CommandAt) -> Result<(), Diagnostic> {
+    use AutomataCommand as C;
+    let ck = Check(c);
     match &c.command {
-        C::KeyframeDef { n, .. } => int_in(1, *n, 0, BIG, "the track number"),
-        C::CollTestFunc(n) => heuristic_of(*n, Kind::Test, "a collision test"),
-        C::Heuristic(n) => heuristic_of(*n, Kind::Search, "a search heuristic"),
+        C::KeyframeDef { n, .. } => ck.int_in(1, *n, 0, BIG, "the track number"),
+        C::CollTestFunc(n) => ck.heuristic_of(*n, Kind::Test, "a collision test"),
+        C::Heuristic(n) => ck.heuristic_of(*n, Kind::Search, "a search heuristic"),
         // The logarithmic level of B.6 / appendix G: 0 is the memory's
         // own voxel, 1 twice its edge, …
         C::RelSearchLevel(Some(x)) if (0.0..=20.0).contains(x) && x.fract() == 0.0 => Ok(()),
-        C::RelSearchLevel(Some(x)) => refuse(
+        C::RelSearchLevel(Some(x)) => ck.refuse(
             0,
             format!(
                 "the logarithmic relative search level must be a whole number 0..=20 (search voxels of 2^level memory voxels a side), found {x}"
             ),
         ),
         C::RelSearchLevel(None) => Ok(()),
-        C::LocalGoal { index: i, .. } => index(3, *i),
+        C::LocalGoal { index: i, .. } => ck.index(3, *i),
         C::RgbInterest { rgb, active } => {
             for (k, v) in rgb.iter().enumerate() {
-                int_in(3 - k, *v, 0, 255, "a colour component")?;
+                ck.int_in(3 - k, *v, 0, 255, "a colour component")?;
             }
-            int_in(0, *active, 0, 1, "the switch (1 on, 0 off)")
+            ck.int_in(0, *active, 0, 1, "the switch (1 on, 0 off)")
         }
         C::EpsArrived { index: i, distance } => {
-            index(1, *i)?;
-            at_least(0, *distance, 0.0, "the distance")
+            ck.index(1, *i)?;
+            ck.at_least(0, *distance, 0.0, "the distance")
         }
         C::EpsLookAtGoal {
             index: i,
@@ -335,47 +443,18 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
         | C::EpsLookAt {
             index: i,
             threshold,
-        } => {
-            index(1, *i)?;
-            if (-1.0..=1.0).contains(threshold) {
-                Ok(())
-            } else {
-                refuse(
-                    0,
-                    format!("the threshold is a scalar product of unit vectors, -1..=1, found {threshold}"),
-                )
-            }
-        }
-        C::Turtle(n) => int_in(0, *n, 0, 4, "the turtle mapping"),
+        } => ck.look_threshold(*i, *threshold),
+        C::Turtle(n) => ck.int_in(0, *n, 0, 4, "the turtle mapping"),
         C::Init {
             display_every,
             min,
             max,
             voxel_edge,
-        } => {
-            int_in(3, *display_every, 0, BIG, "the memory display modulo")?;
-            if min >= max {
-                return refuse(
-                    1,
-                    format!("the world cube's maximum must be greater than its minimum {min}, found {max}"),
-                );
-            }
-            positive(0, *voxel_edge, "the voxel edge")?;
-            if (max - min) / voxel_edge > MAX_VOXELS_PER_EDGE {
-                return refuse(
-                    0,
-                    format!(
-                        "a voxel edge of {voxel_edge} cuts the world cube's edge {} into more than {MAX_VOXELS_PER_EDGE} voxels",
-                        max - min
-                    ),
-                );
-            }
-            Ok(())
-        }
-        C::Fov(n) => int_in(0, *n, 1, 1799, "the view angle (tenths of a degree)"),
+        } => ck.world_cube(*display_every, *min, *max, *voxel_edge),
+        C::Fov(n) => ck.int_in(0, *n, 1, 1799, "the view angle (tenths of a degree)"),
         C::Interest { active, thing } => {
-            int_in(1, *active, 0, 1, "the switch (1 on, 0 off)")?;
-            int_in(
+            ck.int_in(1, *active, 0, 1, "the switch (1 on, 0 off)")?;
+            ck.int_in(
                 0,
                 *thing,
                 0,
@@ -383,78 +462,51 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
                 "the thing of interest (0 ball, 1 player 0, 2 player 1)",
             )
         }
-        C::SizeActor(x) => at_least(0, *x, 0.0, "the actor size"),
-        C::DistColl(x) => at_least(0, *x, 0.0, "the collision distance"),
-        C::TennisState(n) => int_in(0, *n, 0, 13, "the tennis state"),
-        C::State(n) => int_in(0, *n, 0, 26, "the vision state"),
-        C::OptimRate(n) => int_in(0, *n, 1, BIG, "the optimisation modulo"),
-        C::Speed(x) => at_least(0, *x, 0.0, "the speed"),
-        C::Inertia(x) => at_least(0, *x, 0.0, "the inertia"),
-        C::Ahead(n) => int_in(0, *n, 0, BIG, "the number of key points"),
-        C::OptimAhead(n) => int_in(0, *n, 0, BIG, "the number of key points"),
+        C::SizeActor(x) => ck.at_least(0, *x, 0.0, "the actor size"),
+        C::DistColl(x) => ck.at_least(0, *x, 0.0, "the collision distance"),
+        C::TennisState(n) => ck.int_in(0, *n, 0, 13, "the tennis state"),
+        C::State(n) => ck.int_in(0, *n, 0, 26, "the vision state"),
+        C::OptimRate(n) => ck.int_in(0, *n, 1, BIG, "the optimisation modulo"),
+        C::Speed(x) => ck.at_least(0, *x, 0.0, "the speed"),
+        C::Inertia(x) => ck.at_least(0, *x, 0.0, "the inertia"),
+        C::Ahead(n) => ck.int_in(0, *n, 0, BIG, "the number of key points"),
+        C::OptimAhead(n) => ck.int_in(0, *n, 0, BIG, "the number of key points"),
         C::VisionRange {
             near,
             far,
             memory_range,
-        } => {
-            at_least(2, *near, 0.0, "the near distance")?;
-            if far <= near {
-                return refuse(
-                    1,
-                    format!("the far distance must be greater than the near distance {near}, found {far}"),
-                );
-            }
-            at_least(0, *memory_range, 0.0, "the memory update range")
-        }
+        } => ck.vision_range(*near, *far, *memory_range),
         C::MotorInit {
             max_speed,
             scale,
             ray_trace,
         } => {
-            at_least(2, *max_speed, 0.0, "the maximal speed")?;
-            positive(1, *scale, "the scale factor")?;
-            int_in(0, *ray_trace, 0, 1, "the ray tracer switch (1 on, 0 off)")
+            ck.at_least(2, *max_speed, 0.0, "the maximal speed")?;
+            ck.positive(1, *scale, "the scale factor")?;
+            ck.int_in(0, *ray_trace, 0, 1, "the ray tracer switch (1 on, 0 off)")
         }
         C::WordsToSpeak(words) => {
             let n = words.len();
             for (j, w) in words.iter().enumerate() {
-                int_in(n - 1 - j, *w, 0, i64::from(u32::MAX), "a sound number")?;
+                ck.int_in(n - 1 - j, *w, 0, i64::from(u32::MAX), "a sound number")?;
             }
             Ok(())
         }
         C::ListenTo { source, count } => {
-            int_in(1, *source, 0, i64::from(u32::MAX), "the sound source")?;
-            int_in(0, *count, 1, MAX_HEARD, "the number of sound events")
+            ck.int_in(1, *source, 0, i64::from(u32::MAX), "the sound source")?;
+            ck.int_in(0, *count, 1, MAX_HEARD, "the number of sound events")
         }
         C::FootholdPlane(_) => Ok(()),
         C::FootholdStep { df_max, max_change } => {
-            positive(1, *df_max, "the longest step")?;
-            at_least(0, *max_change, 0.0, "the step length change")
+            ck.positive(1, *df_max, "the longest step")?;
+            ck.at_least(0, *max_change, 0.0, "the step length change")
         }
-        C::StepWeights(w) => {
-            for (k, v) in w.iter().enumerate() {
-                let what = if k % 2 == 0 {
-                    "a weight"
-                } else {
-                    "an exponent"
-                };
-                at_least(5 - k, *v, 0.0, what)?;
-            }
-            Ok(())
-        }
+        C::StepWeights(w) => ck.step_weights(w),
         C::FootholdMap {
             range,
             min_voxels,
             foot,
-        } => {
-            let k = usize::from(foot.is_some());
-            positive(1 + k, *range, "the map's range")?;
-            int_in(k, *min_voxels, 1, BIG, "the smallest foothold (voxels)")?;
-            match foot {
-                Some(f) => at_least(0, *f, 0.0, "the largest foothold"),
-                None => Ok(()),
-            }
-        }
+        } => ck.foothold_map(*range, *min_voxels, *foot),
         C::Goal(_)
         | C::ResetGoal
         | C::MemDisplCubes
