@@ -275,115 +275,11 @@ impl Living {
                 p.ready_since = Some(t);
                 self.look_around_set();
             }
-            FOLLOW_BALL => {
-                if p.is_server() && p.tossed.is_none() {
-                    let ready = *p.ready_since.get_or_insert(t);
-                    if t - ready >= SERVE_PAUSE {
-                        let ahead = DVec3::X * -x_sign(p.side) * TOSS_AHEAD;
-                        let at = DVec3::new(p.start.x, TOSS_HEIGHT, p.start.z) + ahead;
-                        deeds.push(Deed::Toss {
-                            at: at.as_vec3(),
-                            velocity: Vec3::Y * TOSS_SPEED as f32,
-                        });
-                        p.tossed = Some((at, t));
-                        p.velocity = None;
-                        p.ball.clear();
-                        self.look_at = at.as_vec3();
-                        // It knows its toss: the ball falls back through
-                        // the service height then.
-                        let up = TOSS_SPEED;
-                        if let Some(delay) = impact_delay(TOSS_HEIGHT, up, SERVE_HEIGHT, G) {
-                            let impact = Impact {
-                                point: DVec3::new(at.x, SERVE_HEIGHT, at.z),
-                                time: t + delay,
-                            };
-                            let v = DVec3::Y * (up - G * delay);
-                            let eye = self.eye.as_dvec3();
-                            p.plan(eye, t, impact, v, true);
-                        }
-                        self.tennis_state = NOT_BOUNCE;
-                    }
-                    return;
-                }
-                if p.server.is_some() && p.coming() {
-                    self.tennis_state = FIRST_HIT_TURN;
-                }
-            }
+            FOLLOW_BALL => self.follow_ball(t, deeds),
             FIRST_HIT_TURN..=7 => self.tennis_state += 1,
             HIT_TURN => self.tennis_state = BOUNCE_OR_NOT_BOUNCE,
-            BOUNCE_OR_NOT_BOUNCE => {
-                let Some(v) = p.velocity else { return };
-                let Some((_, at)) = p.ball.last() else { return };
-                if p.bounced.is_some() {
-                    // It bounced already: it is taken on the rise.
-                    self.tennis_state = NOT_BOUNCE;
-                    return;
-                }
-                let serving = p.is_server() && p.strokes == 0;
-                let h = if serving { SERVE_HEIGHT } else { HIT_HEIGHT };
-                let Some(first) = estimate_impact(at, v, t, h, G, p.learner.x()) else {
-                    return;
-                };
-                if !serving && p.bounced.is_none() && !p.side_ok(at, v, t) {
-                    // It lands out: let it go, and wait for the call.
-                    self.tennis_state = FOLLOW_BALL;
-                    p.velocity = None;
-                    return;
-                }
-                p.first_sight = Some((at, v, t));
-                p.stroke = None;
-                // The receiver lets a service bounce (a volley would lose
-                // the point).
-                let receiving = !p.is_server() && p.strokes == 0 && p.bounced.is_none();
-                // Eq. 5.6.7 with the ball's velocity as it falls through h.
-                let second = after_bounce(&first, velocity_at(v, t, &first), h, BALL_LOW, G);
-                let choice = if serving {
-                    choose_impact(p.start, first, None)
-                } else if receiving {
-                    match second {
-                        Some(s) => choose_impact(p.start, s, None),
-                        None => return,
-                    }
-                } else {
-                    choose_impact(p.start, first, second)
-                };
-                let bounce = receiving || (choice.bounce && !serving);
-                self.tennis_state = if bounce { BOUNCE } else { NOT_BOUNCE };
-                let eye = self.eye.as_dvec3();
-                let v_imp = if bounce {
-                    let at_bounce = velocity_at(v, t, &first);
-                    DVec3::new(at_bounce.x, -at_bounce.y, at_bounce.z)
-                } else {
-                    velocity_at(v, t, &choice.impact)
-                };
-                p.plan(eye, t, choice.impact, v_imp, serving);
-            }
-            BOUNCE => {
-                let Some((_, at)) = p.ball.last() else { return };
-                if at.y < BOUNCE_BEGINS || p.bounced.is_some() {
-                    self.tennis_state = BOUNCE_BEGIN;
-                    p.learn_x(at, t);
-                    return;
-                }
-                let far = !p
-                    .stroke
-                    .as_ref()
-                    .is_some_and(|s| at.distance(s.impact.point) <= STOP_ESTIMATING);
-                if let (true, Some(v)) =
-                    (far && p.frames.is_multiple_of(ESTIMATE_EVERY), p.velocity)
-                {
-                    let first = estimate_impact(at, v, t, HIT_HEIGHT, G, p.learner.x());
-                    let second = first.and_then(|f| {
-                        let fall = velocity_at(v, t, &f);
-                        Some((after_bounce(&f, fall, HIT_HEIGHT, BALL_LOW, G)?, fall))
-                    });
-                    if let Some((second, fall)) = second {
-                        let eye = self.eye.as_dvec3();
-                        let rebound = DVec3::new(fall.x, fall.y.abs(), fall.z);
-                        p.plan(eye, t, second, rebound, false);
-                    }
-                }
-            }
+            BOUNCE_OR_NOT_BOUNCE => self.bounce_or_not(t),
+            BOUNCE => self.before_bounce(t),
             BOUNCE_BEGIN => {
                 // The ball has hit the ground (heard) and climbs again.
                 if p.bounced.is_some() {
@@ -391,51 +287,173 @@ impl Living {
                     p.velocity = None;
                 }
             }
-            NOT_BOUNCE => {
-                let serving = p.stroke.as_ref().is_some_and(|s| s.serve);
-                let close = |p: &Player| match (&p.stroke, p.ball.last()) {
-                    (Some(s), Some((_, b))) => b.distance(s.impact.point) < STOP_ESTIMATING,
-                    _ => false,
-                };
-                let estimate = !serving && !close(p) && p.frames.is_multiple_of(ESTIMATE_EVERY);
-                if p.stroke.is_none() || estimate {
-                    if let (Some(v), Some((_, at))) = (p.velocity, p.ball.last()) {
-                        let h = if serving { SERVE_HEIGHT } else { HIT_HEIGHT };
-                        let x = p.learner.x();
-                        // After the bounce the ball is taken on the rise.
-                        let impact = match p.bounced {
-                            Some(_) => rising_impact(at, v, t, h, G, x),
-                            None => estimate_impact(at, v, t, h, G, x),
-                        };
-                        if let Some(i) = impact {
-                            let eye = self.eye.as_dvec3();
-                            p.plan(eye, t, i, velocity_at(v, t, &i), serving);
-                        }
-                    }
-                }
-                let Some(s) = &p.stroke else { return };
-                if s.impact.time - t <= 2.0 * senses.dt {
-                    self.tennis_state = HIT_PHASE;
-                    if let Some((_, at)) = p.ball.last() {
-                        p.learn_x(at, t);
-                    }
-                }
-            }
-            HIT_PHASE => {
-                let Some(s) = &p.stroke else {
-                    self.tennis_state = FOLLOW_BALL;
-                    return;
-                };
-                if t > s.impact.time + senses.dt {
-                    p.shot = Some((Shot::new(s.impact.point, s.aim), s.serve));
-                    p.sent = Some((s.impact.point, s.impact.time, s.wished));
-                    p.strokes += 1;
-                    p.partner_struck = false;
-                    self.tennis_state = FOLLOW_BALL;
-                    p.velocity = None;
-                }
-            }
+            NOT_BOUNCE => self.before_impact(t, senses.dt),
+            HIT_PHASE => self.hit_phase(t, senses.dt),
             _ => self.tennis_state = GOTO_PLAY_POSITION,
+        }
+    }
+
+    /// Follows the ball; the server tosses once it has waited its pause, and knows its toss's impact.
+    fn follow_ball(&mut self, t: f64, deeds: &mut Vec<Deed>) {
+        let p = self.player.as_mut().expect("playing");
+        if p.is_server() && p.tossed.is_none() {
+            let ready = *p.ready_since.get_or_insert(t);
+            if t - ready >= SERVE_PAUSE {
+                let ahead = DVec3::X * -x_sign(p.side) * TOSS_AHEAD;
+                let at = DVec3::new(p.start.x, TOSS_HEIGHT, p.start.z) + ahead;
+                deeds.push(Deed::Toss {
+                    at: at.as_vec3(),
+                    velocity: Vec3::Y * TOSS_SPEED as f32,
+                });
+                p.tossed = Some((at, t));
+                p.velocity = None;
+                p.ball.clear();
+                self.look_at = at.as_vec3();
+                // It knows its toss: the ball falls back through
+                // the service height then.
+                let up = TOSS_SPEED;
+                if let Some(delay) = impact_delay(TOSS_HEIGHT, up, SERVE_HEIGHT, G) {
+                    let impact = Impact {
+                        point: DVec3::new(at.x, SERVE_HEIGHT, at.z),
+                        time: t + delay,
+                    };
+                    let v = DVec3::Y * (up - G * delay);
+                    let eye = self.eye.as_dvec3();
+                    p.plan(eye, t, impact, v, true);
+                }
+                self.tennis_state = NOT_BOUNCE;
+            }
+            return;
+        }
+        if p.server.is_some() && p.coming() {
+            self.tennis_state = FIRST_HIT_TURN;
+        }
+    }
+
+    /// Decides, from the first sight of the coming ball, whether it takes it after its bounce or before (eq. 5.6.7), and plans the stroke.
+    fn bounce_or_not(&mut self, t: f64) {
+        let p = self.player.as_mut().expect("playing");
+        let Some(v) = p.velocity else { return };
+        let Some((_, at)) = p.ball.last() else { return };
+        if p.bounced.is_some() {
+            // It bounced already: it is taken on the rise.
+            self.tennis_state = NOT_BOUNCE;
+            return;
+        }
+        let serving = p.is_server() && p.strokes == 0;
+        let h = if serving { SERVE_HEIGHT } else { HIT_HEIGHT };
+        let Some(first) = estimate_impact(at, v, t, h, G, p.learner.x()) else {
+            return;
+        };
+        if !serving && p.bounced.is_none() && !p.side_ok(at, v, t) {
+            // It lands out: let it go, and wait for the call.
+            self.tennis_state = FOLLOW_BALL;
+            p.velocity = None;
+            return;
+        }
+        p.first_sight = Some((at, v, t));
+        p.stroke = None;
+        // The receiver lets a service bounce (a volley would lose
+        // the point).
+        let receiving = !p.is_server() && p.strokes == 0 && p.bounced.is_none();
+        // Eq. 5.6.7 with the ball's velocity as it falls through h.
+        let second = after_bounce(&first, velocity_at(v, t, &first), h, BALL_LOW, G);
+        let choice = if serving {
+            choose_impact(p.start, first, None)
+        } else if receiving {
+            match second {
+                Some(s) => choose_impact(p.start, s, None),
+                None => return,
+            }
+        } else {
+            choose_impact(p.start, first, second)
+        };
+        let bounce = receiving || (choice.bounce && !serving);
+        self.tennis_state = if bounce { BOUNCE } else { NOT_BOUNCE };
+        let eye = self.eye.as_dvec3();
+        let v_imp = if bounce {
+            let at_bounce = velocity_at(v, t, &first);
+            DVec3::new(at_bounce.x, -at_bounce.y, at_bounce.z)
+        } else {
+            velocity_at(v, t, &choice.impact)
+        };
+        p.plan(eye, t, choice.impact, v_imp, serving);
+    }
+
+    /// Waits for the bounce, estimating the impact after it again while the ball is far.
+    fn before_bounce(&mut self, t: f64) {
+        let p = self.player.as_mut().expect("playing");
+        let Some((_, at)) = p.ball.last() else { return };
+        if at.y < BOUNCE_BEGINS || p.bounced.is_some() {
+            self.tennis_state = BOUNCE_BEGIN;
+            p.learn_x(at, t);
+            return;
+        }
+        let far = !p
+            .stroke
+            .as_ref()
+            .is_some_and(|s| at.distance(s.impact.point) <= STOP_ESTIMATING);
+        if let (true, Some(v)) = (far && p.frames.is_multiple_of(ESTIMATE_EVERY), p.velocity) {
+            let first = estimate_impact(at, v, t, HIT_HEIGHT, G, p.learner.x());
+            let second = first.and_then(|f| {
+                let fall = velocity_at(v, t, &f);
+                Some((after_bounce(&f, fall, HIT_HEIGHT, BALL_LOW, G)?, fall))
+            });
+            if let Some((second, fall)) = second {
+                let eye = self.eye.as_dvec3();
+                let rebound = DVec3::new(fall.x, fall.y.abs(), fall.z);
+                p.plan(eye, t, second, rebound, false);
+            }
+        }
+    }
+
+    /// Estimates the impact again while the ball is far, and starts the hit phase two frames before it.
+    fn before_impact(&mut self, t: f64, dt: f64) {
+        let p = self.player.as_mut().expect("playing");
+        let serving = p.stroke.as_ref().is_some_and(|s| s.serve);
+        let close = |p: &Player| match (&p.stroke, p.ball.last()) {
+            (Some(s), Some((_, b))) => b.distance(s.impact.point) < STOP_ESTIMATING,
+            _ => false,
+        };
+        let estimate = !serving && !close(p) && p.frames.is_multiple_of(ESTIMATE_EVERY);
+        if p.stroke.is_none() || estimate {
+            if let (Some(v), Some((_, at))) = (p.velocity, p.ball.last()) {
+                let h = if serving { SERVE_HEIGHT } else { HIT_HEIGHT };
+                let x = p.learner.x();
+                // After the bounce the ball is taken on the rise.
+                let impact = match p.bounced {
+                    Some(_) => rising_impact(at, v, t, h, G, x),
+                    None => estimate_impact(at, v, t, h, G, x),
+                };
+                if let Some(i) = impact {
+                    let eye = self.eye.as_dvec3();
+                    p.plan(eye, t, i, velocity_at(v, t, &i), serving);
+                }
+            }
+        }
+        let Some(s) = &p.stroke else { return };
+        if s.impact.time - t <= 2.0 * dt {
+            self.tennis_state = HIT_PHASE;
+            if let Some((_, at)) = p.ball.last() {
+                p.learn_x(at, t);
+            }
+        }
+    }
+
+    /// The stroke: once its impact time is past, the shot is sent.
+    fn hit_phase(&mut self, t: f64, dt: f64) {
+        let p = self.player.as_mut().expect("playing");
+        let Some(s) = &p.stroke else {
+            self.tennis_state = FOLLOW_BALL;
+            return;
+        };
+        if t > s.impact.time + dt {
+            p.shot = Some((Shot::new(s.impact.point, s.aim), s.serve));
+            p.sent = Some((s.impact.point, s.impact.time, s.wished));
+            p.strokes += 1;
+            p.partner_struck = false;
+            self.tennis_state = FOLLOW_BALL;
+            p.velocity = None;
         }
     }
 
