@@ -719,6 +719,17 @@ impl Interpreter<'_> {
                 let g = self.growth(s);
                 self.polygon(s, &poly, [x, y, z], g[0]);
             }
+            b'B' => {
+                let g = self.growth(s);
+                if g.iter().all(|v| v.is_finite() && *v != 0.0) {
+                    let m = placed(&self.t, g[0], g[1], g[2]);
+                    let placement = (Placed::Surface(x as i64), m, self.material, self.actor);
+                    self.out.placements.push(placement);
+                } else if g.iter().any(|v| !v.is_finite()) {
+                    // A zero scale is a surface not grown yet: no warning.
+                    self.warn("`B` with a scale that is not a number is skipped");
+                }
+            }
             _ => {}
         }
     }
