@@ -18,7 +18,6 @@
 
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use lmfilm::film::trace::Record;
@@ -26,7 +25,7 @@ use lmfilm::film::Film;
 use lmfilm::lsys::Source;
 use lmfilm::turtle::Options;
 
-use crate::common::Rng;
+use crate::common::{PanicPool, Rng};
 
 /// Mutants in all: about a minute in the test profile on two cores.
 /// `LMFILM_ACTOR_MUTANTS` and `LMFILM_ACTOR_SEED` run more or others.
@@ -308,24 +307,7 @@ const MUTANT_THREAD: &str = "lmfilm-actor-mutants";
 
 #[test]
 fn mutated_actor_scenes_run_or_say_why() {
-    // The panic hook is global and other tests of this binary run at the
-    // same time: the mutants run in a pool of their own, whose panics
-    // alone are recorded; every other panic goes to the previous hook.
-    let seen: Arc<Mutex<Vec<String>>> = Arc::default();
-    let hook_seen = Arc::clone(&seen);
-    let previous = Arc::new(panic::take_hook());
-    let others = Arc::clone(&previous);
-    panic::set_hook(Box::new(move |info| {
-        if std::thread::current().name() == Some(MUTANT_THREAD) {
-            hook_seen.lock().unwrap().push(info.to_string());
-        } else {
-            (*others)(info);
-        }
-    }));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .thread_name(|_| MUTANT_THREAD.to_string())
-        .build()
-        .unwrap();
+    let panics = PanicPool::new(MUTANT_THREAD);
     let cases = setting("LMFILM_ACTOR_MUTANTS", CASES);
     let mut rng = Rng(setting("LMFILM_ACTOR_SEED", 0x5eed_ac70));
     let scenes = actor_scenes();
@@ -344,18 +326,16 @@ fn mutated_actor_scenes_run_or_say_why() {
         };
         let dir = path.parent().unwrap();
         let start = Instant::now();
-        let outcome =
-            pool.install(|| panic::catch_unwind(AssertUnwindSafe(|| run_mutant(&mutant, dir))));
+        let outcome = panics
+            .pool
+            .install(|| panic::catch_unwind(AssertUnwindSafe(|| run_mutant(&mutant, dir))));
         let took = start.elapsed();
         slowest = slowest.max(took);
         let what = match outcome {
             Ok(Ok(())) if took > BUDGET => Some(format!("took {took:?}, over {BUDGET:?}")),
             Ok(Ok(())) => None,
             Ok(Err(e)) => Some(e),
-            Err(_) => Some(format!(
-                "panicked: {}",
-                seen.lock().unwrap().pop().unwrap_or_default()
-            )),
+            Err(_) => Some(format!("panicked: {}", panics.last_panic())),
         };
         if let Some(w) = what {
             failures.push(format!(
@@ -364,8 +344,7 @@ fn mutated_actor_scenes_run_or_say_why() {
             ));
         }
     }
-    let _ = panic::take_hook();
-    panic::set_hook(Box::new(move |info| (*previous)(info)));
+    drop(panics);
     println!(
         "actor mutants: {total} cases ({} shipped scenes), {} failed, slowest {slowest:?}",
         scenes.len(),

@@ -94,3 +94,57 @@ impl Rng {
         a + (b - a) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
     }
 }
+
+/// A rayon pool whose threads' panics are recorded, not printed: a
+/// fuzz test runs its cases there and reports each panic with its input.
+/// The panic hook is global and other tests of the binary run at the same
+/// time, so only the pool's own threads (named `name`) are recorded;
+/// every other panic goes to the hook there was before, which dropping
+/// the pool puts back.
+pub struct PanicPool {
+    pub pool: rayon::ThreadPool,
+    seen: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
+    previous: std::sync::Arc<Hook>,
+}
+
+/// A panic hook, as `std::panic::take_hook` gives it.
+type Hook = Box<dyn Fn(&std::panic::PanicHookInfo<'_>) + Sync + Send>;
+
+impl PanicPool {
+    pub fn new(name: &'static str) -> PanicPool {
+        use std::sync::{Arc, Mutex};
+        let seen: Arc<Mutex<Vec<String>>> = Arc::default();
+        let hook_seen = Arc::clone(&seen);
+        let previous = Arc::new(std::panic::take_hook());
+        let others = Arc::clone(&previous);
+        std::panic::set_hook(Box::new(move |info| {
+            if std::thread::current().name() == Some(name) {
+                hook_seen.lock().unwrap().push(info.to_string());
+            } else {
+                (*others)(info);
+            }
+        }));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .thread_name(move |_| name.to_string())
+            .build()
+            .unwrap();
+        PanicPool {
+            pool,
+            seen,
+            previous,
+        }
+    }
+
+    /// The message of the last panic recorded ("" when none was).
+    pub fn last_panic(&self) -> String {
+        self.seen.lock().unwrap().pop().unwrap_or_default()
+    }
+}
+
+impl Drop for PanicPool {
+    fn drop(&mut self) {
+        let _ = std::panic::take_hook();
+        let previous = std::sync::Arc::clone(&self.previous);
+        std::panic::set_hook(Box::new(move |info| (*previous)(info)));
+    }
+}

@@ -12,7 +12,6 @@
 use crate::common;
 
 use std::panic::{self, AssertUnwindSafe};
-use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use lmfilm::lsys::{self, Animation, NoSensors, Source};
@@ -378,26 +377,9 @@ fn readers() -> Vec<Target> {
 #[test]
 fn every_reader_survives_mutated_inputs() {
     // Panics are recorded, not printed: the report lists them with inputs.
-    // The panic hook is global and other tests of this binary run at the
-    // same time, so the readers run in a pool of their own, whose threads
-    // alone are recorded; every other panic goes to the previous hook.
-    let seen: Arc<Mutex<Vec<String>>> = Arc::default();
-    let hook_seen = Arc::clone(&seen);
-    let previous = Arc::new(panic::take_hook());
-    let others = Arc::clone(&previous);
-    panic::set_hook(Box::new(move |info| {
-        if std::thread::current().name() == Some(FUZZ_THREAD) {
-            hook_seen.lock().unwrap().push(info.to_string());
-        } else {
-            (*others)(info);
-        }
-    }));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .thread_name(|_| FUZZ_THREAD.to_string())
-        .build()
-        .unwrap();
+    let panics = common::PanicPool::new(FUZZ_THREAD);
     let start = Instant::now();
-    let (cases, found) = pool.install(|| {
+    let (cases, found) = panics.pool.install(|| {
         let mut cases = 0;
         let mut found = Vec::new();
         let readers = readers();
@@ -416,7 +398,7 @@ fn every_reader_survives_mutated_inputs() {
                 match panic::catch_unwind(AssertUnwindSafe(|| read(&input))) {
                     Ok(ok) => accepted += usize::from(ok),
                     Err(_) => {
-                        let message = seen.lock().unwrap().pop().unwrap_or_default();
+                        let message = panics.last_panic();
                         found.push(format!(
                             "{name} case {case}: {message}\n  input: {:?}",
                             String::from_utf8_lossy(&input[..input.len().min(2000)])
@@ -428,8 +410,7 @@ fn every_reader_survives_mutated_inputs() {
         }
         (cases, found)
     });
-    let _ = panic::take_hook();
-    panic::set_hook(Box::new(move |info| (*previous)(info)));
+    drop(panics);
     println!(
         "mutation: {cases} cases, {} panics, {:.1} s",
         found.len(),
