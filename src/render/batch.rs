@@ -247,7 +247,7 @@ impl Chunk<'_> {
         for light in &accel.scene.lights {
             let (l, dist) = match light.kind {
                 LightKind::Directional { .. } => {
-                    let (l, dist) = shade::toward(light, Vec3A::ZERO);
+                    let (l, dist) = shade::lights::toward(light, Vec3A::ZERO);
                     (V3::splat(l), W::splat(dist))
                 }
                 // (No sphere lights: `applies`.)

@@ -11,7 +11,6 @@ pub mod sample;
 pub mod settings;
 pub mod shade;
 pub mod simd;
-pub mod texture;
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;

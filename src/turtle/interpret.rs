@@ -5,9 +5,10 @@ use std::collections::BTreeMap;
 
 use glam::{Affine3A, DVec3, Vec3};
 
+use super::builder::Builder;
 use super::polygon::{newell, triangulate, PolygonStack};
 use super::state::{bend, Turtle};
-use super::{ActorMapping, BodyPart, Builder, ParticleMapping, SoundRequest, TurtleWorld};
+use super::world::{ActorMapping, BodyPart, ParticleMapping, SoundRequest, TurtleWorld};
 use crate::lsys::step::ActorScope;
 use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Limits, Symbol, Who};

@@ -162,6 +162,18 @@ fn resolve(from: &Module, path: &str, modules: &BTreeSet<Module>) -> Option<Modu
             Vec::new()
         }
         &"super" | &"self" => from.clone(),
+        // A path from a child module (`use child::X`).
+        &child
+            if modules.contains(
+                &from
+                    .iter()
+                    .cloned()
+                    .chain([child.to_string()])
+                    .collect::<Module>(),
+            ) =>
+        {
+            from.clone()
+        }
         _ => return None,
     };
     while let Some(&p) = parts.first() {
@@ -185,12 +197,38 @@ fn resolve(from: &Module, path: &str, modules: &BTreeSet<Module>) -> Option<Modu
 }
 
 /// Every import between two different module files.
+/// The inline modules (`mod name {` … `}`) open at each line of a
+/// file's code, outermost first: a path there is relative to them.
+fn inline_modules(code: &str) -> Vec<Vec<String>> {
+    let mut open: Vec<(String, usize)> = Vec::new();
+    let mut at_line = Vec::new();
+    for l in code.lines() {
+        let indent = l.len() - l.trim_start().len();
+        if open
+            .last()
+            .is_some_and(|(_, i)| *i == indent && l.trim() == "}")
+        {
+            open.pop();
+        }
+        at_line.push(open.iter().map(|(n, _)| n.clone()).collect());
+        let t = l.trim_start().trim_start_matches("pub ");
+        if let Some(name) = t.strip_prefix("mod ").and_then(|r| r.strip_suffix(" {")) {
+            open.push((name.trim().to_string(), indent));
+        }
+    }
+    at_line
+}
+
 fn imports(files: &[File]) -> Vec<Import> {
     let modules: BTreeSet<Module> = files.iter().map(|f| f.module.clone()).collect();
     let mut out = Vec::new();
     for f in files {
-        for (line, p) in paths(&code(&f.text)) {
-            if let Some(to) = resolve(&f.module, &p, &modules) {
+        let code = code(&f.text);
+        let inline = inline_modules(&code);
+        for (line, p) in paths(&code) {
+            let mut here = f.module.clone();
+            here.extend(inline.get(line - 1).cloned().unwrap_or_default());
+            if let Some(to) = resolve(&here, &p, &modules) {
                 if to != f.module && !to.is_empty() {
                     out.push(Import {
                         file: f.path.clone(),
@@ -344,11 +382,12 @@ fn planted_violations_are_found() {
         ),
         file(
             "src/film/mod.rs",
-            "use crate::{lsys::a::A, source::S};\n// use crate::film::nothing;\npub struct Film;\n",
+            "mod view;\nuse crate::{lsys::a::A, source::S};\nuse view::V;\n// use crate::film::nothing;\npub struct Film;\n",
         ),
+        file("src/film/view.rs", "use super::Film;\npub struct V;\n"),
     ];
     let found = violations(&files, &layers);
-    assert_eq!(found.len(), 2, "{found:#?}");
+    assert_eq!(found.len(), 3, "{found:#?}");
     assert!(
         found[0].starts_with(
             "src/lsys/mod.rs:4: `crate::film::Film`: lsys (layer 1) imports film (layer 2)"
@@ -369,7 +408,8 @@ fn planted_violations_are_found() {
             f.text = f
                 .text
                 .replace("use crate::film::Film;", "")
-                .replace("b::B, ", "");
+                .replace("b::B, ", "")
+                .replace("use view::V;", "");
             f
         })
         .collect();

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use glam::{Vec3, Vec3A};
 use lmfilm::render::output::*;
-use lmfilm::render::texture::*;
+use lmfilm::render::shade::texture::*;
 
 /// A fresh directory per test under cargo's scratch space for integration tests.
 fn scratch(name: &str) -> PathBuf {

@@ -1,37 +1,29 @@
 //! Whitted shading as Rayshade does it: ambient + Lambert + Phong per
 //! material, point lights with hard shadows, mirror reflection and
-//! refraction to a depth limit, procedural marble, bump and sky.
+//! refraction to a depth limit (this file, the integrator); lights and
+//! their shadows (`lights`), the sky (`sky`), procedural marble, bump
+//! and clouds (`texture`).
 
 use glam::{Vec3, Vec3A};
 
-use super::accel::{Accel, Hit, Query};
-use super::settings::Settings;
-use super::texture;
-use crate::random;
-use crate::scene::material::Texture;
-use crate::scene::{Light, LightKind, Material};
+pub mod lights;
+pub mod point;
+pub mod sky;
+pub mod texture;
 
-/// Offset of secondary rays from the surface, relative to the scene size
-/// of ordinary scenes (metres).
-pub(super) const EPS: f32 = 1e-4;
+use super::accel::{Accel, Hit};
+use super::settings::Settings;
+use crate::scene::material::Texture;
+use crate::scene::{LightKind, Material};
+pub use lights::shadow_rays;
+use lights::{sphere_point, toward};
+use point::lift;
+pub(crate) use point::EPS;
+pub use point::{point, Point};
+pub use sky::background;
 
 /// Extra passes a ray may make through cloud layers beyond `max_depth`.
 const CLOUD_PASSES: u32 = 4;
-
-/// Horizon colour of a sky: its zenith colour lightened toward white.
-fn horizon(zenith: Vec3) -> Vec3 {
-    zenith.lerp(Vec3::ONE, 0.6)
-}
-
-/// What a ray sees where it hits nothing: black, or the sky of `D` 15.
-pub fn background(accel: &Accel, dir: Vec3A) -> Vec3 {
-    let bg = accel.scene.background;
-    if bg == Vec3::ZERO {
-        Vec3::ZERO
-    } else {
-        texture::sky(dir, bg, horizon(bg))
-    }
-}
 
 fn reflect(d: Vec3A, n: Vec3A) -> Vec3A {
     d - 2.0 * d.dot(n) * n
@@ -76,91 +68,6 @@ pub fn shade_hit(
     point(accel, hit, o, d).map_or(Vec3::ZERO, |pt| {
         shade_seen(accel, &pt, d, st, depth, key, &[])
     })
-}
-
-/// A point of a surface as shading sees it (found once, for the shadow
-/// rays cast ahead and for the shading).
-#[derive(Debug, Clone, Copy)]
-pub struct Point {
-    /// The index of its material (one the scene has).
-    pub(super) material: usize,
-    p: Vec3A,
-    /// The unit normal facing the incoming ray (bumped).
-    pub(super) n: Vec3A,
-    pub(super) diffuse: Vec3,
-    /// Whether the ray comes from outside the surface.
-    outside: bool,
-}
-
-/// The point where the unit ray `o + t·d` meets `hit`; None without a
-/// material (such a point is black).
-pub fn point(accel: &Accel, hit: &Hit, o: Vec3A, d: Vec3A) -> Option<Point> {
-    let material = hit.material as usize;
-    let m = accel.scene.materials.get(material)?;
-    let p = o + hit.t * d;
-    let outside = hit.normal.dot(d) < 0.0;
-    let mut n = if outside { hit.normal } else { -hit.normal };
-    let mut diffuse = m.diffuse;
-    match m.texture {
-        Some(Texture::Marble) => diffuse = diffuse.lerp(Vec3::splat(0.95), texture::marble(p)),
-        Some(Texture::Bump) => n = texture::bump(p, n, 0.3),
-        Some(Texture::Cloud) | None => {}
-    }
-    Some(Point {
-        material,
-        p,
-        n,
-        diffuse,
-        outside,
-    })
-}
-
-/// Secondary rays leave from just off the surface, on the side `n` faces.
-fn lift(p: Vec3A, n: Vec3A) -> Vec3A {
-    p + n * EPS * (1.0 + p.abs().max_element())
-}
-
-/// The unit direction from `p` to `light`'s centre and its distance (∞
-/// for a directional light).
-pub(super) fn toward(light: &Light, p: Vec3A) -> (Vec3A, f32) {
-    match light.kind {
-        LightKind::Directional { direction } => {
-            (-Vec3A::from(direction).normalize_or_zero(), f32::INFINITY)
-        }
-        _ => {
-            let to = Vec3A::from(light.position) - p;
-            (to.normalize_or_zero(), to.length())
-        }
-    }
-}
-
-/// The hard shadow rays that shading `pt` casts, as (light, ray),
-/// pushed onto `out`: one toward each point and directional light the
-/// surface faces (sphere lights sample their own). A pixel casts its
-/// samples' together ([`Accel::occluded_all`]) and gives the answers to
-/// [`shade_seen`].
-pub fn shadow_rays(accel: &Accel, pt: &Point, st: &Settings, out: &mut Vec<(usize, Query)>) {
-    if !st.shadows || accel.scene.materials[pt.material].texture == Some(Texture::Cloud) {
-        return;
-    }
-    for (li, light) in accel.scene.lights.iter().enumerate() {
-        if matches!(light.kind, LightKind::Sphere { .. }) {
-            continue;
-        }
-        let (l, dist) = toward(light, pt.p);
-        if pt.n.dot(l) > 0.0 && l != Vec3A::ZERO {
-            let origin = lift(pt.p, pt.n);
-            out.push((
-                li,
-                Query {
-                    origin,
-                    dir: l,
-                    tmin: 0.0,
-                    tmax: dist,
-                },
-            ));
-        }
-    }
 }
 
 /// [`shade_hit`] of the [`point`] `pt` met by the unit direction `d`,
@@ -345,12 +252,4 @@ fn preview_bounce(
         colour += m.transmit * trace(accel, o, d, st, 1, key).0;
     }
     colour
-}
-
-/// A uniform point on the unit sphere from slot `slot` of `key`.
-fn sphere_point(key: u64, slot: u64) -> Vec3A {
-    let z = 1.0 - 2.0 * random::unit(key, 2 * slot) as f32;
-    let phi = std::f32::consts::TAU * random::unit(key, 2 * slot + 1) as f32;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
 }
