@@ -56,6 +56,25 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
+/// `still SCENE -o PNG` at 16 × 12 with the preview preset.
+fn preview_still(scene: &Path, png: &Path) -> (i32, String) {
+    lmfilm(
+        &[
+            "still",
+            s(scene),
+            "-o",
+            s(png),
+            "--preset",
+            "preview",
+            "--width",
+            "16",
+            "--height",
+            "12",
+        ],
+        60,
+    )
+}
+
 fn expect(code: i32, err: &str, words: &[&str]) {
     assert_eq!(code, 2, "{err}");
     assert!(!err.contains("panicked"), "{err}");
@@ -256,21 +275,7 @@ fn absurd_shapes_are_skipped_with_a_warning() {
          { . f()()()()(30000000000000000000000000) . +()()()()(90) f()()()()(1) . }\n",
     );
     let png = f.with_extension("png");
-    let (code, err) = lmfilm(
-        &[
-            "still",
-            s(&f),
-            "-o",
-            s(&png),
-            "--preset",
-            "preview",
-            "--width",
-            "16",
-            "--height",
-            "12",
-        ],
-        60,
-    );
+    let (code, err) = preview_still(&f, &png);
     assert_eq!(code, 0, "{err}");
     assert!(
         err.contains("warning: `S` reaching beyond ±1e15 is skipped"),
@@ -319,21 +324,7 @@ fn identical_faces_render_quickly() {
     )
     .unwrap();
     let png = dir.join("same.png");
-    let (code, err) = lmfilm(
-        &[
-            "still",
-            s(&f),
-            "-o",
-            s(&png),
-            "--preset",
-            "preview",
-            "--width",
-            "16",
-            "--height",
-            "12",
-        ],
-        60,
-    );
+    let (code, err) = preview_still(&f, &png);
     assert_eq!(code, 0, "{err}");
     assert!(png.exists());
 }
