@@ -44,11 +44,11 @@ enum Command {
     ///
     ///     lmfilm print scenes/examples/growing_tree.lm --time 1.5 --format full
     Print {
-        #[command(flatten)]
-        at: FrameArgs,
         /// `symbols`: symbol characters only; `full`: X(age,x,y,z,f1,f2,f3).
         #[arg(long, value_enum, default_value_t = PrintFormat::Symbols)]
         format: PrintFormat,
+        #[command(flatten)]
+        at: FrameArgs,
     },
     /// Export a frame's whole geometry as a mesh (the thesis's SM option).
     ///
@@ -57,14 +57,14 @@ enum Command {
     ///
     ///     lmfilm export scenes/examples/cours_tree3.lm --time 3 -o renders/tree.obj
     Export {
-        #[command(flatten)]
-        at: FrameArgs,
         /// The OBJ file to write (its .mtl is written beside it).
         #[arg(short, long, value_name = "OUT.obj")]
         output: PathBuf,
         /// Diameter of the thin cylinders drawn for segments `R S`.
         #[arg(long, default_value_t = 0.05, value_parser = segment_width)]
         segment_width: f64,
+        #[command(flatten)]
+        at: FrameArgs,
     },
     /// Ray-trace one frame into OUT.png or OUT.exr (the thesis's snapshots).
     ///
@@ -73,16 +73,16 @@ enum Command {
     ///
     ///     lmfilm still scenes/examples/cours_tree3.lm --time 5 -o renders/tree.png --preset preview
     Still {
-        #[command(flatten)]
-        at: FrameArgs,
         /// The image to write: .png or .exr.
         #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = commands::frame::image_path)]
         output: PathBuf,
-        #[command(flatten)]
-        quality: QualityArgs,
         /// Diameter of the thin cylinders drawn for segments `R S`.
         #[arg(long, default_value_t = 0.05, value_parser = segment_width)]
         segment_width: f64,
+        #[command(flatten)]
+        at: FrameArgs,
+        #[command(flatten)]
+        quality: QualityArgs,
     },
     /// Make a whole film: derive, render every frame, the soundtrack, the
     /// manifest, and an MP4 when ffmpeg is installed.
@@ -165,14 +165,14 @@ enum Command {
         dir: PathBuf,
         #[command(flatten)]
         work: WorkArgs,
-        #[command(flatten)]
-        render: RenderArgs,
         /// This process's share of the frames: K/N.
         #[arg(long, value_name = "K/N")]
         shard: Option<Shard>,
         /// Most pixels in one image (width × height).
         #[arg(long, value_name = "N", default_value_t = Limits::default().pixels)]
         max_pixels: u64,
+        #[command(flatten)]
+        render: RenderArgs,
     },
     /// Frames and soundtrack of a film folder into an MP4 through ffmpeg.
     ///

@@ -130,6 +130,7 @@ impl LimitArgs {
 
 /// What a command that reads scenes may let them do, and their limits.
 #[derive(Args, Clone, Copy)]
+#[command(next_help_heading = "Scene and limits")]
 pub struct SceneArgs {
     /// Let the scene run its `command_file` scripts.
     #[arg(long)]

@@ -262,15 +262,15 @@ pub struct SlurmArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub slurm: Slurm,
+    /// Write and print the scripts; submit nothing.
+    #[arg(long)]
+    pub dry_run: bool,
     #[command(flatten)]
     pub render: RenderArgs,
     #[command(flatten)]
     pub sound: SoundArgs,
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Write and print the scripts; submit nothing.
-    #[arg(long)]
-    pub dry_run: bool,
 }
 
 /// `lmfilm farm slurm`: resolves and records the film's settings in the
