@@ -430,3 +430,63 @@ impl SoundArgs {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::production::settings::{sound_args, Defaults, RenderChoice};
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Options {
+        #[command(flatten)]
+        render: RenderArgs,
+        #[command(flatten)]
+        sound: SoundArgs,
+    }
+
+    /// The options a farm's jobs get (`RenderChoice::args`, `sound_args`)
+    /// ask for exactly the settings they were written from, whatever the
+    /// folder recorded before: a setting the lists forgot would differ.
+    #[test]
+    fn the_farms_options_ask_for_the_same_settings() {
+        let render = RenderChoice {
+            size_given: true,
+            width: 96,
+            height: 72,
+            spp: 5,
+            filter: Filter::Gaussian,
+            shadows: false,
+            max_depth: 2,
+            light_samples: 3,
+            formats: Formats::Png,
+            inset: Some(1),
+            ..RenderChoice::of_preset(Preset::Final, (64, 48))
+        };
+        let sound = sound::SoundSettings {
+            rate: 44_100,
+            speed_of_sound: 340.5,
+            attenuation: Attenuation::Thesis,
+            format: SampleFormat::Float32,
+            loudness: None,
+        };
+        let words = std::iter::once("lmfilm".to_string())
+            .chain(render.args())
+            .chain(sound_args(&sound));
+        let o = Options::try_parse_from(words).unwrap();
+        let other = RenderChoice::of_preset(Preset::Preview, (320, 240));
+        let camera = (64, 48);
+        assert_eq!(
+            o.render
+                .request()
+                .resolve(Some(&other), Defaults::default(), camera),
+            render
+        );
+        assert_eq!(
+            o.sound
+                .request()
+                .resolve(Some(&sound::SoundSettings::default())),
+            sound
+        );
+    }
+}

@@ -27,6 +27,25 @@ const SCENE: &str = "Camera_AnimationParameters\nprefpos_x1_x2_y1_y2 0 64 0 48\n
     observer 0 1 6\nlookatPoint 0 1 0\nt_final_interval 0.2 0.04\n\
     Axiom\nm () (4) A\nProductions\nA (0.04)\n1.0 F () () () () (0.3) A EndProb\nEnd\nEndProductions\n";
 
+/// The film's settings a chain is submitted with, and a local run too.
+const SETTINGS: [&str; 8] = [
+    "--preset",
+    "preview",
+    "--width",
+    "96",
+    "--height",
+    "72",
+    "--loudness",
+    "-20",
+];
+
+/// `lmfilm run SCENE -o DIR` with [`SETTINGS`].
+fn run_locally(scene: &str, dir: &Path) -> (i32, String, String) {
+    let mut args = vec!["run", scene, "-o", dir.to_str().unwrap()];
+    args.extend(SETTINGS);
+    lmfilm(&args)
+}
+
 #[test]
 fn the_chain_makes_the_film_a_local_run_makes() {
     let root = std::env::temp_dir().join(format!("lmfilm-farm-{}", std::process::id()));
@@ -39,24 +58,21 @@ fn the_chain_makes_the_film_a_local_run_makes() {
         root.join("farm_film"),
         root.join("local_film"),
     );
-    let (code, out, err) = lmfilm(&[
-        "farm",
-        "slurm",
-        s,
-        "-o",
-        farm.to_str().unwrap(),
-        "--shards",
-        "3",
-        "--dry-run",
-        "--preset",
-        "preview",
-        "--width",
-        "96",
-        "--height",
-        "72",
-        "--loudness",
-        "-20",
-    ]);
+    let (code, out, err) = lmfilm(
+        &[
+            "farm",
+            "slurm",
+            s,
+            "-o",
+            farm.to_str().unwrap(),
+            "--shards",
+            "3",
+            "--dry-run",
+        ]
+        .into_iter()
+        .chain(SETTINGS.iter().copied())
+        .collect::<Vec<_>>(),
+    );
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("#SBATCH --array=1-3"), "{out}");
     assert!(
@@ -71,20 +87,7 @@ fn the_chain_makes_the_film_a_local_run_makes() {
         job(&scripts.join("render.sh"), Some(k));
     }
     job(&scripts.join("finish.sh"), None);
-    let (code, _, err) = lmfilm(&[
-        "run",
-        s,
-        "-o",
-        local.to_str().unwrap(),
-        "--preset",
-        "preview",
-        "--width",
-        "96",
-        "--height",
-        "72",
-        "--loudness",
-        "-20",
-    ]);
+    let (code, _, err) = run_locally(s, &local);
     assert_eq!(code, 0, "{err}");
     // The same frames, byte for byte, and the same soundtrack.
     let frames = |d: &Path| {
@@ -166,19 +169,20 @@ fn wait_for(ids: &[String]) {
 
 /// Submits the chain of `scene` into `dir`; returns its job ids.
 fn submit(scene: &str, dir: &Path) -> Vec<String> {
-    let (code, out, err) = lmfilm(&[
-        "farm",
-        "slurm",
-        scene,
-        "-o",
-        dir.to_str().unwrap(),
-        "--shards",
-        "3",
-        "--preset",
-        "preview",
-        "--width",
-        "96",
-    ]);
+    let (code, out, err) = lmfilm(
+        &[
+            "farm",
+            "slurm",
+            scene,
+            "-o",
+            dir.to_str().unwrap(),
+            "--shards",
+            "3",
+        ]
+        .into_iter()
+        .chain(SETTINGS.iter().copied())
+        .collect::<Vec<_>>(),
+    );
     assert_eq!(code, 0, "{out}{err}");
     let ids: Vec<String> = out
         .lines()
@@ -233,16 +237,7 @@ fn on_slurm_the_chain_finishes_resumes_and_matches_a_local_run() {
         out.contains("6/6 rendered") && out.contains("film: finished"),
         "{out}"
     );
-    let (code, _, err) = lmfilm(&[
-        "run",
-        s,
-        "-o",
-        local.to_str().unwrap(),
-        "--preset",
-        "preview",
-        "--width",
-        "96",
-    ]);
+    let (code, _, err) = run_locally(s, &local);
     assert_eq!(code, 0, "{err}");
     for f in [
         "soundtrack.wav",

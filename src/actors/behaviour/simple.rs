@@ -1,4 +1,6 @@
-//! The behaviour stack (push, pop, activate) and the simple automata: what an actor does with the `Living` state the behaviour module types.
+//! The behaviour stack (push, pop, activate) and the simple automata:
+//! what an actor does with the `Living` state the behaviour module
+//! types.
 
 use super::*;
 use crate::actors::live::state::{ALIGN, LISTEN_WORDS, LOOK_AROUND, STOP, TALK, WALK};

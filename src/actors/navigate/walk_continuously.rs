@@ -1,4 +1,6 @@
-//! `walk_continuously` (thesis 5.2.4) as the actor runs it: search_new_path, move, explore, over the navigation state of the parent module.
+//! `walk_continuously` (thesis 5.2.4) as the actor runs it:
+//! search_new_path, move, explore, over the navigation state of the
+//! parent module.
 
 use super::*;
 use crate::actors::live::state::{EXPLORE, SEARCH_NEW_PATH, WALK};
@@ -502,16 +504,12 @@ impl Living {
         let Some(dest) = self.navigation.destination else {
             return;
         };
-        if self.state != WALK || !self.path_blocked() {
+        if self.state != WALK {
             return;
         }
-        let blocked = self
-            .path
-            .iter()
-            .take(self.ahead.max(1) as usize)
-            .copied()
-            .find(|&p| self.collision_test().is_some_and(|free| !free(p)))
-            .unwrap_or(self.eye);
+        let Some(blocked) = self.first_blocked() else {
+            return;
+        };
         self.note_once(
             "disagree",
             &format!(
@@ -655,11 +653,15 @@ impl Living {
     /// Whether one of the next `ahead` key points fails the collision
     /// test on the memory as it is now.
     fn path_blocked(&self) -> bool {
-        let Some(free) = self.collision_test() else {
-            return false;
-        };
+        self.first_blocked().is_some()
+    }
+
+    /// The first of the next `ahead` key points that fails the collision
+    /// test on the memory as it is now.
+    fn first_blocked(&self) -> Option<Vec3> {
+        let free = self.collision_test()?;
         let ahead = self.ahead.max(1) as usize;
-        self.path.iter().take(ahead).any(|&p| !free(p))
+        self.path.iter().take(ahead).copied().find(|&p| !free(p))
     }
 
     /// The collision test `coll_test_func` of a world point on the

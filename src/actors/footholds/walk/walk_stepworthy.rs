@@ -1,4 +1,5 @@
-//! `walk_stepworthy` (thesis 5.9) as the actor runs it, over the footing state of the parent module.
+//! `walk_stepworthy` (thesis 5.9) as the actor runs it, over the
+//! footing state of the parent module.
 
 use super::*;
 use crate::actors::live::state::{LOOK_AROUND, SEARCH_NEW_PATH, STOP, WALK};

@@ -1,4 +1,5 @@
-//! `play_tennis` (thesis 5.6) as the actor runs it, over the player state of the parent module.
+//! `play_tennis` (thesis 5.6) as the actor runs it, over the player
+//! state of the parent module.
 
 use super::*;
 use crate::actors::live::Living;

@@ -1,4 +1,6 @@
-//! The referee's automata (`referee`, `tennis_error_detection`, thesis 5.7) as the actor runs them, over the umpire state of the parent module.
+//! The referee's automata (`referee`, `tennis_error_detection`, thesis
+//! 5.7) as the actor runs them, over the umpire state of the parent
+//! module.
 
 use super::*;
 use crate::actors::live::state::{INIT_TENNIS_GAME, UPDATE_TENNIS_GAME};
