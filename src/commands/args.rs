@@ -9,7 +9,7 @@ use crate::lsys::Limits;
 use crate::production::frames::FrameRange;
 use crate::production::settings::Formats;
 use crate::production::settings::{RenderRequest, SoundRequest};
-use crate::render::{Filter, Preset};
+use crate::render::{Filter, Integrator, Preset};
 use crate::sound::{self, Attenuation, SampleFormat};
 
 /// A number of `what` within `lo..=hi`, read from `text`.
@@ -183,6 +183,21 @@ impl PresetArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+pub enum IntegratorArg {
+    Whitted,
+    Path,
+}
+
+impl IntegratorArg {
+    pub fn integrator(self) -> Integrator {
+        match self {
+            IntegratorArg::Whitted => Integrator::Whitted,
+            IntegratorArg::Path => Integrator::Path,
+        }
+    }
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 pub enum FilterArg {
     Box,
     Gaussian,
@@ -283,6 +298,12 @@ pub struct QualityArgs {
     /// Shadow rays toward each sphere light (overrides the preset's).
     #[arg(long, value_name = "N", value_parser = light_samples)]
     pub light_samples: Option<u32>,
+    /// `whitted` (the default): Rayshade's shading, lights, ambient,
+    /// mirrors and glass; `path`: path tracing, the sky lighting the
+    /// scene, soft shadows, light bouncing (--max-depth bounces), depth
+    /// of field from the camera's lens (docs/rendering.md).
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorArg>,
 }
 
 fn max_depth(text: &str) -> Result<u32, String> {
@@ -305,6 +326,7 @@ impl QualityArgs {
             shadows: self.shadows.map(|s| matches!(s, Switch::On)),
             max_depth: self.max_depth,
             light_samples: self.light_samples,
+            integrator: self.integrator.map(IntegratorArg::integrator),
             formats: None,
             inset: None,
         }
@@ -459,6 +481,7 @@ mod tests {
             shadows: false,
             max_depth: 2,
             light_samples: 3,
+            integrator: Integrator::Path,
             formats: Formats::Png,
             inset: Some(1),
             ..RenderChoice::of_preset(Preset::Final, (64, 48))

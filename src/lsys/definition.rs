@@ -28,6 +28,11 @@ pub struct CameraParams {
     pub t_final: f64,
     /// Δt, the time between two frames.
     pub dt: f64,
+    /// The thin lens's aperture radius and distance in focus (m;
+    /// extensions `aperture`, `focusDistance`: 0 is the pinhole, and
+    /// the look-at point's distance).
+    pub aperture: f64,
+    pub focus_distance: f64,
     /// Byte offset of the `t_final_interval` line (0 when there is none),
     /// where an error about the film's length points.
     pub t_final_at: usize,
@@ -49,6 +54,8 @@ impl Default for CameraParams {
             seed: 0,
             t_final: 10.0,
             dt: 0.04,
+            aperture: 0.0,
+            focus_distance: 0.0,
             t_final_at: 0,
         }
     }

@@ -39,6 +39,16 @@ fn camera_number(s: &mut Scanner, what: &str) -> Result<f64, Diagnostic> {
     Ok(v)
 }
 
+/// A lens length (m): not negative.
+fn lens_number(s: &mut Scanner, what: &str) -> Result<f64, Diagnostic> {
+    let at = s.peek_word()?.0;
+    let v = camera_number(s, what)?;
+    if v < 0.0 {
+        return Err(s.error(at, format!("{what} must be ≥ 0 (metres), found {v}")));
+    }
+    Ok(v)
+}
+
 fn camera_floats(s: &mut Scanner, what: &str) -> Result<[f64; 3], Diagnostic> {
     Ok([
         camera_number(s, what)?,
@@ -183,6 +193,8 @@ impl<'a> Parser<'a> {
                 "aspectRatio" => c.aspect_ratio = camera_number(s, "the aspect ratio")?,
                 "near" => c.near = camera_number(s, "the near distance")?,
                 "far" => c.far = camera_number(s, "the far distance")?,
+                "aperture" => c.aperture = lens_number(s, "the aperture radius")?,
+                "focusDistance" => c.focus_distance = lens_number(s, "the focus distance")?,
                 "swapinterval" => c.swap_interval = s.number("the swap interval")?,
                 "nbrCalcStep_seed" => {
                     c.nbr_calc_step = s.int("the number of calculation steps")?;
@@ -202,7 +214,7 @@ impl<'a> Parser<'a> {
                 }
                 _ => {
                     return Err(self.unknown(at, w, "Camera_AnimationParameters",
-                        "pref_pos_x1_x2_y1_y2, observer, lookatPoint, twist, viewAngle, aspectRatio, near, far, swapinterval, nbrCalcStep_seed, t_final_interval"))
+                        "pref_pos_x1_x2_y1_y2, observer, lookatPoint, twist, viewAngle, aspectRatio, near, far, aperture, focusDistance, swapinterval, nbrCalcStep_seed, t_final_interval"))
                 }
             }
         }

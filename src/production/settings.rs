@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use super::record;
 use crate::error::Error;
-use crate::render::{Filter, Preset, Settings};
+use crate::render::{Filter, Integrator, Preset, Settings};
 use crate::sound;
 
 /// Image formats a render writes.
@@ -64,6 +64,10 @@ pub struct RenderChoice {
     pub max_depth: u32,
     /// Shadow rays toward each sphere light.
     pub light_samples: u32,
+    /// Whitted shading or path tracing (a folder recorded before the
+    /// choice existed was Whitted).
+    #[serde(default)]
+    pub integrator: Integrator,
     pub formats: Formats,
     /// The actor whose vision window goes into the frames' corner.
     pub inset: Option<usize>,
@@ -83,6 +87,7 @@ impl RenderChoice {
             shadows: s.shadows,
             max_depth: s.max_depth,
             light_samples: s.light_samples,
+            integrator: s.integrator,
             formats: Formats::Both,
             inset: None,
         }
@@ -98,6 +103,7 @@ impl RenderChoice {
             shadows: self.shadows,
             max_depth: self.max_depth,
             light_samples: self.light_samples,
+            integrator: self.integrator,
             layers: self.formats != Formats::Png,
             frame: 0,
         }
@@ -137,6 +143,7 @@ impl RenderChoice {
             format!("--shadows={}", if self.shadows { "on" } else { "off" }),
             format!("--max-depth={}", self.max_depth),
             format!("--light-samples={}", self.light_samples),
+            format!("--integrator={}", self.integrator.name()),
             format!("--format={}", self.formats.name()),
             format!(
                 "--inset={}",
@@ -162,6 +169,7 @@ pub struct RenderRequest {
     pub shadows: Option<bool>,
     pub max_depth: Option<u32>,
     pub light_samples: Option<u32>,
+    pub integrator: Option<Integrator>,
     pub formats: Option<Formats>,
     /// `Some(None)`: no inset.
     pub inset: Option<Option<usize>>,
@@ -203,6 +211,7 @@ impl RenderRequest {
             c.shadows = fresh.shadows;
             c.max_depth = fresh.max_depth;
             c.light_samples = fresh.light_samples;
+            c.integrator = fresh.integrator;
         }
         if !c.size_given {
             (c.width, c.height) = camera;
@@ -226,6 +235,7 @@ impl RenderRequest {
         c.shadows = self.shadows.unwrap_or(c.shadows);
         c.max_depth = self.max_depth.unwrap_or(c.max_depth);
         c.light_samples = self.light_samples.unwrap_or(c.light_samples);
+        c.integrator = self.integrator.unwrap_or(c.integrator);
         c.formats = self.formats.unwrap_or(c.formats);
         c.inset = self.inset.unwrap_or(c.inset);
         c
@@ -366,7 +376,7 @@ mod tests {
         let text: Vec<String> = c.record().iter().map(|(k, v)| format!("{k}={v}")).collect();
         assert_eq!(
             text.join(" "),
-            "filter=box formats=both height=48 inset=2 light_samples=4 max_depth=5 preset=final shadows=true spp=16 width=64"
+            "filter=box formats=both height=48 inset=2 integrator=whitted light_samples=4 max_depth=5 preset=final shadows=true spp=16 width=64"
         );
         let none = RenderChoice::of_preset(Preset::Preview, (8, 8)).record();
         assert_eq!(none["inset"], "none");

@@ -1,5 +1,6 @@
-//! The pinhole camera's rays: a direction through any point of the
-//! image, one at a time or a lane each (the same bits).
+//! The camera's rays: the pinhole's direction through any point of the
+//! image, one at a time or a lane each (the same bits), and the thin
+//! lens's rays of the path tracer's depth of field.
 
 use glam::Vec3A;
 
@@ -17,6 +18,9 @@ pub struct CameraRays {
     aspect: f32,
     w: f32,
     h: f32,
+    /// The lens's aperture radius and distance in focus.
+    radius: f32,
+    focus: f32,
 }
 
 impl CameraRays {
@@ -31,6 +35,8 @@ impl CameraRays {
             aspect: w as f32 / h.max(1) as f32,
             w: w as f32,
             h: h as f32,
+            radius: c.lens.radius,
+            focus: c.focus_distance(),
         }
     }
 
@@ -54,7 +60,40 @@ impl CameraRays {
             .normalize()
     }
 
+    /// The thin lens's ray through image position (px, py) from the
+    /// lens point `u` (two uniform numbers): it passes through the point
+    /// the pinhole ray meets on the plane in focus, so that plane is
+    /// sharp and a point at distance z is spread over a circle of
+    /// diameter 2·radius·|z − focus|/z on that plane. The pinhole's ray
+    /// where the radius is 0.
+    pub fn lens_ray(&self, px: f32, py: f32, u: (f32, f32)) -> (Vec3A, Vec3A) {
+        let d = self.dir(px, py);
+        if self.radius <= 0.0 {
+            return (self.eye, d);
+        }
+        let (lx, ly) = disc(u);
+        let focal = self.eye + d * (self.focus / d.dot(self.forward));
+        let o = self.eye + self.radius * (lx * self.right + ly * self.up);
+        (o, (focal - o).normalize())
+    }
+
     pub fn eye(&self) -> Vec3A {
         self.eye
     }
+}
+
+/// A uniform point of the unit disc (Shirley and Chiu's concentric map:
+/// strata stay compact).
+fn disc(u: (f32, f32)) -> (f32, f32) {
+    let (a, b) = (2.0 * u.0 - 1.0, 2.0 * u.1 - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let quarter = std::f32::consts::FRAC_PI_4;
+    let (r, phi) = if a.abs() > b.abs() {
+        (a, quarter * (b / a))
+    } else {
+        (b, 2.0 * quarter - quarter * (a / b))
+    };
+    (r * phi.cos(), r * phi.sin())
 }

@@ -7,6 +7,7 @@ pub mod accel;
 pub mod batch;
 pub mod camera;
 pub mod output;
+pub mod path;
 pub mod sample;
 pub mod settings;
 pub mod shade;
@@ -21,7 +22,7 @@ use crate::aabb::{self, Aabb, MAX_COORDINATE};
 use crate::scene::Scene;
 pub use accel::{Accel, Hit};
 pub use output::Image;
-pub use settings::{Filter, Preset, Settings};
+pub use settings::{Filter, Integrator, Preset, Settings};
 
 /// Refuses a scene the ray tracer cannot hold (snapshots come from
 /// disk): a primitive or an instance whose bounds are not finite or reach

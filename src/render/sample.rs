@@ -5,8 +5,8 @@ use glam::Vec3;
 
 use super::accel::{Accel, Hit, Query};
 use super::camera::CameraRays;
-use super::settings::{Filter, Settings};
-use super::{batch, shade};
+use super::settings::{Filter, Integrator, Settings};
+use super::{batch, path, shade};
 use crate::random::{self, Stream};
 
 /// One pixel's values.
@@ -175,7 +175,9 @@ pub fn pixel(
     let key = sc.offsets(st, x, y);
     // Cast and shaded together, a sample per lane; one at a time where
     // that does not serve (sphere lights). The same bits either way.
-    if batch::applies(accel) {
+    if st.integrator == Integrator::Path {
+        path::colours(accel, cam, st, x, y, key, &sc.offsets, &mut sc.colours);
+    } else if batch::applies(accel) {
         batch::pixel(
             accel,
             cam,

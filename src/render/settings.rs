@@ -22,6 +22,30 @@ impl Filter {
     }
 }
 
+/// How a pixel's light is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    /// Rayshade's Whitted shading: lights, hard or sphere-sampled
+    /// shadows, an ambient term, mirrors and glass traced (`shade`).
+    #[default]
+    Whitted,
+    /// Unidirectional path tracing with next-event estimation and
+    /// multiple importance sampling, the sky as a light, a thin lens
+    /// (`path`).
+    Path,
+}
+
+impl Integrator {
+    /// The name the command line and the records use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Whitted => "whitted",
+            Integrator::Path => "path",
+        }
+    }
+}
+
 /// The two starting points of a render's sampling settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -49,10 +73,12 @@ pub struct Settings {
     pub spp: u32,
     pub filter: Filter,
     pub shadows: bool,
-    /// Reflection and refraction bounces.
+    /// Reflection and refraction bounces (Whitted); bounces of a path
+    /// (path: 0 is direct light only).
     pub max_depth: u32,
     /// Shadow rays toward each sphere light (soft shadows).
     pub light_samples: u32,
+    pub integrator: Integrator,
     /// Whether the depth, normal and object id layers are wanted (EXR):
     /// they cost one more ray through each pixel centre.
     pub layers: bool,
@@ -80,6 +106,7 @@ impl Settings {
             shadows: false,
             max_depth: 0,
             light_samples: 1,
+            integrator: Integrator::Whitted,
             layers: true,
             frame: 0,
         }
@@ -95,6 +122,7 @@ impl Settings {
             shadows: true,
             max_depth: 5,
             light_samples: 4,
+            integrator: Integrator::Whitted,
             layers: true,
             frame: 0,
         }

@@ -18,6 +18,18 @@ pub struct Camera {
     /// Default image size in pixels (from the window position).
     pub width: u32,
     pub height: u32,
+    /// The thin lens of the path tracer's depth of field (the Whitted
+    /// preview keeps the pinhole).
+    pub lens: Lens,
+}
+
+/// A thin lens: the aperture's radius and the distance in focus (m);
+/// radius 0 is the pinhole, focus 0 focuses on the look-at point
+/// (`focusDistance`/`aperture` in the camera section, `l` par3 = 14).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Lens {
+    pub radius: f32,
+    pub focus: f32,
 }
 
 impl Camera {
@@ -33,6 +45,15 @@ impl Camera {
         let u = r.cross(f);
         let (s, c) = self.twist.to_radians().sin_cos();
         (r * c + u * s, u * c - r * s, f)
+    }
+
+    /// The distance in focus: the lens's, else the look-at point's.
+    pub fn focus_distance(&self) -> f32 {
+        if self.lens.focus > 0.0 {
+            self.lens.focus
+        } else {
+            (self.look_at - self.eye).length().max(1e-3)
+        }
     }
 }
 

@@ -16,7 +16,7 @@ pub mod snapshot;
 use glam::{Affine3A, Vec3};
 use serde::{Deserialize, Serialize};
 
-pub use camera::{Camera, Light, LightKind};
+pub use camera::{Camera, Lens, Light, LightKind};
 pub use material::Material;
 pub use shape::{Shape, ShapeKind, Triangle};
 
@@ -69,6 +69,20 @@ pub struct Scene {
     pub instances: Vec<Instance>,
     /// Sky colour seen where no object is hit (`D` par1 = 15 sets a sky).
     pub background: Vec3,
+    /// How the sky spreads its colour over the directions.
+    pub sky: Sky,
+}
+
+/// The sky's shape: `D` par1 = 15 alone gives the gradient with clouds,
+/// with a colour (par4–par6) a uniform sky of that radiance (a studio
+/// environment, the path tracer's white furnace).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Sky {
+    /// From the zenith colour to a lighter horizon, with clouds.
+    #[default]
+    Gradient,
+    /// The same radiance every way.
+    Uniform,
 }
 
 impl Scene {

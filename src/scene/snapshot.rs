@@ -33,7 +33,7 @@ pub const MAGIC: [u8; 8] = *b"LMSNAP\0\0";
 
 /// Format version written by this build; bump it whenever `Scene` or any
 /// type inside it changes shape, since postcard is not self-describing.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 
 /// Bytes before the payload: magic, version, payload length.
 const HEADER_LEN: usize = 8 + 4 + 8;
@@ -255,8 +255,13 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
         (c.aspect, "aspect ratio"),
         (c.near, "near distance"),
         (c.far, "far distance"),
+        (c.lens.radius, "aperture radius"),
+        (c.lens.focus, "focus distance"),
     ] {
         number(x, &format!("the camera's {what}"))?;
+    }
+    if c.lens.radius < 0.0 || c.lens.focus < 0.0 {
+        return Err("the camera's aperture radius and focus distance must be ≥ 0".into());
     }
     for (side, what) in [(c.width, "width"), (c.height, "height")] {
         if !(1..=MAX_SIDE).contains(&side) {

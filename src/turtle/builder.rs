@@ -9,7 +9,10 @@ use glam::{DVec3, Vec3};
 use super::world::*;
 use crate::lsys::{Animation, Who};
 use crate::scene::material::{self, Texture};
-use crate::scene::{obj, Camera, Geometry, Light, LightKind, Material};
+use crate::scene::{obj, Camera, Geometry, Lens, Light, LightKind, Material, Sky};
+
+/// The brightest uniform sky `D` par1 = 15 may give (a radiance).
+pub const MAX_SKY: f32 = 1000.0;
 
 /// Imported surfaces (`fig_obj`/`fig_sm`), loaded once per animation.
 #[derive(Debug, Default, Clone)]
@@ -76,6 +79,7 @@ pub struct Builder {
     pub(super) light3: Option<Light>,
     pub(super) extra_lights: Vec<Light>,
     pub background: Vec3,
+    pub sky: Sky,
     /// Set by `D` par1 = 40, looked at by `l` par3 = 10.
     pub lookat_global: Option<DVec3>,
     pub(super) warned: BTreeSet<String>,
@@ -105,6 +109,7 @@ impl Builder {
             light3: None,
             extra_lights: Vec::new(),
             background: Vec3::new(0.0, 0.0, 0.0),
+            sky: Sky::Gradient,
             lookat_global: None,
             warned: BTreeSet::new(),
             messages: Vec::new(),
@@ -199,9 +204,18 @@ impl Builder {
         (self.materials.len() - 1) as u32
     }
 
-    /// `D` par1 = 15: a sky blue background.
-    pub fn sky(&mut self) {
-        self.background = Vec3::new(0.45, 0.62, 0.9);
+    /// `D` par1 = 15: a sky blue background, or a uniform sky of the
+    /// colour par4–par6 when one is given (components clamped to
+    /// 0..=[`MAX_SKY`]; a radiance, so it may pass 1).
+    pub fn sky(&mut self, colour: DVec3) {
+        let c = colour.as_vec3();
+        if c.is_finite() && c.max_element() > 0.0 {
+            self.background = c.clamp(Vec3::ZERO, Vec3::splat(MAX_SKY));
+            self.sky = Sky::Uniform;
+        } else {
+            self.background = Vec3::new(0.45, 0.62, 0.9);
+            self.sky = Sky::Gradient;
+        }
     }
 
     /// `D` par1 = 18: a light at the observer.
@@ -301,6 +315,19 @@ impl Builder {
                     c.look_at = l.as_vec3();
                 }
                 world.microphone(mic, g);
+            }
+            14 => {
+                let ok = |v: f64| {
+                    if v.is_finite() {
+                        v.clamp(0.0, 1e6) as f32
+                    } else {
+                        0.0
+                    }
+                };
+                c.lens = Lens {
+                    radius: ok(g.x),
+                    focus: ok(g.y),
+                };
             }
             _ => {}
         }

@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use glam::{DVec3, Vec3};
 
 use crate::lsys::Animation;
-use crate::scene::{Camera, Geometry, Instance, Light, Scene};
+use crate::scene::{Camera, Geometry, Instance, Lens, Light, Scene};
 use builder::surface_in;
 pub use builder::{Builder, Surfaces};
 pub use interpret::{interpret, Options, Placed, Structure, Tables};
@@ -56,6 +56,10 @@ pub fn build_scene(
         far: cam.far as f32,
         width: window(cam.pref_pos).0,
         height: window(cam.pref_pos).1,
+        lens: Lens {
+            radius: cam.aperture as f32,
+            focus: cam.focus_distance as f32,
+        },
     };
     let max = opts.limits.shapes;
     let mut b = Builder::new(camera, &surfaces.materials, max);
@@ -146,6 +150,7 @@ pub fn build_scene(
         geometries,
         instances,
         background: b.background,
+        sky: b.sky,
     };
     Ok((scene, b.messages))
 }

@@ -49,7 +49,7 @@ fn d_symbol(it: &mut Interpreter, s: &Symbol) {
         7 => it.place_named(g[0] as i64),
         10 => textured(it, Texture::Marble),
         11 => textured(it, Texture::Bump),
-        15 => it.builder().sky(),
+        15 => it.builder().sky(DVec3::from_array(g)),
         16 => clouds(it, s, g),
         18 => it.builder().observer_light(),
         20 => {

@@ -49,12 +49,14 @@ pub fn scene(shapes: &[(ShapeKind, Affine3A, u32)], extra: &[Material], light: V
             far: 1000.0,
             width: 64,
             height: 64,
+            lens: Default::default(),
         },
         lights: vec![Light::point(light, Vec3::ONE)],
         materials,
         geometries,
         instances,
         background: Vec3::ZERO,
+        sky: Default::default(),
     }
 }
 

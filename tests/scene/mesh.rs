@@ -301,6 +301,7 @@ fn small_scene() -> Scene {
             far: 100.0,
             width: 320,
             height: 240,
+            lens: Default::default(),
         },
         lights: vec![],
         materials: vec![
@@ -327,6 +328,7 @@ fn small_scene() -> Scene {
             },
         ],
         background: Vec3::ZERO,
+        sky: Default::default(),
     }
 }
 

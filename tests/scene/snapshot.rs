@@ -155,6 +155,7 @@ fn scene_with(w: Vec<f32>) -> Scene {
             far: f32::MAX,
             width: 1920,
             height: 1080,
+            lens: Default::default(),
         },
         lights: vec![
             Light {
@@ -217,6 +218,7 @@ fn scene_with(w: Vec<f32>) -> Scene {
             },
         ],
         background: v3(at(10), -0.0, at(3)),
+        sky: Default::default(),
     }
 }
 
@@ -330,6 +332,7 @@ fn round_trip_equals_without_nans() {
         materials: vec![],
         instances: vec![],
         background: Vec3::ZERO,
+        sky: Default::default(),
         camera: Camera {
             look_at: Vec3::X,
             twist: -0.0,

@@ -155,6 +155,7 @@ pub fn memory_scene(
             far: 1e6,
             width: side,
             height: side,
+            lens: Default::default(),
         },
         lights: vec![Light::point(eye, Vec3::ONE)],
         materials,
@@ -165,6 +166,7 @@ pub fn memory_scene(
             object: 0,
         }],
         background: Vec3::ZERO,
+        sky: Default::default(),
     })
 }
 

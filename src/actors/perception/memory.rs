@@ -59,6 +59,7 @@ impl DepthView {
             far: self.far,
             width: self.edge,
             height: self.edge,
+            lens: Default::default(),
         }
     }
 

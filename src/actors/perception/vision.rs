@@ -68,6 +68,7 @@ impl View {
             far: self.far,
             width: 1,
             height: 1,
+            lens: Default::default(),
         }
         .basis()
     }

@@ -1,0 +1,251 @@
+//! The path tracer (`--integrator path`): unidirectional, with
+//! next-event estimation toward the lights and the sky, multiple
+//! importance sampling (power heuristic) between light and BSDF samples
+//! of the sky, Russian roulette, the materials as BSDFs ([`bsdf`]) and a
+//! thin-lens camera. Every random number is a hash of (frame, pixel,
+//! sample, vertex, dimension) (DESIGN §4), so a pixel's value does not
+//! depend on the thread that computes it.
+//!
+//! Radiometry (docs/rendering.md): a thesis light of colour c gives the
+//! irradiance π·c at any distance, as Rayshade's lights did (no falloff),
+//! so a white diffuse surface facing it has the radiance c the Whitted
+//! look shows; the sky is an environment of its own radiance; a scene
+//! without a sky is lit by an invisible uniform environment of radiance
+//! [`AMBIENT`], Rayshade's ambient term made physical (it is occluded).
+
+pub mod bsdf;
+
+use std::f32::consts::PI;
+
+use glam::{Vec3, Vec3A};
+
+use super::accel::Accel;
+use super::camera::CameraRays;
+use super::settings::Settings;
+use super::shade::{self, lights::toward, texture, EPS};
+use crate::random::{self, Stream};
+use crate::scene::material::Texture;
+use crate::scene::{LightKind, Sky};
+use bsdf::{Bsdf, SPHERE_PDF};
+
+/// The radiance of the environment of a scene without a sky (the
+/// materials' ambient factor: Rayshade's ambient 0.2 · diffuse).
+pub const AMBIENT: f32 = 0.2;
+
+/// The radiance of `D` 15's gradient sky as a fraction of its colour:
+/// with a sun of colour 1 a level surface then takes about 70 % of its
+/// light from the sun and 30 % from the sky, as on a clear day (seen
+/// whole, the sky's colour would outshine the sun's light two to one
+/// and wash the scene out). A sky given its colour is that radiance.
+pub const GRADIENT_SKY: f32 = 0.4;
+
+/// The vertex from which Russian roulette may end a path.
+const ROULETTE_FROM: u32 = 3;
+
+/// Passes through cloud layers a path may make besides its bounces.
+const CLOUD_PASSES: u32 = 4;
+
+/// Random-number dimensions of one vertex (slots `vertex << 32 | dim`).
+mod dim {
+    pub const PICK: u64 = 0;
+    pub const DIRECTION: u64 = 1;
+    pub const SKY: u64 = 3;
+    pub const ROULETTE: u64 = 5;
+    /// One per pass through a cloud layer.
+    pub const CLOUDS: u64 = 6;
+    /// Two per sphere light, from here on.
+    pub const LIGHTS: u64 = 6 + super::CLOUD_PASSES as u64;
+}
+
+/// The random number of dimension `dim` at vertex `vertex` of a path.
+fn unit(key: u64, vertex: u32, dim: u64) -> f32 {
+    random::unit(key, (u64::from(vertex) << 32) | dim) as f32
+}
+
+fn pair(key: u64, vertex: u32, dim: u64) -> (f32, f32) {
+    (unit(key, vertex, dim), unit(key, vertex, dim + 1))
+}
+
+/// The power heuristic's weight of a strategy of pdf `a` against `b`.
+fn power(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 {
+        a2 / (a2 + b2)
+    } else {
+        0.0
+    }
+}
+
+/// The radiance of the environment seen along `d`; `direct`: by the
+/// camera (or through mirrors and glass only), which sees black where
+/// the scene has no sky.
+fn environment(accel: &Accel, d: Vec3A, direct: bool) -> Vec3 {
+    if accel.scene.background == Vec3::ZERO {
+        if direct {
+            Vec3::ZERO
+        } else {
+            Vec3::splat(AMBIENT)
+        }
+    } else if accel.scene.sky == Sky::Gradient {
+        shade::background(accel, d) * GRADIENT_SKY
+    } else {
+        shade::background(accel, d)
+    }
+}
+
+/// The pixel (x, y)'s samples' colours and whether each camera ray met a
+/// surface, into `out`; `offsets` are the samples' positions in the
+/// pixel, `key` the pixel's key.
+#[allow(clippy::too_many_arguments)]
+pub fn colours(
+    accel: &Accel,
+    cam: &CameraRays,
+    st: &Settings,
+    x: u32,
+    y: u32,
+    key: u64,
+    offsets: &[(f32, f32)],
+    out: &mut Vec<(Vec3, bool)>,
+) {
+    out.clear();
+    out.extend(offsets.iter().enumerate().map(|(s, &(ox, oy))| {
+        let key = random::key(key, Stream::Pixel, s as u64, 2);
+        let (o, d) = cam.lens_ray(x as f32 + ox, y as f32 + oy, pair(key, u32::MAX, 0));
+        radiance(accel, o, d, st, key)
+    }));
+}
+
+/// The radiance arriving at `o` from the unit direction `-d`, and
+/// whether the ray met a surface. `st.max_depth` bounces follow the
+/// first surface (0: direct light only), as Mitsuba's `max_depth` − 2.
+pub fn radiance(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, key: u64) -> (Vec3, bool) {
+    let scene = &*accel.scene;
+    let (mut o, mut d) = (o, d);
+    let mut light = Vec3::ZERO;
+    let mut beta = Vec3::ONE;
+    // The pdf of the smooth lobe that chose `d`; 0 after a mirror, glass
+    // or the camera (no light sample finds those directions).
+    let mut pdf = 0.0f32;
+    let mut direct = true;
+    let mut met = false;
+    let (mut vertex, mut passes) = (0u32, 0u32);
+    loop {
+        let Some(hit) = accel.cast(o, d, 0.0, f32::INFINITY) else {
+            let sky = environment(accel, d, direct);
+            let w = if pdf > 0.0 {
+                power(pdf, SPHERE_PDF)
+            } else {
+                1.0
+            };
+            light += beta * sky * w;
+            break;
+        };
+        met |= vertex == 0 && passes == 0;
+        let Some(pt) = shade::point(accel, &hit, o, d) else {
+            break;
+        };
+        let m = &scene.materials[pt.material];
+        let step = EPS * (1.0 + pt.p.abs().max_element());
+        if m.texture == Some(Texture::Cloud) && passes < CLOUD_PASSES {
+            // A cloud layer is there with its density's chance (dense:
+            // a diffuse surface of its colour; thin: the light behind
+            // passes), so it scatters the light it receives rather than
+            // shining.
+            let density = texture::cloud(pt.p * 0.02);
+            if unit(key, vertex, dim::CLOUDS + u64::from(passes)) >= density {
+                passes += 1;
+                o = pt.p + d * step;
+                continue;
+            }
+        }
+        let wo = -d;
+        let b = Bsdf::new(m, pt.diffuse, pt.n, pt.outside);
+        let lift = pt.p + pt.n * step;
+        if b.smooth() {
+            light += beta * next_event(accel, &b, wo, lift, key, vertex);
+        }
+        if vertex >= st.max_depth {
+            // The last vertex: its BSDF ray still looks for the sky (the
+            // other half of the MIS pair), but scatters no more.
+            if let Some(s) = b.sample(
+                wo,
+                unit(key, vertex, dim::PICK),
+                pair(key, vertex, dim::DIRECTION),
+            ) {
+                if s.pdf > 0.0 && !accel.occluded(lift, s.wi, 0.0, f32::INFINITY) {
+                    light += beta
+                        * s.weight
+                        * environment(accel, s.wi, false)
+                        * power(s.pdf, SPHERE_PDF);
+                }
+            }
+            break;
+        }
+        let Some(s) = b.sample(
+            wo,
+            unit(key, vertex, dim::PICK),
+            pair(key, vertex, dim::DIRECTION),
+        ) else {
+            break;
+        };
+        beta *= s.weight;
+        pdf = s.pdf;
+        direct &= s.pdf == 0.0;
+        o = if s.through { pt.p - pt.n * step } else { lift };
+        d = s.wi;
+        vertex += 1;
+        if vertex >= ROULETTE_FROM {
+            let q = beta.max_element().min(0.95);
+            if q <= 0.0 || unit(key, vertex, dim::ROULETTE) >= q {
+                break;
+            }
+            beta /= q;
+        }
+        if !beta.is_finite() {
+            break;
+        }
+    }
+    (light, met)
+}
+
+/// The light arriving at `lift` (just off a surface of BSDF `b`, seen
+/// from `wo`) straight from the lights and the sky, shadows cast.
+fn next_event(accel: &Accel, b: &Bsdf, wo: Vec3A, lift: Vec3A, key: u64, vertex: u32) -> Vec3 {
+    let mut light = Vec3::ZERO;
+    for (li, l) in accel.scene.lights.iter().enumerate() {
+        let (wi, dist) = match l.kind {
+            LightKind::Sphere { radius } => {
+                let u = pair(key, vertex, dim::LIGHTS + 2 * li as u64);
+                let q = Vec3A::from(l.position) + radius * bsdf::sphere(u);
+                let to = q - lift;
+                (to.normalize_or_zero(), to.length())
+            }
+            _ => toward(l, lift),
+        };
+        if wi == Vec3A::ZERO {
+            continue;
+        }
+        let f = b.eval(wo, wi);
+        if f == Vec3::ZERO || accel.occluded(lift, wi, 0.0, dist) {
+            continue;
+        }
+        // Irradiance π·c on a surface facing the light.
+        light += f * (PI * l.color) * b_cos(b, wi);
+    }
+    // The sky, sampled uniformly, weighed against the BSDF's own samples.
+    let wi = bsdf::sphere(pair(key, vertex, dim::SKY));
+    let f = b.eval(wo, wi);
+    if f != Vec3::ZERO && !accel.occluded(lift, wi, 0.0, f32::INFINITY) {
+        let w = power(SPHERE_PDF, b.pdf(wo, wi));
+        light += f * environment(accel, wi, false) * (b_cos(b, wi) * w / SPHERE_PDF);
+    }
+    light
+}
+
+/// The cosine of `wi` with the BSDF's normal.
+fn b_cos(b: &Bsdf, wi: Vec3A) -> f32 {
+    b.normal().dot(wi).max(0.0)
+}
+
+#[cfg(test)]
+mod tests;
