@@ -1,7 +1,7 @@
 # lmfilm — the main job and the checks. `make help` lists the targets.
 CARGO ?= cargo
 
-.PHONY: film test test-worlds check lint bench bench-render clean help
+.PHONY: film test test-worlds check lint bench bench-render bench-path clean help
 
 help:
 	@echo "make film   the built-in film (14 s of the tennis match on its set): frames, soundtrack and manifest in renders/lmfilm/ (an MP4 too with ffmpeg)"
@@ -10,6 +10,7 @@ help:
 	@echo "make lint   cargo fmt --check and cargo clippy --all-targets"
 	@echo "make bench  criterion benchmarks of the step function and the turtle"
 	@echo "make bench-render  the forest against Embree and Mitsuba 3 (../shared/anchors)"
+	@echo "make bench-path  the path tracer against Mitsuba 3's path integrator: agreement, equal samples, equal error"
 	@echo "make clean  remove build products and renders (but renders/README.md)"
 
 film:
@@ -35,6 +36,9 @@ bench:
 
 bench-render:
 	sh scripts/bench_render.sh
+
+bench-path:
+	sh scripts/bench_path.sh
 
 clean:
 	$(CARGO) clean

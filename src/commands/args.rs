@@ -304,6 +304,20 @@ pub struct QualityArgs {
     /// of field from the camera's lens (docs/rendering.md).
     #[arg(long, value_enum)]
     pub integrator: Option<IntegratorArg>,
+    /// The fraction of each frame interval the shutter stays open, 0..=1
+    /// (default 0.5, a film camera's 180°): the path tracer blurs what
+    /// moves between a frame and the next over it; 0 freezes.
+    #[arg(long, value_name = "F", value_parser = shutter)]
+    pub shutter: Option<f32>,
+}
+
+fn shutter(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "--shutter takes a fraction 0..=1 of the frame interval, not `{text}`"
+        )),
+    }
 }
 
 fn max_depth(text: &str) -> Result<u32, String> {
@@ -327,6 +341,7 @@ impl QualityArgs {
             max_depth: self.max_depth,
             light_samples: self.light_samples,
             integrator: self.integrator.map(IntegratorArg::integrator),
+            shutter: self.shutter,
             formats: None,
             inset: None,
         }
@@ -482,6 +497,7 @@ mod tests {
             max_depth: 2,
             light_samples: 3,
             integrator: Integrator::Path,
+            shutter: 0.25,
             formats: Formats::Png,
             inset: Some(1),
             ..RenderChoice::of_preset(Preset::Final, (64, 48))

@@ -9,7 +9,8 @@ use crate::film::{Film, Frame};
 use crate::lsys::print::Format;
 use crate::lsys::Limits;
 use crate::production::settings::Defaults;
-use crate::render;
+use crate::render::motion::Motion;
+use crate::render::{self, Accel, Integrator};
 use crate::scene::{mesh, obj};
 use crate::turtle::Options;
 
@@ -140,22 +141,35 @@ pub fn still(
         segment_width,
         limits,
     };
-    let frame = shown(derive_to(at, opts)?);
-    let camera = &frame.scene().camera;
+    let mut film = derive_to(at, opts)?;
+    let frame = film.frame().expect("derive_to ran the film to its frame");
+    for m in frame.warnings() {
+        eprintln!("{m}");
+    }
+    let (scene, number) = (std::sync::Arc::clone(frame.scene()), frame.number());
+    let camera = &scene.camera;
     let choice = request.resolve(None, Defaults::default(), (camera.width, camera.height));
     let (w, h) = (choice.width, choice.height);
     Limits::check_pixels(w, h, limits.pixels).map_err(|e| {
         let scene = at.scenes[0].display();
-        Error::input(format!("{scene}: frame {}: {e}", frame.number()))
+        Error::input(format!("{scene}: frame {number}: {e}"))
     })?;
     let mut settings = choice.settings();
-    settings.frame = frame.number();
+    settings.frame = number;
     // PNG holds colour only: no need for the layer rays.
     settings.layers = exr;
+    // The path tracer blurs what moves toward the next frame.
+    let blurs = settings.integrator == Integrator::Path && settings.shutter > 0.0;
+    let motion = match blurs && number + 1 < film.frame_count() {
+        true => {
+            let next = film.next_frame()?.expect("the film has a next frame");
+            Motion::between(&scene, next.scene(), settings.shutter)
+        }
+        false => Motion::default(),
+    };
+    let accel = Accel::moving(scene, &motion);
     let percent = Percent::new("rendering");
-    let img = render::render_with(frame.accel(), &settings, &|done, rows| {
-        percent.tick(done, rows)
-    });
+    let img = render::render_with(&accel, &settings, &|done, rows| percent.tick(done, rows));
     percent.done();
     create_parent(output)?;
     render::output::write(&img, output)

@@ -175,6 +175,10 @@ pub struct FrameRecord {
     pub render: BTreeMap<String, String>,
     /// sha256 of the snapshot it was rendered from.
     pub snapshot: String,
+    /// sha256 of the next frame's snapshot, where the motion toward it
+    /// blurs this frame (the path tracer with the shutter open).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub next_snapshot: Option<String>,
 }
 
 /// `soundtrack.json`.

@@ -47,6 +47,10 @@ impl Formats {
     }
 }
 
+fn default_shutter() -> f32 {
+    crate::render::settings::SHUTTER
+}
+
 /// Render settings, every one resolved.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RenderChoice {
@@ -68,6 +72,10 @@ pub struct RenderChoice {
     /// choice existed was Whitted).
     #[serde(default)]
     pub integrator: Integrator,
+    /// The fraction of each frame interval the shutter is open (the
+    /// path tracer's motion blur).
+    #[serde(default = "default_shutter")]
+    pub shutter: f32,
     pub formats: Formats,
     /// The actor whose vision window goes into the frames' corner.
     pub inset: Option<usize>,
@@ -88,6 +96,7 @@ impl RenderChoice {
             max_depth: s.max_depth,
             light_samples: s.light_samples,
             integrator: s.integrator,
+            shutter: s.shutter,
             formats: Formats::Both,
             inset: None,
         }
@@ -104,6 +113,7 @@ impl RenderChoice {
             max_depth: self.max_depth,
             light_samples: self.light_samples,
             integrator: self.integrator,
+            shutter: self.shutter,
             layers: self.formats != Formats::Png,
             frame: 0,
         }
@@ -144,6 +154,7 @@ impl RenderChoice {
             format!("--max-depth={}", self.max_depth),
             format!("--light-samples={}", self.light_samples),
             format!("--integrator={}", self.integrator.name()),
+            format!("--shutter={}", self.shutter),
             format!("--format={}", self.formats.name()),
             format!(
                 "--inset={}",
@@ -170,6 +181,7 @@ pub struct RenderRequest {
     pub max_depth: Option<u32>,
     pub light_samples: Option<u32>,
     pub integrator: Option<Integrator>,
+    pub shutter: Option<f32>,
     pub formats: Option<Formats>,
     /// `Some(None)`: no inset.
     pub inset: Option<Option<usize>>,
@@ -236,6 +248,7 @@ impl RenderRequest {
         c.max_depth = self.max_depth.unwrap_or(c.max_depth);
         c.light_samples = self.light_samples.unwrap_or(c.light_samples);
         c.integrator = self.integrator.unwrap_or(c.integrator);
+        c.shutter = self.shutter.unwrap_or(c.shutter);
         c.formats = self.formats.unwrap_or(c.formats);
         c.inset = self.inset.unwrap_or(c.inset);
         c
@@ -376,7 +389,7 @@ mod tests {
         let text: Vec<String> = c.record().iter().map(|(k, v)| format!("{k}={v}")).collect();
         assert_eq!(
             text.join(" "),
-            "filter=box formats=both height=48 inset=2 integrator=whitted light_samples=4 max_depth=5 preset=final shadows=true spp=16 width=64"
+            "filter=box formats=both height=48 inset=2 integrator=whitted light_samples=4 max_depth=5 preset=final shadows=true shutter=0.5 spp=16 width=64"
         );
         let none = RenderChoice::of_preset(Preset::Preview, (8, 8)).record();
         assert_eq!(none["inset"], "none");

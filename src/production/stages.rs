@@ -39,7 +39,8 @@ use crate::film::names::{
 };
 use crate::film::{Film, Frame};
 use crate::lsys::Limits;
-use crate::render::{self, output};
+use crate::render::motion::Motion;
+use crate::render::{self, output, Accel, Integrator};
 use crate::scene::snapshot;
 use crate::sound;
 
@@ -407,6 +408,7 @@ fn frame_done(dir: &Path, name: &str, k: u64, snapshot: &str, want: &FrameRecord
         return false;
     };
     r.snapshot == snapshot
+        && r.next_snapshot == want.next_snapshot
         && r.render == want.render
         && r.inset == want.inset
         && r.lmfilm_version == want.lmfilm_version
@@ -440,8 +442,15 @@ pub fn render_frames(
     std::fs::create_dir_all(&frames_dir).map_err(|e| Error::io(&frames_dir, e))?;
     remove_stale_temps(&frames_dir);
     let mut rendered = 0;
+    let st = choice.settings();
+    // The path tracer blurs what moves toward the next frame.
+    let blurs = st.integrator == Integrator::Path && st.shutter > 0.0;
     for (i, &k) in frames.iter().enumerate() {
         let snap = snapshot_hash(dir, &rec, k)?;
+        let next_snapshot = match blurs && k + 1 < rec.frame_count {
+            true => Some(snapshot_hash(dir, &rec, k + 1)?),
+            false => None,
+        };
         let exts = formats.extensions();
         let mut want = FrameRecord {
             frame: k,
@@ -453,18 +462,26 @@ pub fn render_frames(
                 .collect(),
             render: choice.record(),
             snapshot: snap.clone(),
+            next_snapshot,
         };
         if !frame_done(dir, &name, k, &snap, &want) {
-            // The reader's message says to derive again.
-            let scene = snapshot::read(&dir.join(snapshot_path(k)))
-                .map_err(|e| Error::input(e.to_string()))?;
-            let mut st = choice.settings();
+            let read = |k: u64| {
+                // The reader's message says to derive again.
+                snapshot::read(&dir.join(snapshot_path(k))).map_err(|e| Error::input(e.to_string()))
+            };
+            let scene = read(k)?;
+            let mut st = st;
             let snap = dir.join(snapshot_path(k));
             let refuse = |e: String| Error::input(format!("{}: {e}", snap.display()));
             Limits::check_pixels(st.width, st.height, max_pixels).map_err(refuse)?;
             render::check(&scene).map_err(refuse)?;
             st.frame = k;
-            let mut img = render::render(std::sync::Arc::new(scene), &st);
+            let motion = match want.next_snapshot {
+                Some(_) => Motion::between(&scene, &read(k + 1)?, st.shutter),
+                None => Motion::default(),
+            };
+            let accel = Accel::moving(std::sync::Arc::new(scene), &motion);
+            let mut img = render::render_with(&accel, &st, &|_, _| {});
             if let Some(source) = &want.inset {
                 actor_images::compose(&mut img, &actor_images::read_inset(dir, source)?);
             }

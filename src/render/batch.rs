@@ -424,7 +424,7 @@ fn ray_lanes<'a, W: Wide>(
     if valid == 0 {
         return (0, Rays::Mixed(rays));
     }
-    let inv = d.recip_or_max();
+    let inv = d.recip_clamped();
     let origin_inv = origin * inv;
     let negative = [
         d.x.lt(zero).bits(),

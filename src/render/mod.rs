@@ -6,6 +6,7 @@
 pub mod accel;
 pub mod batch;
 pub mod camera;
+pub mod motion;
 pub mod output;
 pub mod path;
 pub mod sample;

@@ -46,6 +46,9 @@ impl Integrator {
     }
 }
 
+/// The film camera's 180° shutter: open half of each frame interval.
+pub const SHUTTER: f32 = 0.5;
+
 /// The two starting points of a render's sampling settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -79,6 +82,9 @@ pub struct Settings {
     /// Shadow rays toward each sphere light (soft shadows).
     pub light_samples: u32,
     pub integrator: Integrator,
+    /// The fraction of the frame interval the shutter stays open (the
+    /// path tracer's motion blur; 0 freezes the frame).
+    pub shutter: f32,
     /// Whether the depth, normal and object id layers are wanted (EXR):
     /// they cost one more ray through each pixel centre.
     pub layers: bool,
@@ -107,6 +113,7 @@ impl Settings {
             max_depth: 0,
             light_samples: 1,
             integrator: Integrator::Whitted,
+            shutter: SHUTTER,
             layers: true,
             frame: 0,
         }
@@ -123,6 +130,7 @@ impl Settings {
             max_depth: 5,
             light_samples: 4,
             integrator: Integrator::Whitted,
+            shutter: SHUTTER,
             layers: true,
             frame: 0,
         }

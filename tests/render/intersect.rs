@@ -825,3 +825,76 @@ fn triangle_packs_match_single_tests() {
     }
     assert!(hits > 500, "{hits} hits");
 }
+
+/// Rays along an axis, from points beyond ±1, with no far limit: a grid
+/// of boxes above and below is found exactly where a box is (their
+/// slab distances once overflowed to NaN and the walk entered a node's
+/// empty slots and panicked: the path tracer's sky rays).
+#[test]
+fn axis_rays_without_a_far_limit() {
+    use lmfilm::render::Accel;
+    let shapes: Vec<Shape> = (0..100)
+        .map(|k| Shape {
+            kind: ShapeKind::Box,
+            // The unit box [0,1] × [−½,½]², moved to cell (x, z) at y = 10.
+            transform: Affine3A::from_translation(Vec3::new(
+                (k % 10) as f32 * 3.0,
+                10.0,
+                (k / 10) as f32 * 3.0 + 0.5,
+            )),
+            material: 0,
+            symbol: k,
+        })
+        .collect();
+    let scene = Scene {
+        frame: 0,
+        time: 0.0,
+        camera: Camera {
+            eye: Vec3::ZERO,
+            look_at: Vec3::NEG_Z,
+            twist: 0.0,
+            fov_y: 50.0,
+            aspect: 1.0,
+            near: 0.1,
+            far: 1e4,
+            width: 8,
+            height: 8,
+            lens: Lens::default(),
+        },
+        lights: Vec::new(),
+        materials: material::table(),
+        geometries: vec![Geometry {
+            name: "grid".into(),
+            shapes,
+            triangles: Vec::new(),
+            resolution: 8,
+        }],
+        instances: vec![Instance {
+            geometry: 0,
+            transform: Affine3A::IDENTITY,
+            object: 0,
+        }],
+        background: Vec3::ZERO,
+        sky: Sky::Gradient,
+    };
+    let accel = Accel::new(scene);
+    for k in 0..100 {
+        let (x, z) = ((k % 10) as f32 * 3.0, (k / 10) as f32 * 3.0 + 0.5);
+        for (dx, inside) in [(0.5, true), (1.5, false), (-0.7, false)] {
+            for (y, dir) in [(-7.0, Vec3A::Y), (27.0, Vec3A::NEG_Y)] {
+                let o = Vec3A::new(x + dx, y, z);
+                let hit = accel.cast(o, dir, 0.0, f32::INFINITY);
+                assert_eq!(
+                    accel.occluded(o, dir, 0.0, f32::INFINITY),
+                    inside,
+                    "{o} {dir}"
+                );
+                assert_eq!(hit.is_some(), inside, "{o} {dir}");
+                if let Some(h) = hit {
+                    // Both ways the box's near face is 16.5 away.
+                    assert!((h.t - 16.5).abs() < 1e-4, "{o} {dir}: t {}", h.t);
+                }
+            }
+        }
+    }
+}

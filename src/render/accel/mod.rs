@@ -11,7 +11,8 @@ pub mod tri4;
 
 use std::sync::Arc;
 
-use crate::aabb;
+use crate::aabb::{self, Aabb};
+use crate::render::motion::{self, Motion};
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
 
 #[cfg(not(target_arch = "x86_64"))]
@@ -21,7 +22,7 @@ use crate::render::simd::wide::Wide;
 use crate::render::simd::wide::{Avx, Avx512, Sse as Base};
 use crate::render::simd::{Lanes, LANES};
 use crate::scene::material::Texture;
-use crate::scene::{Geometry, Material, Scene};
+use crate::scene::{Geometry, Material, Scene, Shape};
 use bvh4::{prefetch, Bvh4};
 use hull::Hull;
 use packet::{Bits, RayPacket, Rays};
@@ -46,6 +47,9 @@ struct ShapeLeaf {
     index: u32,
     inverse: Affine3A,
     shadows: bool,
+    /// Its transform at shutter close, where it moves (see
+    /// [`crate::render::motion`]).
+    end: Option<Affine3A>,
 }
 
 impl ShapeLeaf {
@@ -53,9 +57,15 @@ impl ShapeLeaf {
     /// local space.
     #[inline(always)]
     fn hit(&self, geo: &Geometry, r: &Ray, tmax: f32) -> Option<shapes::LocalHit> {
-        let o = self.inverse.transform_point3a(r.origin);
-        let d = self.inverse.transform_vector3a(r.direction);
-        shapes::shape(geo.shapes[self.index as usize].kind, o, d, r.tmin, tmax)
+        let s = &geo.shapes[self.index as usize];
+        let moving = match self.end {
+            Some(end) if r.time > 0.0 => Some(motion::lerp(&s.transform, &end, r.time).inverse()),
+            _ => None,
+        };
+        let inverse = moving.as_ref().unwrap_or(&self.inverse);
+        let o = inverse.transform_point3a(r.origin);
+        let d = inverse.transform_vector3a(r.direction);
+        shapes::shape(s.kind, o, d, r.tmin, tmax)
     }
 }
 
@@ -332,6 +342,8 @@ pub struct Accel {
     inst_inv: Vec<Option<Affine3A>>,
     /// Each instance's normal matrix (inverse transpose).
     inst_normal: Vec<Mat3A>,
+    /// Each instance's transform at shutter close, where it moves.
+    inst_end: Vec<Option<Affine3A>>,
     blas: Vec<Option<Blas>>,
     /// The instructions the tests run (the same bits every way).
     simd: Simd,
@@ -340,11 +352,17 @@ pub struct Accel {
 /// The bottom level of one geometry; primitives with bounds that are not
 /// finite or beyond ±[`crate::scene::MAX_COORDINATE`] never reach the
 /// builder (its surface areas would overflow).
-fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
+fn blas(g: &Geometry, materials: &[Material], ends: &[Option<Affine3A>]) -> Option<Blas> {
     let mut prims = Vec::with_capacity(g.shapes.len() + g.triangles.len());
     let mut boxes = Vec::with_capacity(prims.capacity());
+    let end = |i: usize| ends.get(i).copied().flatten();
     for (i, s) in g.shapes.iter().enumerate() {
-        if let Some(b) = shapes::bounds(s) {
+        // A moving shape's box holds it at both ends, so all the time.
+        let at_end = |b: Aabb| match end(i) {
+            Some(transform) => shapes::bounds(&Shape { transform, ..*s }).map(|e| b.union(&e)),
+            None => Some(b),
+        };
+        if let Some(b) = shapes::bounds(s).and_then(at_end) {
             prims.push(Prim::Shape(i as u32));
             boxes.push(b);
         }
@@ -379,6 +397,7 @@ fn blas(g: &Geometry, materials: &[Material]) -> Option<Blas> {
                         index: i,
                         inverse: s.transform.inverse(),
                         shadows: !cloud,
+                        end: end(i as usize),
                     });
                 }
                 Prim::Triangle(i) => tris.push((i, g.triangles[i as usize].v)),
@@ -418,11 +437,25 @@ impl Accel {
     /// Builds the bottom levels, then the top level over the instances
     /// whose bounds are finite.
     pub fn new(scene: impl Into<Arc<Scene>>) -> Self {
+        Accel::moving(scene, &Motion::default())
+    }
+
+    /// [`Accel::new`] for a scene whose shapes and instances move over
+    /// the shutter as `motion` says: their boxes hold them at both ends,
+    /// and a ray meets them at its [`Ray::time`].
+    pub fn moving(scene: impl Into<Arc<Scene>>, motion: &Motion) -> Self {
         let scene: Arc<Scene> = scene.into();
         let blas: Vec<Option<Blas>> = scene
             .geometries
             .iter()
-            .map(|g| blas(g, &scene.materials))
+            .enumerate()
+            .map(|(k, g)| {
+                let ends = motion.shapes.get(k).map_or(&[][..], Vec::as_slice);
+                blas(g, &scene.materials, ends)
+            })
+            .collect();
+        let inst_end: Vec<Option<Affine3A>> = (0..scene.instances.len())
+            .map(|k| motion.instances.get(k).copied().flatten())
             .collect();
         let mut inst = Vec::new();
         let mut boxes = Vec::new();
@@ -430,7 +463,14 @@ impl Accel {
             let Some(Some(b)) = blas.get(i.geometry as usize) else {
                 continue;
             };
-            if let Some(wb) = aabb::transformed(&b.tree.bounds(), &i.transform) {
+            let placed = |t: &Affine3A| aabb::transformed(&b.tree.bounds(), t);
+            let wb = match &inst_end[k] {
+                Some(end) => placed(&i.transform)
+                    .zip(placed(end))
+                    .map(|(a, e)| a.union(&e)),
+                None => placed(&i.transform),
+            };
+            if let Some(wb) = wb {
                 inst.push(k as u32);
                 boxes.push(wb);
             }
@@ -462,6 +502,7 @@ impl Accel {
             single,
             inst_inv,
             inst_normal,
+            inst_end,
             blas,
             simd: Simd::detect(),
         }
@@ -482,8 +523,18 @@ impl Accel {
 
     /// The ray in instance `k`'s geometry space (same t).
     fn local_ray(&self, k: usize, r: &Ray) -> Ray {
+        if let Some(end) = self.inst_end[k].filter(|_| r.time > 0.0) {
+            let now = motion::lerp(&self.scene.instances[k].transform, &end, r.time);
+            let mut local = local(&now.inverse(), r.origin, r.direction, r.tmin);
+            local.time = r.time;
+            return local;
+        }
         match &self.inst_inv[k] {
-            Some(inv) => local(inv, r.origin, r.direction, r.tmin),
+            Some(inv) => {
+                let mut local = local(inv, r.origin, r.direction, r.tmin);
+                local.time = r.time;
+                local
+            }
             None => *r,
         }
     }
@@ -563,7 +614,20 @@ impl Accel {
 
     /// The closest hit of the ray `origin + t·dir` with t in (tmin, tmax).
     pub fn cast(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> Option<Hit> {
-        let r = self.ray(origin, dir, tmin)?;
+        self.cast_at(origin, dir, tmin, tmax, 0.0)
+    }
+
+    /// [`Accel::cast`] at the instant `time` (0..1) of the shutter.
+    pub fn cast_at(
+        &self,
+        origin: Vec3A,
+        dir: Vec3A,
+        tmin: f32,
+        tmax: f32,
+        time: f32,
+    ) -> Option<Hit> {
+        let mut r = self.ray(origin, dir, tmin)?;
+        r.time = time;
         let tlas = self.tlas.as_ref()?;
         let mut best = None;
         // One instance (a scene without repetitions): no top level to walk.
@@ -586,8 +650,15 @@ impl Accel {
 
     /// Whether anything but a cloud layer blocks the ray within (tmin, tmax).
     pub fn occluded(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> bool {
-        self.ray(origin, dir, tmin)
-            .is_some_and(|r| self.any_one(&r, tmax))
+        self.occluded_at(origin, dir, tmin, tmax, 0.0)
+    }
+
+    /// [`Accel::occluded`] at the instant `time` (0..1) of the shutter.
+    pub fn occluded_at(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32, time: f32) -> bool {
+        self.ray(origin, dir, tmin).is_some_and(|mut r| {
+            r.time = time;
+            self.any_one(&r, tmax)
+        })
     }
 
     /// Whether anything but a cloud layer blocks `r` before `tmax`.

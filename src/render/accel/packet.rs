@@ -74,6 +74,7 @@ impl RayPacket {
             origin: at(&self.origin, i),
             direction: at(&self.direction, i),
             tmin: self.tmin[i],
+            time: 0.0,
             inv: at(&self.inv, i),
             origin_inv: at(&self.origin_inv, i),
             negative: self.negative,

@@ -3,8 +3,17 @@
 
 use glam::Vec3A;
 
-/// A ray prepared for slab tests — reciprocal direction (finite, so no
-/// 0·∞ can make a NaN) and origin times it — and for watertight triangle
+/// The largest reciprocal of a direction's component, as Embree's
+/// `rcp_safe`: times any coordinate a scene may hold (±1e18,
+/// [`crate::scene::MAX_MAGNITUDE`]) it stays finite. With `f32::MAX`, a
+/// ray along an axis from a point beyond ±1 made `origin·inv` infinite,
+/// its slab distances NaN, and with an unbounded `tmax` the walk entered
+/// a node's empty slots (the path tracer's sky rays found it).
+pub(crate) const INV_LIMIT: f32 = 1e18;
+
+/// A ray prepared for slab tests — reciprocal direction (finite and at
+/// most [`INV_LIMIT`], so neither 0·∞ nor an overflow makes a NaN) and
+/// origin times it — and for watertight triangle
 /// tests: `axes` puts the direction's largest component last (z), `shear`
 /// maps the direction onto that axis.
 #[derive(Clone, Copy, Debug)]
@@ -12,6 +21,9 @@ pub struct Ray {
     pub origin: Vec3A,
     pub direction: Vec3A,
     pub tmin: f32,
+    /// The instant within the shutter, 0..1, at which the ray sees
+    /// moving shapes and instances (see [`crate::render::motion`]).
+    pub time: f32,
     pub(crate) inv: Vec3A,
     pub(crate) origin_inv: Vec3A,
     pub(crate) negative: [bool; 3],
@@ -25,11 +37,9 @@ impl Ray {
     pub fn new(origin: Vec3A, direction: Vec3A, tmin: f32) -> Ray {
         // Lane by lane, the same divisions as one at a time.
         let r = Vec3A::ONE / direction;
-        let inv = Vec3A::select(
-            r.is_finite_mask(),
-            r,
-            Vec3A::splat(f32::MAX).copysign(direction),
-        );
+        let inv = Vec3A::select(r.is_finite_mask(), r, Vec3A::splat(INV_LIMIT))
+            .clamp(Vec3A::splat(-INV_LIMIT), Vec3A::splat(INV_LIMIT))
+            .copysign(direction);
         let d = direction.to_array();
         let ad = direction.abs();
         let kz = largest_axis(ad.x > ad.y, ad.x > ad.z, ad.y > ad.z);
@@ -39,6 +49,7 @@ impl Ray {
             origin,
             direction,
             tmin,
+            time: 0.0,
             inv,
             origin_inv: origin * inv,
             negative: d.map(|c| c.is_sign_negative()),

@@ -111,14 +111,22 @@ pub fn colours(
     out.extend(offsets.iter().enumerate().map(|(s, &(ox, oy))| {
         let key = random::key(key, Stream::Pixel, s as u64, 2);
         let (o, d) = cam.lens_ray(x as f32 + ox, y as f32 + oy, pair(key, u32::MAX, 0));
-        radiance(accel, o, d, st, key)
+        let time = unit(key, u32::MAX, 2);
+        radiance(accel, o, d, st, key, time)
     }));
 }
 
-/// The radiance arriving at `o` from the unit direction `-d`, and
-/// whether the ray met a surface. `st.max_depth` bounces follow the
+/// The radiance arriving at `o` from the unit direction `-d` at the
+/// instant `time` of the shutter, and whether the ray met a surface. `st.max_depth` bounces follow the
 /// first surface (0: direct light only), as Mitsuba's `max_depth` − 2.
-pub fn radiance(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, key: u64) -> (Vec3, bool) {
+pub fn radiance(
+    accel: &Accel,
+    o: Vec3A,
+    d: Vec3A,
+    st: &Settings,
+    key: u64,
+    time: f32,
+) -> (Vec3, bool) {
     let scene = &*accel.scene;
     let (mut o, mut d) = (o, d);
     let mut light = Vec3::ZERO;
@@ -130,7 +138,7 @@ pub fn radiance(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, key: u64) -> (
     let mut met = false;
     let (mut vertex, mut passes) = (0u32, 0u32);
     loop {
-        let Some(hit) = accel.cast(o, d, 0.0, f32::INFINITY) else {
+        let Some(hit) = accel.cast_at(o, d, 0.0, f32::INFINITY, time) else {
             let sky = environment(accel, d, direct);
             let w = if pdf > 0.0 {
                 power(pdf, SPHERE_PDF)
@@ -162,7 +170,7 @@ pub fn radiance(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, key: u64) -> (
         let b = Bsdf::new(m, pt.diffuse, pt.n, pt.outside);
         let lift = pt.p + pt.n * step;
         if b.smooth() {
-            light += beta * next_event(accel, &b, wo, lift, key, vertex);
+            light += beta * next_event(accel, &b, wo, lift, (key, vertex), time);
         }
         if vertex >= st.max_depth {
             // The last vertex: its BSDF ray still looks for the sky (the
@@ -172,7 +180,7 @@ pub fn radiance(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, key: u64) -> (
                 unit(key, vertex, dim::PICK),
                 pair(key, vertex, dim::DIRECTION),
             ) {
-                if s.pdf > 0.0 && !accel.occluded(lift, s.wi, 0.0, f32::INFINITY) {
+                if s.pdf > 0.0 && !accel.occluded_at(lift, s.wi, 0.0, f32::INFINITY, time) {
                     light += beta
                         * s.weight
                         * environment(accel, s.wi, false)
@@ -210,7 +218,14 @@ pub fn radiance(accel: &Accel, o: Vec3A, d: Vec3A, st: &Settings, key: u64) -> (
 
 /// The light arriving at `lift` (just off a surface of BSDF `b`, seen
 /// from `wo`) straight from the lights and the sky, shadows cast.
-fn next_event(accel: &Accel, b: &Bsdf, wo: Vec3A, lift: Vec3A, key: u64, vertex: u32) -> Vec3 {
+fn next_event(
+    accel: &Accel,
+    b: &Bsdf,
+    wo: Vec3A,
+    lift: Vec3A,
+    (key, vertex): (u64, u32),
+    time: f32,
+) -> Vec3 {
     let mut light = Vec3::ZERO;
     for (li, l) in accel.scene.lights.iter().enumerate() {
         let (wi, dist) = match l.kind {
@@ -226,7 +241,7 @@ fn next_event(accel: &Accel, b: &Bsdf, wo: Vec3A, lift: Vec3A, key: u64, vertex:
             continue;
         }
         let f = b.eval(wo, wi);
-        if f == Vec3::ZERO || accel.occluded(lift, wi, 0.0, dist) {
+        if f == Vec3::ZERO || accel.occluded_at(lift, wi, 0.0, dist, time) {
             continue;
         }
         // Irradiance π·c on a surface facing the light.
@@ -235,7 +250,7 @@ fn next_event(accel: &Accel, b: &Bsdf, wo: Vec3A, lift: Vec3A, key: u64, vertex:
     // The sky, sampled uniformly, weighed against the BSDF's own samples.
     let wi = bsdf::sphere(pair(key, vertex, dim::SKY));
     let f = b.eval(wo, wi);
-    if f != Vec3::ZERO && !accel.occluded(lift, wi, 0.0, f32::INFINITY) {
+    if f != Vec3::ZERO && !accel.occluded_at(lift, wi, 0.0, f32::INFINITY, time) {
         let w = power(SPHERE_PDF, b.pdf(wo, wi));
         light += f * environment(accel, wi, false) * (b_cos(b, wi) * w / SPHERE_PDF);
     }

@@ -8,6 +8,7 @@ use glam::{Affine3A, Vec3};
 
 use super::*;
 use crate::render::accel::tri4::Simd;
+use crate::render::motion::Motion;
 use crate::render::{render_with, Image, Integrator, Settings};
 use crate::scene::{
     material, Camera, Geometry, Instance, Lens, Light, LightKind, Material, Scene, Shape,
@@ -319,4 +320,58 @@ fn white_furnace_of_a_whole_scene() {
     let img = crate::render::render(scene, &path(24, 256, 64));
     let mean = img.rgba.iter().map(|p| p[0]).sum::<f32>() / img.rgba.len() as f32;
     assert!((mean / 0.5 - 1.0).abs() < 0.01, "mean {mean}, not 0.5");
+}
+
+/// Motion blur: a sphere that moves D between a frame and the next,
+/// seen with the shutter open a fraction s of the interval, is smeared
+/// over s·D (its silhouette convolved with a box of that length, so the
+/// alpha's variance along the motion grows by (s·D)²/12) — whether the
+/// shape moves within its geometry or its instance moves.
+#[test]
+fn motion_blur_spreads_a_point_over_its_screen_motion() {
+    let (side, fov) = (64u32, 20.0f32);
+    let pixel = 2.0 * (fov.to_radians() / 2.0).tan() * 10.0 / side as f32;
+    let at = |x: f32| {
+        scene(
+            camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), fov, side),
+            &[(Vec3::new(x, 0.0, -10.0), 0.3, 0)],
+            vec![diffuse(0.5)],
+        )
+    };
+    let by_instance = |x: f32| {
+        let mut s = at(0.0);
+        s.instances[0].transform = Affine3A::from_translation(Vec3::new(x, 0.0, 0.0));
+        s
+    };
+    // Mean and variance of x under the alpha.
+    let moments = |accel: &crate::render::Accel| {
+        let img = render_with(accel, &path(side, 256, 0), &|_, _| {});
+        let (mut m, mut mx, mut mxx) = (0.0f64, 0.0f64, 0.0f64);
+        for (i, p) in img.rgba.iter().enumerate() {
+            let x = (i as u32 % side) as f64 + 0.5;
+            let a = f64::from(p[3]);
+            (m, mx, mxx) = (m + a, mx + a * x, mxx + a * x * x);
+        }
+        (mx / m, mxx / m - (mx / m).powi(2))
+    };
+    for (moved, shutter) in [(2.0f32, 0.5f32), (1.0, 1.0), (3.0, 0.25)] {
+        for make in [&at as &dyn Fn(f32) -> Scene, &by_instance] {
+            let (now, next) = (make(-1.0), make(-1.0 + moved));
+            let motion = Motion::between(&now, &next, shutter);
+            assert!(!motion.is_still());
+            let still = moments(&crate::render::Accel::new(now.clone()));
+            let blurred = moments(&crate::render::Accel::moving(now, &motion));
+            let length = (12.0 * (blurred.1 - still.1)).sqrt() as f32;
+            let expected = shutter * moved / pixel;
+            assert!(
+                (length / expected - 1.0).abs() < 0.03,
+                "moved {moved} m, shutter {shutter}: blur {length} px, screen motion {expected} px"
+            );
+            let shift = (blurred.0 - still.0) as f32;
+            assert!(
+                (shift - expected / 2.0).abs() < 0.2,
+                "centre moved {shift} px"
+            );
+        }
+    }
 }

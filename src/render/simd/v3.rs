@@ -12,6 +12,7 @@ use glam::{Vec3, Vec3A};
 
 use super::wide::{Mask, Wide};
 use super::Lanes;
+use crate::render::accel::ray::INV_LIMIT;
 
 #[derive(Clone, Copy)]
 pub struct V3<W> {
@@ -126,14 +127,15 @@ impl<W: Wide> V3<W> {
         }
     }
 
-    /// `Ray::new`'s reciprocal: `1 / c`, or ±`f32::MAX` with the sign of
-    /// `c` where that is not finite (`c` neither −0 nor NaN).
+    /// `Ray::new`'s reciprocal: `1 / c` with its magnitude held to
+    /// [`INV_LIMIT`], ±`INV_LIMIT` with the sign of `c` where it is not
+    /// finite (`c` neither −0 nor NaN).
     #[inline(always)]
-    pub fn recip_or_max(self) -> Self {
+    pub fn recip_clamped(self) -> Self {
         V3 {
-            x: recip_or_max(self.x),
-            y: recip_or_max(self.y),
-            z: recip_or_max(self.z),
+            x: recip_clamped(self.x),
+            y: recip_clamped(self.y),
+            z: recip_clamped(self.z),
         }
     }
 
@@ -162,13 +164,13 @@ impl<W: Wide> V3<W> {
     }
 }
 
-/// See [`V3::recip_or_max`].
+/// See [`V3::recip_clamped`].
 #[inline(always)]
-fn recip_or_max<W: Wide>(c: W) -> W {
-    let (zero, max) = (W::splat(0.0), W::splat(f32::MAX));
+fn recip_clamped<W: Wide>(c: W) -> W {
+    let (zero, limit) = (W::splat(0.0), W::splat(INV_LIMIT));
     let r = W::splat(1.0).div(c);
-    let huge = W::select(c.lt(zero), zero.sub(max), max);
-    W::select(r.sub(r).eq(zero), r, huge)
+    let size = W::select(r.sub(r).eq(zero), r.max(zero.sub(r)).min(limit), limit);
+    W::select(c.lt(zero), zero.sub(size), size)
 }
 
 impl<W: Wide> Add for V3<W> {
