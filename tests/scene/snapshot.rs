@@ -371,9 +371,10 @@ fn encoding_is_deterministic_and_has_the_documented_layout() {
     let b = snapshot::encode(&sample_scene());
     assert_eq!(a, b);
     assert_eq!(&a[..8], b"LMSNAP\0\0");
-    // Version 2: lights carry their kind (point, directional, sphere).
-    assert_eq!(u32::from_le_bytes(a[8..12].try_into().unwrap()), 2);
-    assert_eq!(VERSION, 2);
+    // Version 2: lights carry their kind (point, directional, sphere);
+    // 3: the camera its lens, the scene its sky's shape.
+    assert_eq!(u32::from_le_bytes(a[8..12].try_into().unwrap()), 3);
+    assert_eq!(VERSION, 3);
     let len = u64::from_le_bytes(a[12..20].try_into().unwrap()) as usize;
     assert_eq!(a.len(), 20 + len + 8);
     let hash = u64::from_le_bytes(a[20 + len..].try_into().unwrap());
@@ -661,6 +662,14 @@ fn impossible_scenes_are_refused_with_what_is_wrong() {
     let mut s = valid_scene();
     s.camera.width = 0;
     assert!(invalid(&s).contains("width is 0"));
+
+    let mut s = valid_scene();
+    s.camera.lens.radius = -0.1;
+    assert!(invalid(&s).contains("aperture radius and focus distance must be ≥ 0"));
+
+    let mut s = valid_scene();
+    s.camera.lens.focus = f32::NAN;
+    assert!(invalid(&s).contains("focus distance"));
 
     let mut s = valid_scene();
     s.lights[0].position.x = 1e19;

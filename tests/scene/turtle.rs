@@ -397,6 +397,48 @@ fn bounding_box_print_textures_and_observer_light() {
     assert_ne!(s.background, Vec3::ZERO, "D 15 gives a sky");
 }
 
+/// The path tracer's scene settings: the lens from the camera section
+/// and from `l` par3 = 14 (a later frame's word wins), and `D` 15 with
+/// a colour as a uniform sky of that radiance.
+#[test]
+fn lens_and_uniform_sky_from_the_scene() {
+    use lmfilm::scene::{Lens, Sky};
+    let camera = "Camera_AnimationParameters\nobserver 0 0 5\naperture 0.05\nfocusDistance 4\nt_final_interval 1 0.04\n";
+    let mut a = crate::common::from_text(&format!("{camera}Axiom\nD () (15) a () (1)\n"));
+    let (s, _) = crate::common::scene(&mut a);
+    assert_eq!(
+        s.camera.lens,
+        Lens {
+            radius: 0.05,
+            focus: 4.0
+        }
+    );
+    assert_eq!(
+        (s.sky, s.background),
+        (Sky::Gradient, Vec3::new(0.45, 0.62, 0.9))
+    );
+    let word = "Axiom\nl () () () (14) (0.2) (7) D () (15) () () (0.5) (2) (0.25) a () (1)\n";
+    let mut a = crate::common::from_text(&format!("{camera}{word}"));
+    let (s, _) = crate::common::scene(&mut a);
+    assert_eq!(
+        s.camera.lens,
+        Lens {
+            radius: 0.2,
+            focus: 7.0
+        }
+    );
+    assert_eq!(
+        (s.sky, s.background),
+        (Sky::Uniform, Vec3::new(0.5, 2.0, 0.25))
+    );
+    let bad = lmfilm::lsys::Source::new("bad.lm", "Camera_AnimationParameters\naperture -1\n");
+    let e = lmfilm::lsys::Animation::from_sources(&[bad], &mut lmfilm::lsys::NoSensors)
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("the aperture radius must be ≥ 0"), "{e}");
+}
+
 #[test]
 fn not_a_number_never_reaches_the_scene() {
     let text = "Axiom\nf () () () (1) (0 0/) c () () () () (1) (1) (1) + () () () () (0 0/) c () () () () (1) (1) (1) f () () () () (1 0 /) a () () () () (1)\n";
