@@ -15,6 +15,7 @@ use crate::lsys::Limits;
 use crate::production::frames::{FrameRange, FrameSelection, Shard};
 use crate::production::settings::{self, Defaults, RenderChoice, RenderRequest, SoundRequest};
 use crate::production::{assemble, mux, record, stages, verify};
+use crate::render::Integrator;
 use crate::sound;
 use crate::turtle::Options;
 
@@ -287,13 +288,16 @@ pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
 
 /// The settings as the summaries say them.
 fn describe(c: &RenderChoice) -> String {
+    let look = match c.integrator {
+        Integrator::Whitted => format!("shadows {}", if c.shadows { "on" } else { "off" }),
+        Integrator::Path => format!("path traced, shutter {}", c.shutter),
+    };
     format!(
-        "{}×{}, {} spp, preset {}, shadows {}, {} bounces, filter {}, formats {} ({})",
+        "{}×{}, {} spp, preset {}, {look}, {} bounces, filter {}, formats {} ({})",
         c.width,
         c.height,
         c.spp,
         c.preset.name(),
-        if c.shadows { "on" } else { "off" },
         c.max_depth,
         c.filter.name(),
         c.formats.name(),

@@ -78,18 +78,25 @@ fn power(a: f32, b: f32) -> f32 {
 
 /// The radiance of the environment seen along `d`; `direct`: by the
 /// camera (or through mirrors and glass only), which sees black where
-/// the scene has no sky.
+/// the scene has no sky, and the gradient sky's painted clouds, which
+/// light nothing ([`shade::sky_light`]).
 fn environment(accel: &Accel, d: Vec3A, direct: bool) -> Vec3 {
-    if accel.scene.background == Vec3::ZERO {
+    let scene = &accel.scene;
+    let scale = if scene.sky == Sky::Gradient {
+        GRADIENT_SKY
+    } else {
+        1.0
+    };
+    if scene.background == Vec3::ZERO {
         if direct {
             Vec3::ZERO
         } else {
             Vec3::splat(AMBIENT)
         }
-    } else if accel.scene.sky == Sky::Gradient {
-        shade::background(accel, d) * GRADIENT_SKY
+    } else if direct {
+        shade::background(accel, d) * scale
     } else {
-        shade::background(accel, d)
+        shade::sky_light(accel, d) * scale
     }
 }
 
@@ -155,12 +162,14 @@ pub fn radiance(
         let m = &scene.materials[pt.material];
         let step = EPS * (1.0 + pt.p.abs().max_element());
         if m.texture == Some(Texture::Cloud) && passes < CLOUD_PASSES {
-            // A cloud layer is there with its density's chance (dense:
-            // a diffuse surface of its colour; thin: the light behind
-            // passes), so it scatters the light it receives rather than
-            // shining.
-            let density = texture::cloud(pt.p * 0.02);
-            if unit(key, vertex, dim::CLOUDS + u64::from(passes)) >= density {
+            // A cloud layer is seen (by the camera, in mirrors) where its
+            // density's chance says, a diffuse surface of its colour; it
+            // lights and shades nothing, as the light samples see
+            // through it (it casts no shadow), so a path that scatters
+            // on toward it passes.
+            let seen = direct
+                && unit(key, vertex, dim::CLOUDS + u64::from(passes)) < texture::cloud(pt.p * 0.02);
+            if !seen {
                 passes += 1;
                 o = pt.p + d * step;
                 continue;

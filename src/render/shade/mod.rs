@@ -20,7 +20,7 @@ use lights::{sphere_point, toward};
 use point::lift;
 pub(crate) use point::EPS;
 pub use point::{point, Point};
-pub use sky::background;
+pub use sky::{background, sky_light};
 
 /// Extra passes a ray may make through cloud layers beyond `max_depth`.
 const CLOUD_PASSES: u32 = 4;

@@ -23,3 +23,15 @@ pub fn background(accel: &Accel, dir: Vec3A) -> Vec3 {
         texture::sky(dir, bg, horizon(bg))
     }
 }
+
+/// The sky as a light: [`background`] without the gradient's painted
+/// clouds (a detail for the eye; as light they only add noise, and their
+/// noise function was half of a path-traced frame's time).
+pub fn sky_light(accel: &Accel, dir: Vec3A) -> Vec3 {
+    let bg = accel.scene.background;
+    if bg == Vec3::ZERO || accel.scene.sky == Sky::Uniform {
+        return bg;
+    }
+    let up = dir.try_normalize().map_or(0.0, |d| d.y.max(0.0));
+    horizon(bg).lerp(bg, up)
+}
