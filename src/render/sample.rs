@@ -66,6 +66,8 @@ pub struct Scratch {
     colours: Vec<(Vec3, bool)>,
     /// The lanes of [`batch::pixel`].
     lanes: batch::Buffers,
+    /// The camera rays of [`path::colours`].
+    path: path::Buffers,
 }
 
 impl Scratch {
@@ -176,7 +178,16 @@ pub fn pixel(
     // Cast and shaded together, a sample per lane; one at a time where
     // that does not serve (sphere lights). The same bits either way.
     if st.integrator == Integrator::Path {
-        path::colours(accel, cam, st, x, y, key, &sc.offsets, &mut sc.colours);
+        path::colours(
+            accel,
+            cam,
+            st,
+            (x, y),
+            key,
+            &sc.offsets,
+            &mut sc.path,
+            &mut sc.colours,
+        );
     } else if batch::applies(accel) {
         batch::pixel(
             accel,

@@ -344,6 +344,8 @@ pub struct Accel {
     inst_normal: Vec<Mat3A>,
     /// Each instance's transform at shutter close, where it moves.
     inst_end: Vec<Option<Affine3A>>,
+    /// Whether anything moves over the shutter.
+    moves: bool,
     blas: Vec<Option<Blas>>,
     /// The instructions the tests run (the same bits every way).
     simd: Simd,
@@ -503,6 +505,7 @@ impl Accel {
             inst_inv,
             inst_normal,
             inst_end,
+            moves: !motion.is_still(),
             blas,
             simd: Simd::detect(),
         }
@@ -514,6 +517,12 @@ impl Accel {
     pub fn with_simd(mut self, simd: Simd) -> Self {
         self.simd = simd;
         self
+    }
+
+    /// Whether anything moves over the shutter (then only the single
+    /// rays' `cast_at` and `occluded_at` see it).
+    pub fn moves(&self) -> bool {
+        self.moves
     }
 
     /// The instructions its tests run.

@@ -19,7 +19,7 @@ use std::f32::consts::PI;
 
 use glam::{Vec3, Vec3A};
 
-use super::accel::Accel;
+use super::accel::{Accel, Hit, Query};
 use super::camera::CameraRays;
 use super::settings::Settings;
 use super::shade::{self, lights::toward, texture, EPS};
@@ -100,36 +100,64 @@ fn environment(accel: &Accel, d: Vec3A, direct: bool) -> Vec3 {
     }
 }
 
+/// A pixel's camera rays and their first hits, kept from pixel to pixel
+/// of a row so that a pixel allocates nothing.
+#[derive(Default)]
+pub struct Buffers {
+    queries: Vec<Query>,
+    hits: Vec<Option<Hit>>,
+}
+
 /// The pixel (x, y)'s samples' colours and whether each camera ray met a
 /// surface, into `out`; `offsets` are the samples' positions in the
-/// pixel, `key` the pixel's key.
+/// pixel, `key` the pixel's key. Where nothing moves, the camera rays
+/// are cast together (the same hits as one at a time, found in packets).
 #[allow(clippy::too_many_arguments)]
 pub fn colours(
     accel: &Accel,
     cam: &CameraRays,
     st: &Settings,
-    x: u32,
-    y: u32,
+    (x, y): (u32, u32),
     key: u64,
     offsets: &[(f32, f32)],
+    buffers: &mut Buffers,
     out: &mut Vec<(Vec3, bool)>,
 ) {
+    let sample_key = |s: usize| random::key(key, Stream::Pixel, s as u64, 2);
+    let Buffers { queries, hits } = buffers;
+    queries.clear();
+    queries.extend(offsets.iter().enumerate().map(|(s, &(ox, oy))| {
+        let u = pair(sample_key(s), u32::MAX, 0);
+        let (origin, dir) = cam.lens_ray(x as f32 + ox, y as f32 + oy, u);
+        Query {
+            origin,
+            dir,
+            tmin: 0.0,
+            tmax: f32::INFINITY,
+        }
+    }));
+    if accel.moves() {
+        hits.clear();
+    } else {
+        accel.cast_all(queries, hits);
+    }
     out.clear();
-    out.extend(offsets.iter().enumerate().map(|(s, &(ox, oy))| {
-        let key = random::key(key, Stream::Pixel, s as u64, 2);
-        let (o, d) = cam.lens_ray(x as f32 + ox, y as f32 + oy, pair(key, u32::MAX, 0));
+    out.extend(queries.iter().enumerate().map(|(s, q)| {
+        let key = sample_key(s);
         let time = unit(key, u32::MAX, 2);
-        radiance(accel, o, d, st, key, time)
+        let first = hits.get(s).copied();
+        radiance(accel, (q.origin, q.dir, first), st, key, time)
     }));
 }
 
 /// The radiance arriving at `o` from the unit direction `-d` at the
-/// instant `time` of the shutter, and whether the ray met a surface. `st.max_depth` bounces follow the
-/// first surface (0: direct light only), as Mitsuba's `max_depth` − 2.
+/// instant `time` of the shutter, and whether the ray met a surface;
+/// `first`: the ray's hit where it is already known. `st.max_depth`
+/// bounces follow the first surface (0: direct light only), as
+/// Mitsuba's `max_depth` − 2.
 pub fn radiance(
     accel: &Accel,
-    o: Vec3A,
-    d: Vec3A,
+    (o, d, mut first): (Vec3A, Vec3A, Option<Option<Hit>>),
     st: &Settings,
     key: u64,
     time: f32,
@@ -145,7 +173,11 @@ pub fn radiance(
     let mut met = false;
     let (mut vertex, mut passes) = (0u32, 0u32);
     loop {
-        let Some(hit) = accel.cast_at(o, d, 0.0, f32::INFINITY, time) else {
+        let cast = match first.take() {
+            Some(known) => known,
+            None => accel.cast_at(o, d, 0.0, f32::INFINITY, time),
+        };
+        let Some(hit) = cast else {
             let sky = environment(accel, d, direct);
             let w = if pdf > 0.0 {
                 power(pdf, SPHERE_PDF)
