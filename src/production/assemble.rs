@@ -139,7 +139,8 @@ pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
 }
 
 /// The frames whose record says they were rendered from the derivation's
-/// snapshot, with their records, in frame order.
+/// snapshot (and, blurred toward it, the next one), with their records,
+/// in frame order.
 fn valid_frames(dir: &Path, rec: &DeriveRecord) -> Vec<(u64, FrameRecord)> {
     (0..rec.frame_count)
         .zip(&rec.snapshots)
@@ -151,7 +152,11 @@ fn valid_frames(dir: &Path, rec: &DeriveRecord) -> Vec<(u64, FrameRecord)> {
                 .inset
                 .as_ref()
                 .is_none_or(|i| rec.actors.get(&i.file) == Some(&i.sha256));
-            (f.snapshot == *snap && f.frame == k && inset_ok).then_some((k, f))
+            let next_ok = f
+                .next_snapshot
+                .as_ref()
+                .is_none_or(|n| rec.snapshots.get(k as usize + 1) == Some(n));
+            (f.snapshot == *snap && f.frame == k && inset_ok && next_ok).then_some((k, f))
         })
         .collect()
 }

@@ -86,6 +86,11 @@ fn a_path_traced_film_blurs_what_moves_and_keeps_its_bytes() {
         blurred += usize::from(frozen_png != png);
     }
     assert_eq!(blurred, 3, "the falling ball is blurred in every frame");
+    // The whole film rendered, `verify` finds each frame made from its
+    // snapshot and the next one.
+    let whole = still.to_str().unwrap();
+    ok(&["render", whole, "--shutter", "0.5"]);
+    assert!(ok(&["verify", whole]).contains("ok"), "verify");
     // Back to the Whitted look: every frame again, and said.
     let dir = one.to_str().unwrap();
     let said = ok(&["render", dir, "--integrator", "whitted"]);
