@@ -113,17 +113,21 @@ fn outputs_do_not_depend_on_the_c_librarys_math_forms() {
         let gallery = format!("{examples}/gallery.lm");
         let still = ["still", &gallery, "--width", "96", "--height", "72", "-o"];
         let still = [&still[..], &[png.to_str().unwrap()]].concat();
+        // The path tracer's sampling (sinf, cosf, powf) too.
+        let path = [&still[..], &["--integrator", "path", "--spp", "4"]].concat();
         let events = format!("{examples}/flyby.events");
         let sound = ["sound", &events, "-o", wav.to_str().unwrap()];
         (
             written("GLIBC_TUNABLES", tunables, &still, &png),
             written("GLIBC_TUNABLES", tunables, &sound, &wav),
+            written("GLIBC_TUNABLES", tunables, &path, &png),
         )
     };
     let native = make("");
     let plain = make("glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-AVX512F");
     assert!(native.0 == plain.0, "the still differs");
     assert!(native.1 == plain.1, "the soundtrack differs");
+    assert!(native.2 == plain.2, "the path-traced still differs");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -138,21 +142,36 @@ fn every_simd_path_renders_the_same_still() {
     std::fs::create_dir_all(&dir).unwrap();
     let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/examples");
     let png = dir.join("still.png");
-    let still = |simd: &str, scene: &str, time: &str| {
+    let still = |simd: &str, scene: &str, time: &str, integrator: &str| {
         let scene = format!("{examples}/{scene}");
         let args = [
-            "still", &scene, "--time", time, "--width", "160", "--height", "120", "-o",
+            "still",
+            &scene,
+            "--time",
+            time,
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--integrator",
+            integrator,
+            "--spp",
+            "4",
+            "-o",
         ];
         let args = [&args[..], &[png.to_str().unwrap()]].concat();
         written("LMFILM_SIMD", simd, &args, &png)
     };
     for (scene, time) in [("leaves.lm", "9"), ("gallery.lm", "0")] {
-        let base = still("baseline", scene, time);
-        for simd in &Simd::available()[1..] {
-            assert!(still(simd.name(), scene, time) == base, "{scene}: {simd:?}");
+        for integrator in ["whitted", "path"] {
+            let base = still("baseline", scene, time, integrator);
+            for simd in &Simd::available()[1..] {
+                let same = still(simd.name(), scene, time, integrator) == base;
+                assert!(same, "{scene}, {integrator}: {simd:?}");
+            }
+            // Empty is unset: the widest path.
+            assert!(still("", scene, time, integrator) == base, "{scene}");
         }
-        // Empty is unset: the widest path.
-        assert!(still("", scene, time) == base, "{scene}");
     }
     std::fs::remove_file(&png).unwrap();
     let leaves = format!("{examples}/leaves.lm");

@@ -39,8 +39,14 @@ fn image(file: &str, time: f64, settings: Settings) -> Image {
 fn golden_images() {
     let mut gallery = Settings::final_quality(160, 90);
     gallery.spp = 4;
+    let path = Settings {
+        integrator: lmfilm::render::Integrator::Path,
+        max_depth: 3,
+        ..gallery
+    };
     let cases = [
         ("gallery_final", image("gallery.lm", 0.0, gallery)),
+        ("gallery_path", image("gallery.lm", 0.0, path)),
         (
             "gallery_preview",
             image("gallery.lm", 0.0, Settings::preview(160, 90)),
