@@ -7,6 +7,7 @@
 pub mod camera;
 pub mod material;
 pub mod mesh;
+pub mod mocap;
 pub mod mtl;
 pub mod obj;
 pub mod obj_parse;

@@ -8,6 +8,7 @@
 mod common;
 
 mod mesh;
+mod mocap;
 mod obj;
 mod snapshot;
 mod tennis_set;

@@ -1,0 +1,323 @@
+//! Biovision BVH motion capture, the format Blender, MotionBuilder and
+//! the public mocap libraries write: a joint hierarchy (`HIERARCHY`:
+//! `ROOT`/`JOINT`/`End Site`, each with an `OFFSET` from its parent and
+//! its `CHANNELS`) and the channels' values frame after frame (`MOTION`).
+//! Our own reader, as for OBJ and MTL: every problem is a located error
+//! (line, column), never a panic, and a file cannot make it allocate more
+//! than its own size's worth.
+//!
+//! A joint's transform relative to its parent is the translation by its
+//! offset plus its position channels, then its rotation channels applied
+//! in the order they are listed (each about its own axis, in degrees):
+//! `Zrotation Xrotation Yrotation` is Rz·Rx·Ry, as Blender and the CMU
+//! library read them.
+
+use glam::{Affine3A, Quat, Vec3};
+
+use super::obj_parse::LineError;
+
+/// Most joints a skeleton may have.
+pub const MAX_JOINTS: usize = 1024;
+
+/// Largest magnitude of an offset or a position channel (metres or
+/// centimetres, as the file's author chose).
+pub const MAX_LENGTH: f32 = 1e6;
+
+/// One channel of a joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Channel {
+    Position(usize),
+    Rotation(usize),
+}
+
+/// A joint of the hierarchy, in file order (a parent before its children).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    pub name: String,
+    pub parent: Option<usize>,
+    /// Its origin in its parent's frame, at rest.
+    pub offset: Vec3,
+    pub channels: Vec<Channel>,
+    /// Where its channels start in a frame's values.
+    pub first: usize,
+    /// The tip of an end joint (`End Site`), in its own frame.
+    pub end: Option<Vec3>,
+}
+
+/// A parsed BVH file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mocap {
+    pub joints: Vec<Joint>,
+    /// Seconds between two frames.
+    pub frame_time: f64,
+    /// Values per frame (the sum of the joints' channels).
+    pub stride: usize,
+    /// Every frame's values, frame after frame.
+    pub values: Vec<f32>,
+}
+
+/// Words of the text with their line (from 1) and column (from 0).
+struct Words<'a> {
+    text: &'a str,
+    at: usize,
+    line: u32,
+    line_start: usize,
+}
+
+impl<'a> Words<'a> {
+    fn new(text: &'a str) -> Self {
+        Words {
+            text,
+            at: 0,
+            line: 1,
+            line_start: 0,
+        }
+    }
+
+    fn error(&self, at: (u32, u32), message: impl Into<String>) -> LineError {
+        LineError {
+            line: at.0,
+            column: at.1,
+            message: message.into(),
+        }
+    }
+
+    /// The next word and where it starts; None at the end.
+    fn next(&mut self) -> Option<(&'a str, (u32, u32))> {
+        let bytes = self.text.as_bytes();
+        while self.at < bytes.len() && bytes[self.at].is_ascii_whitespace() {
+            if bytes[self.at] == b'\n' {
+                self.line += 1;
+                self.line_start = self.at + 1;
+            }
+            self.at += 1;
+        }
+        if self.at >= bytes.len() {
+            return None;
+        }
+        let start = self.at;
+        while self.at < bytes.len() && !bytes[self.at].is_ascii_whitespace() {
+            self.at += 1;
+        }
+        let at = (self.line, (start - self.line_start) as u32);
+        Some((&self.text[start..self.at], at))
+    }
+
+    /// Where the text ends, for "ends before …" errors.
+    fn end(&self) -> (u32, u32) {
+        (self.line, (self.at - self.line_start) as u32)
+    }
+
+    /// The next word, which must be there (`what` names it).
+    fn word(&mut self, what: &str) -> Result<(&'a str, (u32, u32)), LineError> {
+        self.next()
+            .ok_or_else(|| self.error(self.end(), format!("the file ends where {what} should be")))
+    }
+
+    /// The keyword `want` next.
+    fn expect(&mut self, want: &str) -> Result<(), LineError> {
+        let (w, at) = self.word(&format!("`{want}`"))?;
+        if w == want {
+            Ok(())
+        } else {
+            Err(self.error(at, format!("expected `{want}`, found `{w}`")))
+        }
+    }
+
+    /// A finite number within ±`limit`.
+    fn number(&mut self, what: &str, limit: f32) -> Result<f32, LineError> {
+        let (w, at) = self.word(what)?;
+        match w.parse::<f32>() {
+            Ok(v) if v.is_finite() && v.abs() <= limit => Ok(v),
+            Ok(v) => Err(self.error(
+                at,
+                format!("{what} must be finite and within ±{limit:e}, found {v}"),
+            )),
+            Err(_) => Err(self.error(at, format!("{what} must be a number, found `{w}`"))),
+        }
+    }
+}
+
+impl Mocap {
+    /// Reads a BVH file's text.
+    pub fn parse(text: &str) -> Result<Mocap, LineError> {
+        let mut w = Words::new(text);
+        w.expect("HIERARCHY")?;
+        let (root, at) = w.word("`ROOT`")?;
+        if root != "ROOT" {
+            return Err(w.error(at, format!("expected `ROOT`, found `{root}`")));
+        }
+        let mut joints = Vec::new();
+        let mut stride = 0;
+        joint(&mut w, None, &mut joints, &mut stride)?;
+        w.expect("MOTION")?;
+        w.expect("Frames:")?;
+        let (count, at) = w.word("the number of frames")?;
+        let frames: usize = count.parse().map_err(|_| {
+            w.error(
+                at,
+                format!("the number of frames must be a whole number, found `{count}`"),
+            )
+        })?;
+        w.expect("Frame")?;
+        w.expect("Time:")?;
+        let frame_time = f64::from(w.number("the frame time", 1e6)?);
+        if frame_time <= 0.0 {
+            return Err(w.error(w.end(), "the frame time must be > 0 seconds"));
+        }
+        // Grown as values come, so a false frame count costs nothing.
+        let mut values = Vec::new();
+        for f in 0..frames {
+            for j in &joints {
+                for (c, ch) in j.channels.iter().enumerate() {
+                    let what = format!("frame {f}'s value {} ({}, {ch:?})", j.first + c, j.name);
+                    let limit = match ch {
+                        Channel::Position(_) => MAX_LENGTH,
+                        Channel::Rotation(_) => 1e6,
+                    };
+                    values.push(w.number(&what, limit)?);
+                }
+            }
+        }
+        if let Some((extra, at)) = w.next() {
+            return Err(w.error(
+                at,
+                format!("`{extra}` after the {frames} frames the file announces"),
+            ));
+        }
+        Ok(Mocap {
+            joints,
+            frame_time,
+            stride,
+            values,
+        })
+    }
+
+    /// The number of frames.
+    pub fn frame_count(&self) -> usize {
+        self.values.len().checked_div(self.stride).unwrap_or(0)
+    }
+
+    /// The frame shown at time `t` seconds (held at the ends).
+    pub fn frame_at(&self, t: f64) -> usize {
+        let last = self.frame_count().saturating_sub(1);
+        if t.is_nan() || t <= 0.0 {
+            return 0;
+        }
+        ((t / self.frame_time).round() as usize).min(last)
+    }
+
+    /// Each joint's transform (its frame → the file's world) at frame
+    /// `frame` (held at the ends; the rest pose where there is none).
+    pub fn pose(&self, frame: usize) -> Vec<Affine3A> {
+        let n = self.frame_count();
+        let row = (n > 0).then(|| {
+            let f = frame.min(n - 1);
+            &self.values[f * self.stride..(f + 1) * self.stride]
+        });
+        let mut world: Vec<Affine3A> = Vec::with_capacity(self.joints.len());
+        for j in &self.joints {
+            let mut translation = j.offset;
+            let mut rotation = Quat::IDENTITY;
+            if let Some(row) = row {
+                for (c, ch) in j.channels.iter().enumerate() {
+                    let v = row[j.first + c];
+                    match *ch {
+                        Channel::Position(axis) => translation[axis] += v,
+                        Channel::Rotation(axis) => {
+                            let mut a = Vec3::ZERO;
+                            a[axis] = 1.0;
+                            rotation *= Quat::from_axis_angle(a, v.to_radians());
+                        }
+                    }
+                }
+            }
+            let local = Affine3A::from_rotation_translation(rotation, translation);
+            let parent = j.parent.map_or(Affine3A::IDENTITY, |p| world[p]);
+            world.push(parent * local);
+        }
+        world
+    }
+}
+
+/// Reads a joint after its `ROOT`/`JOINT` keyword: name, `{`, `OFFSET`,
+/// `CHANNELS`, children and an optional `End Site`, `}`.
+fn joint(
+    w: &mut Words,
+    parent: Option<usize>,
+    joints: &mut Vec<Joint>,
+    stride: &mut usize,
+) -> Result<(), LineError> {
+    let (name, at) = w.word("the joint's name")?;
+    if joints.len() >= MAX_JOINTS {
+        return Err(w.error(at, format!("more than {MAX_JOINTS} joints")));
+    }
+    w.expect("{")?;
+    w.expect("OFFSET")?;
+    let offset = vec3(w, "the offset")?;
+    w.expect("CHANNELS")?;
+    let (count, at) = w.word("the number of channels")?;
+    let count: usize = match count.parse() {
+        Ok(n) if n <= 6 => n,
+        _ => return Err(w.error(at, format!("a joint has 0 to 6 channels, found `{count}`"))),
+    };
+    let mut channels = Vec::with_capacity(count);
+    for _ in 0..count {
+        let (c, at) = w.word("a channel")?;
+        let ch = match c {
+            "Xposition" => Channel::Position(0),
+            "Yposition" => Channel::Position(1),
+            "Zposition" => Channel::Position(2),
+            "Xrotation" => Channel::Rotation(0),
+            "Yrotation" => Channel::Rotation(1),
+            "Zrotation" => Channel::Rotation(2),
+            _ => {
+                return Err(w.error(
+                    at,
+                    format!("unknown channel `{c}`: X/Y/Z followed by position or rotation"),
+                ))
+            }
+        };
+        channels.push(ch);
+    }
+    let me = joints.len();
+    joints.push(Joint {
+        name: name.to_string(),
+        parent,
+        offset,
+        channels,
+        first: *stride,
+        end: None,
+    });
+    *stride += count;
+    loop {
+        let (word, at) = w.word("`JOINT`, `End Site` or `}`")?;
+        match word {
+            "JOINT" => joint(w, Some(me), joints, stride)?,
+            "End" => {
+                w.expect("Site")?;
+                w.expect("{")?;
+                w.expect("OFFSET")?;
+                joints[me].end = Some(vec3(w, "the end site's offset")?);
+                w.expect("}")?;
+            }
+            "}" => return Ok(()),
+            _ => {
+                return Err(w.error(
+                    at,
+                    format!(
+                        "expected `JOINT`, `End Site` or `}}` in joint `{name}`, found `{word}`"
+                    ),
+                ))
+            }
+        }
+    }
+}
+
+fn vec3(w: &mut Words, what: &str) -> Result<Vec3, LineError> {
+    Ok(Vec3::new(
+        w.number(what, MAX_LENGTH)?,
+        w.number(what, MAX_LENGTH)?,
+        w.number(what, MAX_LENGTH)?,
+    ))
+}
