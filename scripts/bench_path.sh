@@ -5,7 +5,8 @@
 # max_depth 5 counts the camera ray and the light's segment: lmfilm's
 # --max-depth 3), one right after the other on this machine:
 #  1. agreement: both at 1024 spp against a 4096-spp Mitsuba reference,
-#     per-pixel mean difference and RMSE, and the noise floor;
+#     per-pixel mean difference and RMSE, and the noise floor; on the
+#     forest, then on the gallery exported as a mesh;
 #  2. speed at equal samples: whole frame (load + build + render) at
 #     640x480, 16 spp, against llvm_ad_rgb;
 #  3. speed at equal error: time and RMSE against the reference at 16
@@ -24,6 +25,9 @@ if [ ! -f target/forest_grey.obj ] || [ target/forest.obj -nt target/forest_grey
 fi
 printf 'newmtl grey\nKd 0.5 0.5 0.5\nKs 0 0 0\n' > target/forest_grey.mtl
 cargo build --release --quiet
+# The gallery's shapes and ground as a mesh, grey the same way.
+./target/release/lmfilm export scenes/examples/gallery.lm -o target/gallery.obj > /dev/null
+grep -v '^usemtl\|^mtllib' target/gallery.obj | { printf 'mtllib forest_grey.mtl\nusemtl grey\n'; cat; } > target/gallery_grey.obj
 LM=./target/release/lmfilm
 MI="$ENV/bin/python $ANCHORS/mitsuba_path.py target/forest.obj"
 SUN="--sun 3.14159 --sky 0.5 --albedo 0.5 --depth 5"
@@ -42,6 +46,16 @@ lm $W 1024 $OUT/lm_1024_b.exr 1
 "$ENV/bin/python" scripts/compare_exr.py $OUT/mi_4096.exr $OUT/mi_1024.exr $OUT/lm_1024.exr $OUT/lm_1024_b.exr
 echo "lmfilm against Mitsuba, both 1024 spp (the pair's noise floor is the root of the sum of their squared RMSEs above):"
 "$ENV/bin/python" scripts/compare_exr.py $OUT/mi_1024.exr $OUT/lm_1024.exr
+
+echo "== 1b. agreement on the gallery (exported as a mesh) at ${W}x${H}: Mitsuba 4096 spp reference; both at 1024 spp"
+MIG="$ENV/bin/python $ANCHORS/mitsuba_path.py target/gallery.obj"
+$MIG $W $H 4096 llvm_ad_rgb $OUT/gmi_4096.exr $SUN
+$MIG $W $H 1024 llvm_ad_rgb $OUT/gmi_1024.exr $SUN
+for f in 0 1; do
+    $LM still scenes/bench/gallery_path.lm --integrator path --max-depth 3 --width $W --spp 1024 --frame $f -o $OUT/glm_1024_$f.exr
+done
+"$ENV/bin/python" scripts/compare_exr.py $OUT/gmi_4096.exr $OUT/gmi_1024.exr $OUT/glm_1024_0.exr $OUT/glm_1024_1.exr
+"$ENV/bin/python" scripts/compare_exr.py $OUT/gmi_1024.exr $OUT/glm_1024_0.exr
 
 echo "== 2. whole frame, 640x480, 16 spp, 4 bounces, all cores"
 echo "lmfilm whole_frame_s $(secs lm 640 16 $OUT/lm_640.exr)"
