@@ -62,6 +62,30 @@ fn a_path_traced_film_blurs_what_moves_and_keeps_its_bytes() {
         run("two", "2", "0.5"),
         run("still", "2", "0"),
     );
+    // The same frames rendered in two shards of a derived folder.
+    let shards = root.join("shards");
+    let dir = shards.to_str().unwrap();
+    ok(&["derive", &scene, "-o", dir]);
+    for shard in ["1/2", "2/2"] {
+        ok(&[
+            "render",
+            dir,
+            "--frames",
+            "20..23",
+            "--shard",
+            shard,
+            "--width",
+            "64",
+            "--spp",
+            "4",
+            "--format",
+            "both",
+            "--integrator",
+            "path",
+            "--shutter",
+            "0.5",
+        ]);
+    }
     let mut blurred = 0;
     for k in 20..23 {
         let (record, png) = frame(&one, k);
@@ -70,6 +94,7 @@ fn a_path_traced_film_blurs_what_moves_and_keeps_its_bytes() {
             (record.clone(), png.clone()),
             "frame {k}: 1 and 2 threads"
         );
+        assert_eq!(frame(&shards, k).1, png, "frame {k}: shards");
         let render: BTreeMap<String, String> =
             serde_json::from_value(record["render"].clone()).unwrap();
         assert_eq!(render["integrator"], "path");
