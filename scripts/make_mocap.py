@@ -2,17 +2,19 @@
 """Writes scenes/mocap/wave.bvh: a small Biovision BVH file whose pose is
 known at every frame, for the motion-capture reader's tests. A root
 (Hips, 6 channels) walks 0.5 m along x per second and turns about y; a
-spine, a right arm (shoulder, elbow, wrist, hand tip as its End Site) and
-a head. At frame k (30 frames, 1/30 s apart):
+spine, a right arm (RightArm at the shoulder, RightForeArm at the elbow,
+RightHand at the wrist, the hand's tip as its End Site: the joint names
+of the CMU library) and a head. The figure faces +z, its right arm
+stretches along -x at rest. At frame k (30 frames, 1/30 s apart):
 
   Hips      position (0.5 k/30, 1, 0), Yrotation 3k degrees
-  Shoulder  Zrotation 3k, Xrotation k      (channels listed Z then X)
-  Elbow     Zrotation 2k
+  RightArm      Zrotation 3k, Xrotation k      (channels listed Z then X)
+  RightForeArm  Zrotation 2k
   other joints at rest (0)
 
-Offsets in metres: Spine (0, 0.2, 0) from the hips, Shoulder (0.2, 0.3, 0)
-from the spine, Elbow (0.3, 0, 0), Wrist (0.25, 0, 0), hand tip (0.1, 0, 0),
-Neck (0, 0.3, 0) from the spine, head top (0, 0.2, 0).
+Offsets in metres: Spine (0, 0.2, 0) from the hips, RightArm (-0.2, 0.3, 0)
+from the spine, RightForeArm (-0.3, 0, 0), RightHand (-0.25, 0, 0), hand tip
+(-0.1, 0, 0), Neck (0, 0.3, 0) from the spine, head top (0, 0.2, 0).
 
   python3 scripts/make_mocap.py scenes/mocap/wave.bvh"""
 import sys
@@ -26,21 +28,21 @@ ROOT Hips
   {
     OFFSET 0.0 0.2 0.0
     CHANNELS 3 Zrotation Xrotation Yrotation
-    JOINT RightShoulder
+    JOINT RightArm
     {
-      OFFSET 0.2 0.3 0.0
+      OFFSET -0.2 0.3 0.0
       CHANNELS 2 Zrotation Xrotation
-      JOINT RightElbow
+      JOINT RightForeArm
       {
-        OFFSET 0.3 0.0 0.0
+        OFFSET -0.3 0.0 0.0
         CHANNELS 1 Zrotation
-        JOINT RightWrist
+        JOINT RightHand
         {
-          OFFSET 0.25 0.0 0.0
+          OFFSET -0.25 0.0 0.0
           CHANNELS 3 Zrotation Xrotation Yrotation
           End Site
           {
-            OFFSET 0.1 0.0 0.0
+            OFFSET -0.1 0.0 0.0
           }
         }
       }

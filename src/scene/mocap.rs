@@ -207,31 +207,59 @@ impl Mocap {
         ((t / self.frame_time).round() as usize).min(last)
     }
 
+    /// Frame `frame`'s values (held at the ends), None without frames.
+    fn row(&self, frame: usize) -> Option<&[f32]> {
+        let n = self.frame_count();
+        (n > 0).then(|| {
+            let f = frame.min(n - 1);
+            &self.values[f * self.stride..(f + 1) * self.stride]
+        })
+    }
+
+    /// Joint `joint`'s rotation channels at frame `frame`, composed in
+    /// their listed order.
+    pub fn local_rotation(&self, frame: usize, joint: usize) -> Quat {
+        let j = &self.joints[joint];
+        let mut rotation = Quat::IDENTITY;
+        if let Some(row) = self.row(frame) {
+            for (c, ch) in j.channels.iter().enumerate() {
+                if let Channel::Rotation(axis) = *ch {
+                    let mut a = Vec3::ZERO;
+                    a[axis] = 1.0;
+                    rotation *= Quat::from_axis_angle(a, row[j.first + c].to_radians());
+                }
+            }
+        }
+        rotation
+    }
+
     /// Each joint's transform (its frame → the file's world) at frame
     /// `frame` (held at the ends; the rest pose where there is none).
     pub fn pose(&self, frame: usize) -> Vec<Affine3A> {
-        let n = self.frame_count();
-        let row = (n > 0).then(|| {
-            let f = frame.min(n - 1);
-            &self.values[f * self.stride..(f + 1) * self.stride]
-        });
+        self.transforms(Some(frame))
+    }
+
+    /// Each joint's transform at rest: its offsets alone.
+    pub fn pose_at_rest(&self) -> Vec<Affine3A> {
+        self.transforms(None)
+    }
+
+    fn transforms(&self, frame: Option<usize>) -> Vec<Affine3A> {
+        let row = frame.and_then(|f| self.row(f));
         let mut world: Vec<Affine3A> = Vec::with_capacity(self.joints.len());
-        for j in &self.joints {
+        for (k, j) in self.joints.iter().enumerate() {
             let mut translation = j.offset;
-            let mut rotation = Quat::IDENTITY;
             if let Some(row) = row {
                 for (c, ch) in j.channels.iter().enumerate() {
-                    let v = row[j.first + c];
-                    match *ch {
-                        Channel::Position(axis) => translation[axis] += v,
-                        Channel::Rotation(axis) => {
-                            let mut a = Vec3::ZERO;
-                            a[axis] = 1.0;
-                            rotation *= Quat::from_axis_angle(a, v.to_radians());
-                        }
+                    if let Channel::Position(axis) = *ch {
+                        translation[axis] += row[j.first + c];
                     }
                 }
             }
+            let rotation = match frame {
+                Some(f) => self.local_rotation(f, k),
+                None => Quat::IDENTITY,
+            };
             let local = Affine3A::from_rotation_translation(rotation, translation);
             let parent = j.parent.map_or(Affine3A::IDENTITY, |p| world[p]);
             world.push(parent * local);

@@ -4,6 +4,7 @@
 //! Plain data, built by the turtle, read by the renderer and by actor
 //! vision, and shipped between machines as a snapshot.
 
+pub mod body;
 pub mod camera;
 pub mod material;
 pub mod mesh;

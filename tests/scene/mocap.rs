@@ -26,14 +26,14 @@ fn rz(a: f64, v: DVec3) -> DVec3 {
 /// The hand tip at frame k, as the script's docstring defines the motion.
 fn hand_tip(k: f64) -> DVec3 {
     let (shoulder_z, shoulder_x, elbow_z, hips_y) = (3.0 * k, k, 2.0 * k, 3.0 * k);
-    let hand = DVec3::new(0.25, 0.0, 0.0) + DVec3::new(0.1, 0.0, 0.0);
+    let hand = DVec3::new(-0.25, 0.0, 0.0) + DVec3::new(-0.1, 0.0, 0.0);
     let from_elbow = rz(elbow_z, hand);
     // Shoulder channels listed Z then X: R = Rz·Rx.
     let from_shoulder = rz(
         shoulder_z,
-        rx(shoulder_x, DVec3::new(0.3, 0.0, 0.0) + from_elbow),
+        rx(shoulder_x, DVec3::new(-0.3, 0.0, 0.0) + from_elbow),
     );
-    let in_hips = DVec3::new(0.0, 0.2, 0.0) + DVec3::new(0.2, 0.3, 0.0) + from_shoulder;
+    let in_hips = DVec3::new(0.0, 0.2, 0.0) + DVec3::new(-0.2, 0.3, 0.0) + from_shoulder;
     DVec3::new(0.5 * k / 30.0, 1.0, 0.0) + ry(hips_y, in_hips)
 }
 
@@ -43,11 +43,7 @@ fn the_pose_at_a_frame_is_the_files_motion() {
     assert_eq!(m.joints.len(), 6);
     assert_eq!(m.frame_count(), 30);
     assert!((m.frame_time - 1.0 / 30.0).abs() < 1e-7);
-    let wrist = m
-        .joints
-        .iter()
-        .position(|j| j.name == "RightWrist")
-        .unwrap();
+    let wrist = m.joints.iter().position(|j| j.name == "RightHand").unwrap();
     let tip = m.joints[wrist].end.unwrap();
     for k in [0usize, 1, 10, 17, 29] {
         let pose = m.pose(k);

@@ -1,0 +1,110 @@
+//! Articulated bodies (issue 39): the built-in humanoid's proportions,
+//! bone lengths that no pose changes, capsules that meet at the joints,
+//! and a BVH file driving it joint by joint.
+
+use glam::{Affine3A, Quat, Vec3};
+use lmfilm::scene::body::Skeleton;
+use lmfilm::scene::mocap::Mocap;
+use lmfilm::scene::ShapeKind;
+
+/// xorshift64*, so the poses are the same on every run.
+fn next(state: &mut u64) -> f32 {
+    *state ^= *state >> 12;
+    *state ^= *state << 25;
+    *state ^= *state >> 27;
+    (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40) as f32 / (1u64 << 24) as f32
+}
+
+#[test]
+fn the_humanoid_stands_its_height_on_its_soles() {
+    for height in [0.5f32, 1.8, 2.1] {
+        let s = Skeleton::humanoid(height);
+        assert_eq!(s.joints.len(), 22);
+        let world = s.world(&s.rest(Affine3A::IDENTITY));
+        let at = |name: &str| Vec3::from(world[s.joint(name).unwrap()].translation);
+        assert!((at("HeadTop").y - height).abs() < 1e-5 * height);
+        for toe in ["LeftToe", "RightToe"] {
+            assert!(at(toe).y.abs() < 0.01 * height, "{toe} {}", at(toe));
+        }
+        // Left is +x, the arms out to the sides at rest.
+        assert!(at("LeftHand").x > 0.35 * height && at("RightHand").x < -0.35 * height);
+    }
+}
+
+#[test]
+fn any_pose_keeps_the_bones_and_the_capsules_meet_at_the_joints() {
+    let s = Skeleton::humanoid(1.8);
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    for _ in 0..50 {
+        let mut pose = s.rest(Affine3A::from_rotation_translation(
+            Quat::from_rotation_y(6.0 * next(&mut state)),
+            Vec3::new(next(&mut state), 0.0, next(&mut state)) * 10.0,
+        ));
+        for r in &mut pose.rotations {
+            let axis = Vec3::new(next(&mut state), next(&mut state), next(&mut state)) - 0.5;
+            *r = Quat::from_axis_angle(axis.normalize_or(Vec3::Y), 3.0 * next(&mut state));
+        }
+        let world = s.world(&pose);
+        for (k, j) in s.joints.iter().enumerate() {
+            if let Some(p) = j.parent {
+                let bone = world[k].translation.distance(world[p].translation);
+                assert!((bone - j.offset.length()).abs() < 1e-5, "{}", j.name);
+            }
+        }
+        for shape in s.draw(&world, 3, 100) {
+            let ShapeKind::Capsule { length } = shape.kind else {
+                continue;
+            };
+            let k = (shape.symbol - 100) as usize;
+            let p = s.joints[k].parent.unwrap();
+            let start = shape.transform.transform_point3(Vec3::ZERO);
+            let end = shape
+                .transform
+                .transform_point3(Vec3::new(length, 0.0, 0.0));
+            assert!(start.distance(world[p].translation.into()) < 1e-4);
+            assert!(
+                end.distance(world[k].translation.into()) < 1e-4,
+                "{}",
+                s.joints[k].name
+            );
+        }
+    }
+}
+
+/// `scripts/make_mocap.py`'s file drives the humanoid: its right upper
+/// arm points where the file's does, the hips stand where the file's
+/// root stands (the file has no legs: its hip height is the root's).
+#[test]
+fn a_bvh_file_drives_the_humanoid_joint_by_joint() {
+    let m = Mocap::parse(include_str!("../../scenes/mocap/wave.bvh")).unwrap();
+    let s = Skeleton::humanoid(1.8);
+    let (file_arm, file_fore) = (
+        m.joints.iter().position(|j| j.name == "RightArm").unwrap(),
+        m.joints
+            .iter()
+            .position(|j| j.name == "RightForeArm")
+            .unwrap(),
+    );
+    for frame in [0, 7, 20, 29] {
+        let theirs = m.pose(frame);
+        let ours = s.world(&s.pose_from(&m, frame));
+        let dir = |w: &[Affine3A], a: usize, b: usize| {
+            Vec3::from(w[b].translation - w[a].translation).normalize()
+        };
+        let want = dir(&theirs, file_arm, file_fore);
+        let got = dir(
+            &ours,
+            s.joint("RightArm").unwrap(),
+            s.joint("RightForeArm").unwrap(),
+        );
+        assert!(
+            got.distance(want) < 1e-5,
+            "frame {frame}: {got} against {want}"
+        );
+        let hips = Vec3::from(ours[0].translation);
+        assert!(
+            hips.distance(theirs[0].translation.into()) < 1e-5,
+            "frame {frame}"
+        );
+    }
+}
