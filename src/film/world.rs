@@ -199,6 +199,9 @@ impl Film {
                 files.push((file.name.clone(), obj));
                 files.extend(libs.into_iter().map(|l| (l.clone(), obj_dir.join(l))));
             }
+            for (_, file) in &ls.def.motions {
+                files.push((file.name.clone(), dir.join(&file.name)));
+            }
         }
         files.extend(self.sound_files.iter().cloned());
         files.extend(self.data_files());

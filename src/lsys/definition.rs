@@ -153,6 +153,8 @@ pub struct Definition {
     pub constants: Constants,
     /// `fig_sm n file` declarations.
     pub surfaces: Vec<(i64, FileRef)>,
+    /// `fig_bvh number file.bvh`: motion captures that drive bodies.
+    pub motions: Vec<(i64, FileRef)>,
     pub axiom: Vec<SymbolTemplate>,
     pub productions: Vec<Production>,
     pub code: Code,

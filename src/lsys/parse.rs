@@ -88,6 +88,7 @@ pub fn parse(src: &Source) -> Result<Definition, Diagnostic> {
             splines: Vec::new(),
             constants: Constants::default(),
             surfaces: Vec::new(),
+            motions: Vec::new(),
             axiom: Vec::new(),
             productions: Vec::new(),
             code: Code::default(),
@@ -354,15 +355,20 @@ impl<'a> Parser<'a> {
             let (at, w) = self.s.word("`fig_sm`")?;
             // `fig_sm` names the thesis's SM files, long gone; both it and
             // `fig_obj` point to Wavefront OBJ files now.
-            if w != "fig_sm" && w != "fig_obj" {
+            if w != "fig_sm" && w != "fig_obj" && w != "fig_bvh" {
                 return Err(self.s.error(
                     at,
-                    format!("expected `fig_obj number file.obj` (or `fig_sm`), found `{w}`"),
+                    format!("expected `fig_obj number file.obj` (or `fig_sm`), or `fig_bvh number file.bvh`, found `{w}`"),
                 ));
             }
             let n = self.s.int("the surface number")?;
             let (at, f) = self.s.word("the surface file name")?;
-            self.def.surfaces.push((n, FileRef::new(self.s.src, at, f)));
+            let file = (n, FileRef::new(self.s.src, at, f));
+            if w == "fig_bvh" {
+                self.def.motions.push(file);
+            } else {
+                self.def.surfaces.push(file);
+            }
         }
         Ok(())
     }

@@ -9,6 +9,8 @@ use glam::{DVec3, Vec3};
 use super::world::*;
 use crate::lsys::{Animation, Who};
 use crate::scene::material::{self, Texture};
+use crate::scene::mocap::Mocap;
+use crate::scene::obj_parse::LineError;
 use crate::scene::{obj, Camera, Geometry, Lens, Light, LightKind, Material, Sky};
 
 /// The brightest uniform sky `D` par1 = 15 may give (a radiance).
@@ -24,6 +26,8 @@ pub struct Surfaces {
     /// Per geometry, the material of its faces that name none (an OBJ
     /// without MTL): those take the turtle's material at `B` instead.
     pub unset: Vec<Option<u32>>,
+    /// (L-system index, motion number, the motion capture) of `fig_bvh`.
+    pub motions: Vec<(usize, i64, Mocap)>,
 }
 
 impl Surfaces {
@@ -65,6 +69,21 @@ impl Surfaces {
                     triangles: tris,
                     resolution: 10,
                 });
+            }
+            for (n, file) in &ls.def.motions {
+                let path = dir.join(&file.name);
+                let bytes = crate::source::read_file(&path, obj::MAX_MESH_BYTES)
+                    .map_err(|e| file.error(format!("motion {n}: {e}")).to_string())?;
+                let located = |e: LineError| e.locate(&path.display().to_string(), &bytes);
+                let text = std::str::from_utf8(&bytes).map_err(|e| {
+                    file.error(format!(
+                        "motion {n}: {}: not UTF-8 text ({e})",
+                        path.display()
+                    ))
+                    .to_string()
+                })?;
+                let m = Mocap::parse(text).map_err(|e| located(e).to_string())?;
+                s.motions.push((ls.index, *n, m));
             }
         }
         Ok(s)

@@ -61,6 +61,20 @@ pub struct Structure {
     pub placements: Vec<(Placed, Affine3A, u32, Option<u32>)>,
     /// Named objects defined by this word.
     pub named: Vec<(i64, Geometry)>,
+    /// Bodies to draw (`D` par1 = 50), once the motions are at hand.
+    pub bodies: Vec<BodyAt>,
+}
+
+/// A body placed by `D` par1 = 50: the built-in humanoid of `height`
+/// standing at the turtle (`frame`: its up along H, facing U), posed by
+/// motion capture `motion` (`fig_bvh`; 0: the rest pose).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyAt {
+    pub motion: i64,
+    pub height: f32,
+    pub frame: Affine3A,
+    pub material: u32,
+    pub symbol: u64,
 }
 
 /// The active tropism (2.3.2): the most recent `v` met.
@@ -914,6 +928,30 @@ impl Interpreter<'_> {
                 g[0], g[1]
             )),
         }
+    }
+
+    /// `D` par1 = 50: a body at the turtle (see [`BodyAt`]); par4 the
+    /// motion number, par5 the height (1.8 m where not > 0).
+    pub(super) fn body(&mut self, s: &Symbol, g: [f64; 3]) {
+        let height = if g[1].is_finite() && g[1] > 0.0 {
+            g[1].min(1e3)
+        } else {
+            1.8
+        };
+        let motion = if g[0].is_finite() { g[0] as i64 } else { 0 };
+        let frame = placed(&self.t, 1.0, 1.0, 1.0);
+        if !frame.is_finite() {
+            self.warn("`D` par1 = 50 with a turtle frame that is not finite is skipped");
+            return;
+        }
+        self.own(s.id);
+        self.out.bodies.push(BodyAt {
+            motion,
+            height: height as f32,
+            frame,
+            material: self.material,
+            symbol: s.id,
+        });
     }
 
     pub(super) fn growth_of(&mut self, s: &Symbol) -> [f64; 3] {

@@ -15,13 +15,14 @@ pub mod world;
 
 use std::collections::BTreeMap;
 
-use glam::{DVec3, Vec3};
+use glam::{Affine3A, DVec3, Vec3, Vec3A};
 
 use crate::lsys::Animation;
+use crate::scene::body::Skeleton;
 use crate::scene::{Camera, Geometry, Instance, Lens, Light, Scene};
 use builder::surface_in;
 pub use builder::{Builder, Surfaces};
-pub use interpret::{interpret, Options, Placed, Structure, Tables};
+pub use interpret::{interpret, BodyAt, Options, Placed, Structure, Tables};
 pub use state::Turtle;
 pub use world::{
     ActorMapping, ActorPose, BodyPart, NoWorld, ParticleMapping, SoundRequest, TurtleWorld,
@@ -78,7 +79,14 @@ pub fn build_scene(
     let mut recoloured = BTreeMap::new();
     let mut instances = Vec::new();
     for (k, ls) in anim.systems.iter_mut().enumerate() {
-        let st = interpret(ls, time, seed, &mut b, &mut tables[k], world, opts);
+        let mut st = interpret(ls, time, seed, &mut b, &mut tables[k], world, opts);
+        for body in std::mem::take(&mut st.bodies) {
+            let shapes = body_shapes(&body, k, time, surfaces, &mut b, &ls.def.name);
+            if !b.count(shapes.len()) {
+                return Err(too_many(&ls.def.name));
+            }
+            st.geometry.shapes.extend(shapes);
+        }
         // Each copy is one instance of the word and one per placement.
         let nbr = ls.def.repetition.start_side_nbr_dist.2.max(1) as usize;
         if b.over() || !b.count(nbr.saturating_mul(1 + st.placements.len())) {
@@ -153,4 +161,48 @@ pub fn build_scene(
         sky: b.sky,
     };
     Ok((scene, b.messages))
+}
+
+/// The humanoid's axes (x its left, y up, z forward) onto the turtle's:
+/// it stands along H, as a stem grows (`+(90)` turns H up, thesis code
+/// 6.2.1), faces U, and its left is −L (a right-handed turn).
+const HUMANOID_TO_TURTLE: Affine3A =
+    Affine3A::from_cols(Vec3A::NEG_Y, Vec3A::X, Vec3A::Z, Vec3A::ZERO);
+
+/// The shapes of the body `body` placed by L-system `k` at time `time`:
+/// the built-in humanoid posed by its motion capture's frame nearest
+/// `time` (the rest pose for motion 0, or a motion the Surfaces section
+/// does not declare, with a warning). Each bone is its own symbol
+/// identifier, so motion blur pairs it with itself in the next frame.
+fn body_shapes(
+    body: &BodyAt,
+    k: usize,
+    time: f64,
+    surfaces: &Surfaces,
+    b: &mut Builder,
+    name: &str,
+) -> Vec<crate::scene::Shape> {
+    let skeleton = Skeleton::humanoid(body.height);
+    let mut pose = skeleton.rest(Affine3A::IDENTITY);
+    if body.motion != 0 {
+        match surfaces.motions.iter().find(|(l, n, _)| *l == k && *n == body.motion) {
+            Some((_, _, m)) => pose = skeleton.pose_from(m, m.frame_at(time)),
+            None => b.warn(
+                name,
+                &format!(
+                    "`D` par1 = 50 names motion {}, which the Surfaces section does not declare (`fig_bvh {} file.bvh`): the rest pose",
+                    body.motion, body.motion
+                ),
+            ),
+        }
+    }
+    pose.root = body.frame * HUMANOID_TO_TURTLE * pose.root;
+    let world = skeleton.world(&pose);
+    let mut shapes = skeleton.draw(&world, body.material, 0);
+    for s in &mut shapes {
+        // Distinct from every counter-made identifier: the bone's number
+        // in the top bits.
+        s.symbol = body.symbol ^ ((s.symbol + 1) << 48);
+    }
+    shapes
 }

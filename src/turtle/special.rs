@@ -50,6 +50,7 @@ fn d_symbol(it: &mut Interpreter, s: &Symbol) {
         10 => textured(it, Texture::Marble),
         11 => textured(it, Texture::Bump),
         15 => it.builder().sky(DVec3::from_array(g)),
+        50 => it.body(s, g),
         16 => clouds(it, s, g),
         18 => it.builder().observer_light(),
         20 => {

@@ -108,3 +108,42 @@ fn a_bvh_file_drives_the_humanoid_joint_by_joint() {
         );
     }
 }
+
+/// `D` par1 = 50 in a scene: the humanoid stands along the turtle's H
+/// (after `+(90)`, up), posed by the `fig_bvh` motion at the frame's
+/// time; each bone keeps its symbol across frames, so motion blur finds
+/// what moved; an undeclared motion is the rest pose, with a warning.
+#[test]
+fn a_scene_draws_bodies_posed_by_their_motion() {
+    use lmfilm::render::motion::Motion;
+    let text = |motion: u32| {
+        format!(
+            "Camera_AnimationParameters\nt_final_interval 1 0.0333333\n\
+             Surfaces\nfig_bvh 1 scenes/mocap/wave.bvh\n\
+             Axiom\nf () () () (2) (3) + () () () () (90) D () (50) () () ({motion}) (1.8)\n"
+        )
+    };
+    let mut rest = crate::common::from_text(&text(0));
+    let (scene, warnings) = crate::common::scene(&mut rest);
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let shapes = &scene.geometries[0].shapes;
+    assert_eq!(shapes.len(), 21, "20 limbs and a head");
+    let top = shapes
+        .iter()
+        .map(|s| lmfilm::render::accel::shapes::bounds(s).unwrap().max.y)
+        .fold(f32::MIN, f32::max);
+    assert!((top - 1.8).abs() < 0.02, "the head's top at {top}");
+    let mut moving = crate::common::from_text(&text(1));
+    let (a, _) = crate::common::scene(&mut moving);
+    moving.advance_to(10, &mut lmfilm::lsys::NoSensors).unwrap();
+    let (b, _) = crate::common::scene(&mut moving);
+    let motion = Motion::between(&a, &b, 1.0);
+    let moved = motion.shapes[0].iter().flatten().count();
+    assert!(moved >= 10, "{moved} of 21 bones move with the motion");
+    let mut missing = crate::common::from_text(&text(7));
+    let (_, warnings) = crate::common::scene(&mut missing);
+    assert!(
+        warnings.iter().any(|w| w.contains("motion 7")),
+        "{warnings:?}"
+    );
+}
