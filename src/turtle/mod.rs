@@ -204,5 +204,17 @@ fn body_shapes(
         // in the top bits.
         s.symbol = body.symbol ^ ((s.symbol + 1) << 48);
     }
+    let drawn = shapes.len();
+    shapes.retain(|s| crate::scene::shape::bounds(s).is_some());
+    if shapes.len() < drawn {
+        b.warn(
+            name,
+            &format!(
+                "a body (`D` par1 = 50) reaching beyond ±{:e} is skipped",
+                crate::scene::MAX_COORDINATE
+            ),
+        );
+        shapes.clear();
+    }
     shapes
 }

@@ -147,3 +147,15 @@ fn a_scene_draws_bodies_posed_by_their_motion() {
         "{warnings:?}"
     );
 }
+
+/// A body beyond the coordinates a scene may hold is skipped with a
+/// warning, as any shape is; an absurd height is held to 1,000 m.
+#[test]
+fn a_body_out_of_bounds_is_skipped_with_a_warning() {
+    let far = "Camera_AnimationParameters\nt_final_interval 1 0.04\n\
+        Axiom\nf () () () (2) (10000000000000000) D () (50) () () (0) (100000000000000000000)\n";
+    let mut a = crate::common::from_text(far);
+    let (scene, warnings) = crate::common::scene(&mut a);
+    assert!(scene.geometries[0].shapes.is_empty());
+    assert!(warnings.iter().any(|w| w.contains("body")), "{warnings:?}");
+}
