@@ -75,6 +75,9 @@ pub struct BodyAt {
     pub frame: Affine3A,
     pub material: u32,
     pub symbol: u64,
+    /// The actor whose `M` branch drew it (its body: its own vision
+    /// looks through every bone).
+    pub owner: Option<u32>,
 }
 
 /// The active tropism (2.3.2): the most recent `v` met.
@@ -944,13 +947,13 @@ impl Interpreter<'_> {
             self.warn("`D` par1 = 50 with a turtle frame that is not finite is skipped");
             return;
         }
-        self.own(s.id);
         self.out.bodies.push(BodyAt {
             motion,
             height: height as f32,
             frame,
             material: self.material,
             symbol: s.id,
+            owner: self.actor,
         });
     }
 

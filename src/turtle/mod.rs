@@ -85,6 +85,11 @@ pub fn build_scene(
             if !b.count(shapes.len()) {
                 return Err(too_many(&ls.def.name));
             }
+            if let Some(a) = body.owner {
+                for s in &shapes {
+                    world.body(a, BodyPart::Symbol(s.symbol));
+                }
+            }
             st.geometry.shapes.extend(shapes);
         }
         // Each copy is one instance of the word and one per placement.

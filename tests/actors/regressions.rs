@@ -103,6 +103,28 @@ fn other_actors_see_its_body() {
     assert!(d(0).is_infinite(), "actor 0 sees through it: {}", d(0));
 }
 
+/// An actor standing in a body of its own (`D` par1 = 50 in its `M`
+/// branch, a humanoid around its eye) sees through every bone; another
+/// actor sees the body.
+#[test]
+fn an_actor_sees_through_its_humanoid_body() {
+    let text = "Camera_AnimationParameters\nt_final_interval 0.1 0.04\nOptions\nNBR_actors 2\n\
+         iVisionWinSize 0 16 8\niVisionWinSize 1 16 8\n\
+         actorNbr_automata 0 watch obs 0 1 0 lat 0 1 5 vision_range 0.1 60 60\n\
+         actorNbr_automata 1 watch obs 0 1 -5 lat 0 1 0 vision_range 0.1 60 60\n\
+         Axiom\n[ M () (7) () (0) f () () () (2) (0) (0) (0) ^ () () () () (90) \
+         D () (50) () () (0) (1.8) ]\nProductions\nEndProductions\n";
+    let mut f = film(text);
+    f.next_frame().unwrap();
+    let d = |k: usize| f.living()[k].window.as_ref().unwrap().centre;
+    assert!(
+        d(1).is_finite() && d(1) < 5.0,
+        "actor 1 sees the body: {}",
+        d(1)
+    );
+    assert!(d(0).is_infinite(), "actor 0 sees through it: {}", d(0));
+}
+
 /// The U of the issue: walls 2 high at x = 0 and x = 10 from z = 0 to
 /// 15, closed at z = 15; the actor at (5, 0.75, 5) inside, its goal at
 /// (5, 0.75, 25). With the floor under it (whose top fell in the search
