@@ -228,8 +228,12 @@ fn derive_scene(b: &[u8]) -> bool {
     if a.advance_to(2, &mut NoSensors).is_err() {
         return false;
     }
-    // Surfaces name files beside `fuzz.lm`, which do not exist.
-    if a.systems.iter().any(|s| !s.def.surfaces.is_empty()) {
+    // Surfaces and motions name files beside `fuzz.lm`, which do not
+    // exist.
+    if a.systems
+        .iter()
+        .any(|s| !s.def.surfaces.is_empty() || !s.def.motions.is_empty())
+    {
         return true;
     }
     common::scene(&mut a);
