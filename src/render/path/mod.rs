@@ -187,7 +187,7 @@ pub fn radiance(
             light += beta * sky * w;
             break;
         };
-        met |= vertex == 0 && passes == 0;
+        met |= vertex == 0;
         let Some(pt) = shade::point(accel, &hit, o, d) else {
             break;
         };
