@@ -3,8 +3,9 @@
 //! `ROOT`/`JOINT`/`End Site`, each with an `OFFSET` from its parent and
 //! its `CHANNELS`) and the channels' values frame after frame (`MOTION`).
 //! Our own reader, as for OBJ and MTL: every problem is a located error
-//! (line, column), never a panic, and a file cannot make it allocate more
-//! than its own size's worth.
+//! (`file:line:column`, the line and a caret, [`Source::error`]), never
+//! a panic, and a file cannot make it allocate more than its own size's
+//! worth.
 //!
 //! A joint's transform relative to its parent is the translation by its
 //! offset plus its position channels, then its rotation channels applied
@@ -14,7 +15,7 @@
 
 use glam::{Affine3A, Quat, Vec3};
 
-use super::obj_parse::LineError;
+use crate::source::{Diagnostic, Source};
 
 /// Most joints a skeleton may have.
 pub const MAX_JOINTS: usize = 1024;
@@ -58,38 +59,24 @@ pub struct Mocap {
 
 /// Words of the text with their line (from 1) and column (from 0).
 struct Words<'a> {
-    text: &'a str,
+    src: &'a Source,
     at: usize,
-    line: u32,
-    line_start: usize,
 }
 
 impl<'a> Words<'a> {
-    fn new(text: &'a str) -> Self {
-        Words {
-            text,
-            at: 0,
-            line: 1,
-            line_start: 0,
-        }
+    fn new(src: &'a Source) -> Self {
+        Words { src, at: 0 }
     }
 
-    fn error(&self, at: (u32, u32), message: impl Into<String>) -> LineError {
-        LineError {
-            line: at.0,
-            column: at.1,
-            message: message.into(),
-        }
+    fn error(&self, at: usize, message: impl Into<String>) -> Diagnostic {
+        self.src.error(at, message)
     }
 
-    /// The next word and where it starts; None at the end.
-    fn next(&mut self) -> Option<(&'a str, (u32, u32))> {
-        let bytes = self.text.as_bytes();
+    /// The next word and the byte where it starts; None at the end.
+    fn next(&mut self) -> Option<(&'a str, usize)> {
+        let text: &'a str = &self.src.text;
+        let bytes = text.as_bytes();
         while self.at < bytes.len() && bytes[self.at].is_ascii_whitespace() {
-            if bytes[self.at] == b'\n' {
-                self.line += 1;
-                self.line_start = self.at + 1;
-            }
             self.at += 1;
         }
         if self.at >= bytes.len() {
@@ -99,23 +86,21 @@ impl<'a> Words<'a> {
         while self.at < bytes.len() && !bytes[self.at].is_ascii_whitespace() {
             self.at += 1;
         }
-        let at = (self.line, (start - self.line_start) as u32);
-        Some((&self.text[start..self.at], at))
-    }
-
-    /// Where the text ends, for "ends before …" errors.
-    fn end(&self) -> (u32, u32) {
-        (self.line, (self.at - self.line_start) as u32)
+        Some((&text[start..self.at], start))
     }
 
     /// The next word, which must be there (`what` names it).
-    fn word(&mut self, what: &str) -> Result<(&'a str, (u32, u32)), LineError> {
-        self.next()
-            .ok_or_else(|| self.error(self.end(), format!("the file ends where {what} should be")))
+    fn word(&mut self, what: &str) -> Result<(&'a str, usize), Diagnostic> {
+        self.next().ok_or_else(|| {
+            self.error(
+                self.src.text.len(),
+                format!("the file ends where {what} should be"),
+            )
+        })
     }
 
     /// The keyword `want` next.
-    fn expect(&mut self, want: &str) -> Result<(), LineError> {
+    fn expect(&mut self, want: &str) -> Result<(), Diagnostic> {
         let (w, at) = self.word(&format!("`{want}`"))?;
         if w == want {
             Ok(())
@@ -125,7 +110,7 @@ impl<'a> Words<'a> {
     }
 
     /// A finite number within ±`limit`.
-    fn number(&mut self, what: &str, limit: f32) -> Result<f32, LineError> {
+    fn number(&mut self, what: &str, limit: f32) -> Result<f32, Diagnostic> {
         let (w, at) = self.word(what)?;
         match w.parse::<f32>() {
             Ok(v) if v.is_finite() && v.abs() <= limit => Ok(v),
@@ -140,8 +125,8 @@ impl<'a> Words<'a> {
 
 impl Mocap {
     /// Reads a BVH file's text.
-    pub fn parse(text: &str) -> Result<Mocap, LineError> {
-        let mut w = Words::new(text);
+    pub fn parse(src: &Source) -> Result<Mocap, Diagnostic> {
+        let mut w = Words::new(src);
         w.expect("HIERARCHY")?;
         let (root, at) = w.word("`ROOT`")?;
         if root != "ROOT" {
@@ -163,7 +148,7 @@ impl Mocap {
         w.expect("Time:")?;
         let frame_time = f64::from(w.number("the frame time", 1e6)?);
         if frame_time <= 0.0 {
-            return Err(w.error(w.end(), "the frame time must be > 0 seconds"));
+            return Err(w.error(w.at, "the frame time must be > 0 seconds"));
         }
         // Grown as values come, so a false frame count costs nothing.
         let mut values = Vec::new();
@@ -275,7 +260,7 @@ fn joint(
     parent: Option<usize>,
     joints: &mut Vec<Joint>,
     stride: &mut usize,
-) -> Result<(), LineError> {
+) -> Result<(), Diagnostic> {
     let (name, at) = w.word("the joint's name")?;
     if joints.len() >= MAX_JOINTS {
         return Err(w.error(at, format!("more than {MAX_JOINTS} joints")));
@@ -342,7 +327,7 @@ fn joint(
     }
 }
 
-fn vec3(w: &mut Words, what: &str) -> Result<Vec3, LineError> {
+fn vec3(w: &mut Words, what: &str) -> Result<Vec3, Diagnostic> {
     Ok(Vec3::new(
         w.number(what, MAX_LENGTH)?,
         w.number(what, MAX_LENGTH)?,

@@ -10,8 +10,8 @@ use super::world::*;
 use crate::lsys::{Animation, Who};
 use crate::scene::material::{self, Texture};
 use crate::scene::mocap::Mocap;
-use crate::scene::obj_parse::LineError;
 use crate::scene::{obj, Camera, Geometry, Lens, Light, LightKind, Material, Sky};
+use crate::source::Source;
 
 /// The brightest uniform sky `D` par1 = 15 may give (a radiance).
 pub const MAX_SKY: f32 = 1000.0;
@@ -74,15 +74,10 @@ impl Surfaces {
                 let path = dir.join(&file.name);
                 let bytes = crate::source::read_file(&path, obj::MAX_MESH_BYTES)
                     .map_err(|e| file.error(format!("motion {n}: {e}")).to_string())?;
-                let located = |e: LineError| e.locate(&path.display().to_string(), &bytes);
-                let text = std::str::from_utf8(&bytes).map_err(|e| {
-                    file.error(format!(
-                        "motion {n}: {}: not UTF-8 text ({e})",
-                        path.display()
-                    ))
-                    .to_string()
-                })?;
-                let m = Mocap::parse(text).map_err(|e| located(e).to_string())?;
+                // Problems inside are located in the BVH file itself.
+                let m = Source::from_bytes(path.display().to_string(), bytes)
+                    .and_then(|src| Mocap::parse(&src))
+                    .map_err(|e| e.to_string())?;
                 s.motions.push((ls.index, *n, m));
             }
         }

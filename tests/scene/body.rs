@@ -76,7 +76,8 @@ fn any_pose_keeps_the_bones_and_the_capsules_meet_at_the_joints() {
 /// root stands (the file has no legs: its hip height is the root's).
 #[test]
 fn a_bvh_file_drives_the_humanoid_joint_by_joint() {
-    let m = Mocap::parse(include_str!("../../scenes/mocap/wave.bvh")).unwrap();
+    let wave = include_str!("../../scenes/mocap/wave.bvh");
+    let m = Mocap::parse(&lmfilm::source::Source::new("wave.bvh", wave)).unwrap();
     let s = Skeleton::humanoid(1.8);
     let (file_arm, file_fore) = (
         m.joints.iter().position(|j| j.name == "RightArm").unwrap(),

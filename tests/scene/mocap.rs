@@ -5,6 +5,12 @@
 
 use glam::{DVec3, Vec3};
 use lmfilm::scene::mocap::Mocap;
+use lmfilm::source::{Diagnostic, Source};
+
+/// `text` read as the file `wave.bvh`.
+fn parse(text: &str) -> Result<Mocap, Diagnostic> {
+    Mocap::parse(&Source::new("wave.bvh", text))
+}
 
 const WAVE: &str = include_str!("../../scenes/mocap/wave.bvh");
 
@@ -39,7 +45,7 @@ fn hand_tip(k: f64) -> DVec3 {
 
 #[test]
 fn the_pose_at_a_frame_is_the_files_motion() {
-    let m = Mocap::parse(WAVE).unwrap();
+    let m = parse(WAVE).unwrap();
     assert_eq!(m.joints.len(), 6);
     assert_eq!(m.frame_count(), 30);
     assert!((m.frame_time - 1.0 / 30.0).abs() < 1e-7);
@@ -72,16 +78,20 @@ fn the_pose_at_a_frame_is_the_files_motion() {
 
 #[test]
 fn hostile_files_are_refused_where_they_go_wrong() {
-    let refused = |text: &str| Mocap::parse(text).unwrap_err();
+    let refused = |text: &str| parse(text).unwrap_err();
     let motion = WAVE.find("MOTION").unwrap();
     let hierarchy = &WAVE[..motion];
-    // Line and column of each fault.
-    let line = WAVE[..WAVE.find("0.466667").unwrap()].matches('\n').count() as u32 + 1;
+    // Line and column (1-based) of each fault, shown with a caret.
+    let line = WAVE[..WAVE.find("0.466667").unwrap()].matches('\n').count() + 1;
     let e = refused(&WAVE.replacen("0.466667", "nan", 1));
     assert!(e.message.contains("frame 28's value 0 (Hips"), "{e:?}");
     assert!(
-        e.message.contains("must be finite") && (e.line, e.column) == (line, 0),
+        e.message.contains("must be finite") && (e.line, e.column) == (line, 1),
         "{e:?}"
+    );
+    assert!(
+        e.to_string().contains(&format!("wave.bvh:{line}:1:")),
+        "{e}"
     );
     let e = refused(&WAVE.replacen("Zrotation Xrotation\n", "Zrotation Xrotatoin\n", 1));
     assert!(e.message.contains("unknown channel `Xrotatoin`"), "{e:?}");
@@ -105,6 +115,6 @@ fn hostile_files_are_refused_where_they_go_wrong() {
     ));
     assert!(e.message.contains("more than 1024 joints"), "{e:?}");
     for cut in (0..WAVE.len()).step_by(97) {
-        let _ = Mocap::parse(&WAVE[..cut]);
+        let _ = parse(&WAVE[..cut]);
     }
 }

@@ -4,8 +4,8 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Ok(text) = std::str::from_utf8(data) {
-        if let Ok(m) = lmfilm::scene::mocap::Mocap::parse(text) {
+    if let Ok(src) = lmfilm::source::Source::from_bytes("fuzz.bvh", data.to_vec()) {
+        if let Ok(m) = lmfilm::scene::mocap::Mocap::parse(&src) {
             for f in [0, 1, m.frame_count()] {
                 let _ = m.pose(f);
             }
