@@ -82,25 +82,34 @@ fn an_actor_drawn_around_its_eye_sees_the_room() {
     assert!(!through_wall);
 }
 
+/// What two watchers see at the centres of their windows after one
+/// frame: actor 0 at (0, 1, 0) looking along +z, actor 1 at (0, 1, −5)
+/// looking at actor 0's eye, with `body` drawn in actor 0's `M` branch.
+fn watchers_see(body: &str) -> (f32, f32) {
+    let text = format!(
+        "Camera_AnimationParameters\nt_final_interval 0.1 0.04\nOptions\nNBR_actors 2\n\
+         iVisionWinSize 0 16 8\niVisionWinSize 1 16 8\n\
+         actorNbr_automata 0 watch obs 0 1 0 lat 0 1 5 vision_range 0.1 60 60\n\
+         actorNbr_automata 1 watch obs 0 1 -5 lat 0 1 0 vision_range 0.1 60 60\n\
+         Axiom\n[ M () (7) () (0) {body} ]\nProductions\nEndProductions\n"
+    );
+    let mut f = film(&text);
+    f.next_frame().unwrap();
+    let d = |k: usize| f.living()[k].window.as_ref().unwrap().centre;
+    (d(0), d(1))
+}
+
 /// Other actors, and the camera, still see an actor's body: actor 1
 /// watching actor 0's sphere sees it.
 #[test]
 fn other_actors_see_its_body() {
-    let text = "Camera_AnimationParameters\nt_final_interval 0.1 0.04\nOptions\nNBR_actors 2\n\
-         iVisionWinSize 0 16 8\niVisionWinSize 1 16 8\n\
-         actorNbr_automata 0 watch obs 0 1 0 lat 0 1 5 vision_range 0.1 60 60\n\
-         actorNbr_automata 1 watch obs 0 1 -5 lat 0 1 0 vision_range 0.1 60 60\n\
-         Axiom\n[ M () (7) () (0) m () (10) a () () () () (0.5) ]\nProductions\nEndProductions\n";
-    let mut f = film(text);
-    f.next_frame().unwrap();
-    let d = |k: usize| f.living()[k].window.as_ref().unwrap().centre;
     // `a` (0.5) is a sphere of diameter 0.5 about actor 0's eye.
+    let (own, other) = watchers_see("m () (10) a () () () () (0.5)");
     assert!(
-        (d(1) - 4.75).abs() < 0.01,
-        "actor 1 sees the sphere: {}",
-        d(1)
+        (other - 4.75).abs() < 0.01,
+        "actor 1 sees the sphere: {other}"
     );
-    assert!(d(0).is_infinite(), "actor 0 sees through it: {}", d(0));
+    assert!(own.is_infinite(), "actor 0 sees through it: {own}");
 }
 
 /// An actor standing in a body of its own (`D` par1 = 50 in its `M`
@@ -108,21 +117,13 @@ fn other_actors_see_its_body() {
 /// actor sees the body.
 #[test]
 fn an_actor_sees_through_its_humanoid_body() {
-    let text = "Camera_AnimationParameters\nt_final_interval 0.1 0.04\nOptions\nNBR_actors 2\n\
-         iVisionWinSize 0 16 8\niVisionWinSize 1 16 8\n\
-         actorNbr_automata 0 watch obs 0 1 0 lat 0 1 5 vision_range 0.1 60 60\n\
-         actorNbr_automata 1 watch obs 0 1 -5 lat 0 1 0 vision_range 0.1 60 60\n\
-         Axiom\n[ M () (7) () (0) f () () () (2) (0) (0) (0) ^ () () () () (90) \
-         D () (50) () () (0) (1.8) ]\nProductions\nEndProductions\n";
-    let mut f = film(text);
-    f.next_frame().unwrap();
-    let d = |k: usize| f.living()[k].window.as_ref().unwrap().centre;
+    let (own, other) =
+        watchers_see("f () () () (2) (0) (0) (0) ^ () () () () (90) D () (50) () () (0) (1.8)");
     assert!(
-        d(1).is_finite() && d(1) < 5.0,
-        "actor 1 sees the body: {}",
-        d(1)
+        other.is_finite() && other < 5.0,
+        "actor 1 sees the body: {other}"
     );
-    assert!(d(0).is_infinite(), "actor 0 sees through it: {}", d(0));
+    assert!(own.is_infinite(), "actor 0 sees through it: {own}");
 }
 
 /// The U of the issue: walls 2 high at x = 0 and x = 10 from z = 0 to

@@ -31,30 +31,34 @@ fn a_path_traced_film_blurs_what_moves_and_keeps_its_bytes() {
         env!("CARGO_MANIFEST_DIR")
     );
     let root = crate::common::fresh_dir("film", "path_look");
+    // The frames and settings every render here takes, but the shutter.
+    let settings = [
+        "--frames",
+        "20..23",
+        "--width",
+        "64",
+        "--spp",
+        "4",
+        "--format",
+        "both",
+        "--integrator",
+        "path",
+    ];
+    let with = |head: &[&str], tail: &[&str]| ok(&[head, &settings[..], tail].concat());
     let run = |name: &str, threads: &str, shutter: &str| {
         let dir = root.join(name);
-        ok(&[
-            "run",
-            &scene,
-            "-o",
-            dir.to_str().unwrap(),
-            "--frames",
-            "20..23",
-            "--width",
-            "64",
-            "--spp",
-            "4",
-            "--format",
-            "both",
-            "--integrator",
-            "path",
-            "--shutter",
-            shutter,
-            "--threads",
-            threads,
-            "--samples",
-            "pcm16",
-        ]);
+        let out = dir.to_str().unwrap();
+        with(
+            &["run", &scene, "-o", out],
+            &[
+                "--shutter",
+                shutter,
+                "--threads",
+                threads,
+                "--samples",
+                "pcm16",
+            ],
+        );
         dir
     };
     let (one, two, still) = (
@@ -67,24 +71,7 @@ fn a_path_traced_film_blurs_what_moves_and_keeps_its_bytes() {
     let dir = shards.to_str().unwrap();
     ok(&["derive", &scene, "-o", dir]);
     for shard in ["1/2", "2/2"] {
-        ok(&[
-            "render",
-            dir,
-            "--frames",
-            "20..23",
-            "--shard",
-            shard,
-            "--width",
-            "64",
-            "--spp",
-            "4",
-            "--format",
-            "both",
-            "--integrator",
-            "path",
-            "--shutter",
-            "0.5",
-        ]);
+        with(&["render", dir], &["--shard", shard, "--shutter", "0.5"]);
     }
     let mut blurred = 0;
     for k in 20..23 {
