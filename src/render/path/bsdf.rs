@@ -5,10 +5,11 @@
 //! `transmit` and the index of refraction. Their sum is scaled down to
 //! conserve energy where a table entry's weights pass 1.
 
-use std::f32::consts::{FRAC_1_PI, PI, TAU};
+use std::f32::consts::{FRAC_1_PI, TAU};
 
 use glam::{Vec3, Vec3A};
 
+use crate::render::shade::{reflect, refract};
 use crate::scene::Material;
 
 /// A direction chosen by [`Bsdf::sample`].
@@ -120,7 +121,7 @@ impl Bsdf {
         }
         let mut f = self.diffuse * FRAC_1_PI;
         if self.chance[1] > 0.0 {
-            let c = reflect(wo, self.n).dot(wi);
+            let c = mirrored(wo, self.n).dot(wi);
             if c > 0.0 {
                 f += self.glossy * ((self.exponent + 2.0) / TAU * c.powf(self.exponent));
             }
@@ -137,7 +138,7 @@ impl Bsdf {
         }
         let mut p = self.chance[0] * cos * FRAC_1_PI;
         if self.chance[1] > 0.0 {
-            let c = reflect(wo, self.n).dot(wi);
+            let c = mirrored(wo, self.n).dot(wi);
             if c > 0.0 {
                 p += self.chance[1] * (self.exponent + 1.0) / TAU * c.powf(self.exponent);
             }
@@ -154,7 +155,7 @@ impl Bsdf {
             let wi = if pick < cd {
                 around(n, cosine(u))
             } else {
-                around(reflect(wo, n), phong(u, self.exponent))
+                around(mirrored(wo, n), phong(u, self.exponent))
             };
             let pdf = self.pdf(wo, wi);
             if pdf <= 0.0 {
@@ -170,7 +171,7 @@ impl Bsdf {
         }
         if pick < cd + cg + cm {
             return Some(Sampled {
-                wi: reflect(wo, n),
+                wi: mirrored(wo, n),
                 weight: Vec3::splat(self.mirror / cm),
                 pdf: 0.0,
                 through: false,
@@ -185,7 +186,7 @@ impl Bsdf {
         let cos_i = n.dot(wo).clamp(0.0, 1.0);
         let (through, wi) = match refract(-wo, n, self.eta) {
             Some(t) if u.0 >= fresnel(cos_i, n.dot(-t), self.eta) => (true, t),
-            _ => (false, reflect(wo, n)),
+            _ => (false, mirrored(wo, n)),
         };
         Some(Sampled {
             wi,
@@ -196,17 +197,10 @@ impl Bsdf {
     }
 }
 
-/// The mirror direction of `w` (pointing away from the surface) about `n`.
-fn reflect(w: Vec3A, n: Vec3A) -> Vec3A {
-    (2.0 * n.dot(w) * n - w).normalize()
-}
-
-/// Refraction of the unit direction `d` (toward the surface) at `n`
-/// (facing `d`'s origin) for η = n1/n2; None on total internal reflection.
-fn refract(d: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
-    let cos_i = -d.dot(n);
-    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
-    (k >= 0.0).then(|| (eta * d + (eta * cos_i - k.sqrt()) * n).normalize())
+/// The mirror direction of `w` (pointing away from the surface) about
+/// `n`: [`reflect`] takes the direction toward the surface.
+fn mirrored(w: Vec3A, n: Vec3A) -> Vec3A {
+    reflect(-w, n).normalize()
 }
 
 /// The Fresnel reflectance of unpolarized light from a dielectric, for
@@ -233,7 +227,7 @@ fn phong(u: (f32, f32), n: f32) -> Vec3A {
 }
 
 /// `local` (about +z) turned to lie about the unit `axis`.
-pub(super) fn around(axis: Vec3A, local: Vec3A) -> Vec3A {
+fn around(axis: Vec3A, local: Vec3A) -> Vec3A {
     // Frisvad's basis, Duff et al.'s branchless form.
     let s = if axis.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (s + axis.z);
@@ -243,21 +237,11 @@ pub(super) fn around(axis: Vec3A, local: Vec3A) -> Vec3A {
     (local.x * t + local.y * bt + local.z * axis).normalize()
 }
 
-/// A uniform direction on the unit sphere; its pdf is 1/4π.
-pub(super) fn sphere(u: (f32, f32)) -> Vec3A {
-    let z = 1.0 - 2.0 * u.0;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = TAU * u.1;
-    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
-}
-
-/// The pdf of [`sphere`].
-pub(super) const SPHERE_PDF: f32 = 1.0 / (4.0 * PI);
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::random;
+    use crate::render::shade::lights::{uniform_sphere, SPHERE_PDF};
 
     fn uniform(k: u64) -> (f32, f32) {
         (
@@ -286,7 +270,7 @@ mod tests {
                 if let Some(s) = b.sample(wo, pick, uniform(k)) {
                     by_sample += s.weight;
                 }
-                let wi = sphere(uniform(k + count));
+                let wi = uniform_sphere(uniform(k + count));
                 by_uniform += b.eval(wo, wi) * n.dot(wi).max(0.0) / SPHERE_PDF;
             }
             let (a, u) = (by_sample / count as f32, by_uniform / count as f32);

@@ -22,11 +22,12 @@ use glam::{Vec3, Vec3A};
 use super::accel::{Accel, Hit, Query};
 use super::camera::CameraRays;
 use super::settings::Settings;
+use super::shade::lights::{uniform_sphere, SPHERE_PDF};
 use super::shade::{self, lights::toward, texture, EPS};
 use crate::random::{self, Stream};
 use crate::scene::material::Texture;
 use crate::scene::{LightKind, Sky};
-use bsdf::{Bsdf, SPHERE_PDF};
+use bsdf::Bsdf;
 
 /// The radiance of the environment of a scene without a sky (the
 /// materials' ambient factor: Rayshade's ambient 0.2 · diffuse).
@@ -272,7 +273,7 @@ fn next_event(
         let (wi, dist) = match l.kind {
             LightKind::Sphere { radius } => {
                 let u = pair(key, vertex, dim::LIGHTS + 2 * li as u64);
-                let q = Vec3A::from(l.position) + radius * bsdf::sphere(u);
+                let q = Vec3A::from(l.position) + radius * uniform_sphere(u);
                 let to = q - lift;
                 (to.normalize_or_zero(), to.length())
             }
@@ -289,7 +290,7 @@ fn next_event(
         light += f * (PI * l.color) * b_cos(b, wi);
     }
     // The sky, sampled uniformly, weighed against the BSDF's own samples.
-    let wi = bsdf::sphere(pair(key, vertex, dim::SKY));
+    let wi = uniform_sphere(pair(key, vertex, dim::SKY));
     let f = b.eval(wo, wi);
     if f != Vec3::ZERO && !accel.occluded_at(lift, wi, 0.0, f32::INFINITY, time) {
         let w = power(SPHERE_PDF, b.pdf(wo, wi));

@@ -56,8 +56,20 @@ pub fn shadow_rays(accel: &Accel, pt: &Point, st: &Settings, out: &mut Vec<(usiz
 
 /// A uniform point on the unit sphere from slot `slot` of `key`.
 pub(super) fn sphere_point(key: u64, slot: u64) -> Vec3A {
-    let z = 1.0 - 2.0 * random::unit(key, 2 * slot) as f32;
-    let phi = std::f32::consts::TAU * random::unit(key, 2 * slot + 1) as f32;
+    uniform_sphere((
+        random::unit(key, 2 * slot) as f32,
+        random::unit(key, 2 * slot + 1) as f32,
+    ))
+}
+
+/// A uniform direction on the unit sphere from two uniform numbers; its
+/// pdf is [`SPHERE_PDF`].
+pub(in crate::render) fn uniform_sphere(u: (f32, f32)) -> Vec3A {
+    let z = 1.0 - 2.0 * u.0;
+    let phi = std::f32::consts::TAU * u.1;
     let r = (1.0 - z * z).max(0.0).sqrt();
     Vec3A::new(r * phi.cos(), r * phi.sin(), z)
 }
+
+/// The pdf of [`uniform_sphere`]: 1/4π.
+pub(in crate::render) const SPHERE_PDF: f32 = 1.0 / (4.0 * std::f32::consts::PI);

@@ -25,13 +25,14 @@ pub use sky::{background, sky_light};
 /// Extra passes a ray may make through cloud layers beyond `max_depth`.
 const CLOUD_PASSES: u32 = 4;
 
-fn reflect(d: Vec3A, n: Vec3A) -> Vec3A {
+/// The mirror image of direction `d` (toward the surface) about `n`.
+pub(in crate::render) fn reflect(d: Vec3A, n: Vec3A) -> Vec3A {
     d - 2.0 * d.dot(n) * n
 }
 
 /// Refraction of unit `d` at unit `n` (facing `d`) for η = n1/n2; None on
 /// total internal reflection.
-fn refract(d: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
+pub(in crate::render) fn refract(d: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
     let cos_i = -d.dot(n);
     let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
     (k >= 0.0).then(|| (eta * d + (eta * cos_i - k.sqrt()) * n).normalize())
