@@ -79,6 +79,12 @@ impl Skeleton {
         Skeleton { joints }
     }
 
+    /// From the soles to the top of the head, standing at rest.
+    pub fn height(&self) -> f32 {
+        let world = self.world(&self.rest(Affine3A::IDENTITY));
+        world.iter().map(|w| w.translation.y).fold(0.0, f32::max)
+    }
+
     /// The joint named `name`.
     pub fn joint(&self, name: &str) -> Option<usize> {
         self.joints.iter().position(|j| j.name == name)

@@ -6,12 +6,14 @@
 
 pub mod body;
 pub mod camera;
+pub mod gait;
 pub mod material;
 pub mod mesh;
 pub mod mocap;
 pub mod mtl;
 pub mod obj;
 pub mod obj_parse;
+pub mod rig;
 pub mod shape;
 pub mod snapshot;
 

@@ -8,6 +8,7 @@
 mod common;
 
 mod body;
+mod gait;
 mod mesh;
 mod mocap;
 mod obj;
