@@ -9,6 +9,7 @@
 //! act on the live world. An expression therefore never sees the world
 //! change while a frame is being interpreted or derived.
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use glam::DVec3;
@@ -18,6 +19,9 @@ use crate::error::Error;
 use crate::lsys::automata::Automata;
 use crate::lsys::{Sensors, Who};
 use crate::physics::{Mode, Particle, Physics};
+use crate::scene::body::Skeleton;
+use crate::scene::motor::{Drive, Motor};
+use crate::scene::rig::Targets;
 use crate::sound::air::{self, Air, AMBIENT_SOURCE};
 use crate::source::FileRef;
 use crate::turtle::{
@@ -61,7 +65,13 @@ pub(super) struct WorldView<'a> {
     pub error: Option<Error>,
     /// The imported and exported data (`?50`, `$` par2 = 5, `I`).
     pub tracks: Option<&'a mut Tracks>,
+    /// The motors of the bodies the turtle holds, kept from frame to
+    /// frame (none where a use keeps no bodies).
+    pub bodies: Option<&'a mut Bodies>,
 }
+
+/// The motor of each body the turtle holds, by its L-system and symbol.
+pub(super) type Bodies = BTreeMap<(usize, u64), Motor>;
 
 /// The particle of symbol `who` in `get`'s table, or else `current`'s
 /// when it belongs to the same L-system.
@@ -95,6 +105,7 @@ impl<'a> WorldView<'a> {
             frame,
             error: None,
             tracks: Some(tracks),
+            bodies: None,
         }
     }
 
@@ -400,6 +411,33 @@ impl TurtleWorld for WorldView<'_> {
                 BodyPart::Object(object) => a.body.add_object(object),
             }
         }
+    }
+
+    fn drive_body(
+        &mut self,
+        key: (usize, u64),
+        owner: Option<u32>,
+        mut drive: Drive,
+    ) -> Option<(Skeleton, Targets)> {
+        if let Some(a) = owner.and_then(|a| self.living.get(a as usize)) {
+            // What an actor gives its body: its gaze; on footholds, the
+            // plane, its body's direction and where its soles are.
+            drive.gaze = Some(a.look_at);
+            let on_footholds = a.automata == Some(Automata::WalkStepworthy)
+                || (a.automata == Some(Automata::Observe)
+                    && a.stack
+                        .iter()
+                        .any(|b| b.automata == Automata::WalkStepworthy));
+            if on_footholds {
+                drive.ground = a.footing.plane.unwrap_or(0.0);
+                drive.facing = (a.footing.heading != glam::Vec3::ZERO).then_some(a.footing.heading);
+                drive.soles = a.footing.soles();
+            }
+        }
+        let bodies = self.bodies.as_deref_mut()?;
+        let motor = bodies.entry(key).or_insert_with(|| Motor::new(&drive));
+        let targets = motor.drive(&drive);
+        Some((motor.skeleton().clone(), targets))
     }
 
     /// `I`: the film writes the traced actors' records after the frame.

@@ -25,7 +25,7 @@ use crate::actors::live::{self, Living};
 use super::frame::Frame;
 
 use super::tracks::Tracks;
-use super::view::{Scripts, WorldView};
+use super::view::{Bodies, Scripts, WorldView};
 
 /// Sound source of particle row 0's collisions; row k uses this + k.
 pub const PARTICLE_SOURCE: u32 = 1000;
@@ -56,6 +56,8 @@ pub struct Film {
     living: Vec<Living>,
     /// Data channels and actor trajectories (thesis 6.3.3).
     tracks: Tracks,
+    /// The motors of the bodies the turtle holds.
+    bodies: Bodies,
 }
 
 /// The `Sound_event_file` initialisations of the first L-system that
@@ -164,6 +166,7 @@ impl Film {
             sound_files,
             living,
             tracks,
+            bodies: Bodies::new(),
         };
         film.activate_scripts()?;
         Ok(film)
@@ -405,6 +408,7 @@ impl Film {
             number,
         );
         window.scripts = self.scripts.as_ref();
+        window.bodies = Some(&mut self.bodies);
         let built = build_scene(
             &mut self.anim,
             &self.surfaces,
@@ -414,6 +418,8 @@ impl Film {
         );
         let (error, current, actor) = (window.error, window.current, window.actor);
         let (scene, warnings) = built.map_err(Error::input)?;
+        // A body no longer drawn loses its motor.
+        self.bodies.retain(|_, m| m.time() == time);
         if let Some(e) = error {
             return Err(at(e));
         }

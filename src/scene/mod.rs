@@ -10,6 +10,7 @@ pub mod gait;
 pub mod material;
 pub mod mesh;
 pub mod mocap;
+pub mod motor;
 pub mod mtl;
 pub mod obj;
 pub mod obj_parse;

@@ -35,6 +35,8 @@ pub struct Targets {
     pub hands: [Option<Vec3>; 2],
     /// A point the head turns to, within what a neck allows.
     pub gaze: Option<Vec3>,
+    /// How far each hanging arm swings forward, radians (±1 at most).
+    pub arm_swing: [f32; 2],
     /// The chest's turn about the vertical against the hips, radians
     /// (a stroke's wind-up), held to ±[`MAX_TWIST`].
     pub twist: f32,
@@ -50,6 +52,7 @@ impl Targets {
             toes: [Vec3::ZERO; 2],
             hands: [None; 2],
             gaze: None,
+            arm_swing: [0.0; 2],
             twist: 0.0,
         }
     }
@@ -185,7 +188,8 @@ impl Skeleton {
             );
             // A hanging arm: down, a little out and forward.
             let out = if side == 0 { 1.0 } else { -1.0 };
-            let hang = facing * Vec3::new(0.15 * out, -1.0, 0.08).normalize();
+            let swing = Quat::from_rotation_x(-t.arm_swing[side].clamp(-1.0, 1.0));
+            let hang = facing * swing * Vec3::new(0.15 * out, -1.0, 0.08).normalize();
             let target = t.hands[side].unwrap_or(shoulder + hang * (l1 + l2) * 0.98);
             let rest = Vec3::new(out, 0.0, 0.0);
             let elbow = facing * Vec3::new(0.3 * out, -0.4, -1.0);

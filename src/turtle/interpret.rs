@@ -12,6 +12,7 @@ use super::world::{ActorMapping, BodyPart, ParticleMapping, SoundRequest, Turtle
 use crate::lsys::step::ActorScope;
 use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Limits, Symbol, Who};
+use crate::scene::motor::Hold;
 use crate::scene::shape::{bounds, triangle_bounds, OVERLAY};
 use crate::scene::{material, MAX_COORDINATE};
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
@@ -66,12 +67,15 @@ pub struct Structure {
 }
 
 /// A body placed by `D` par1 = 50: the built-in humanoid of `height`
-/// standing at the turtle (`frame`: its up along H, facing U), posed by
-/// motion capture `motion` (`fig_bvh`; 0: the rest pose).
+/// (None: sized by its motor) standing in the turtle's frame (`frame`:
+/// its up along H, facing U) posed by motion capture `motion`
+/// (`fig_bvh`; 0: the rest pose), or held by the turtle at its eyes,
+/// hand or hips (`hold`) and moved by its motor (`motion` −1: seated).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodyAt {
     pub motion: i64,
-    pub height: f32,
+    pub height: Option<f32>,
+    pub hold: Option<Hold>,
     pub frame: Affine3A,
     pub material: u32,
     pub symbol: u64,
@@ -934,14 +938,24 @@ impl Interpreter<'_> {
     }
 
     /// `D` par1 = 50: a body at the turtle (see [`BodyAt`]); par4 the
-    /// motion number, par5 the height (1.8 m where not > 0).
+    /// motion number, par5 the height (where > 0), par6 what the turtle
+    /// holds: 0 the body's frame, 1 its eyes, 2 its right hand, 3 its
+    /// hips over the ground.
     pub(super) fn body(&mut self, s: &Symbol, g: [f64; 3]) {
-        let height = if g[1].is_finite() && g[1] > 0.0 {
-            g[1].min(1e3)
-        } else {
-            1.8
-        };
+        let height = (g[1].is_finite() && g[1] > 0.0).then(|| g[1].min(1e3) as f32);
         let motion = if g[0].is_finite() { g[0] as i64 } else { 0 };
+        let hold = match g[2] {
+            h if h == 1.0 => Some(Hold::Eyes),
+            h if h == 2.0 => Some(Hold::Hand),
+            h if h == 3.0 => Some(Hold::Ground),
+            h if h == 0.0 => None,
+            h => {
+                self.warn(&format!(
+                    "`D` par1 = 50 holds the body by {h}, not 0 (its frame), 1 (its eyes), 2 (its right hand) or 3 (its hips over the ground): by its frame"
+                ));
+                None
+            }
+        };
         let frame = placed(&self.t, 1.0, 1.0, 1.0);
         if !frame.is_finite() {
             self.warn("`D` par1 = 50 with a turtle frame that is not finite is skipped");
@@ -949,7 +963,8 @@ impl Interpreter<'_> {
         }
         self.out.bodies.push(BodyAt {
             motion,
-            height: height as f32,
+            height,
+            hold,
             frame,
             material: self.material,
             symbol: s.id,

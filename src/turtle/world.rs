@@ -5,6 +5,9 @@
 use glam::DVec3;
 
 use crate::lsys::{Sensors, Who};
+use crate::scene::body::Skeleton;
+use crate::scene::motor::Drive;
+use crate::scene::rig::Targets;
 
 /// What the turtle may ask of higher layers (particles, trajectories,
 /// the sound log); the defaults answer for a world without them. The
@@ -59,6 +62,19 @@ pub trait TurtleWorld: Sensors {
     /// A part of actor `actor`'s body: drawn in its own `M` branch, so
     /// its vision looks through it (other actors and the camera see it).
     fn body(&mut self, _actor: u32, _part: BodyPart) {}
+    /// Drives the motor of body `key` (its L-system and symbol), drawn in
+    /// actor `owner`'s `M` branch if any, for this frame: its actor adds
+    /// what it gives a body (gaze, ground, footholds), its motor carried
+    /// from the frames before gives the pose. None: the world keeps no
+    /// motors (the body takes the pose of a fresh one).
+    fn drive_body(
+        &mut self,
+        _key: (usize, u64),
+        _owner: Option<u32>,
+        _drive: Drive,
+    ) -> Option<(Skeleton, Targets)> {
+        None
+    }
 }
 
 /// A primitive drawn in an actor's own `M` branch: by the symbol that

@@ -123,6 +123,8 @@ pub struct Footing {
     pub heading: Vec3,
     /// Whether its feet are together on `on` (or it has not stepped yet).
     together: bool,
+    /// Where each foot stands (`[left, right]`), once it has stepped.
+    pub stones: [Option<Vec3>; 2],
     motion: Option<(Motion, f32)>,
     /// The foothold a walk ended on short of its destination: ending
     /// there again means the map leads no nearer.
@@ -141,6 +143,56 @@ impl Footing {
     /// Whether the actor turns on the spot (turtle 1 shows it red).
     pub fn turning(&self) -> bool {
         matches!(self.motion, Some((Motion::Turn { .. }, _)))
+    }
+
+    /// Where its soles are now, on the foothold plane, and which is in
+    /// the air (`[left, right]`): each on its foothold, the stepping one
+    /// on its way (lifted by [`SOLE_LIFT`] mid-step); feet on one
+    /// foothold stand side by side on it. None before its first step.
+    pub fn soles(&self) -> Option<([Vec3; 2], [bool; 2])> {
+        let plane = self.plane?;
+        let [Some(left), Some(right)] = self.stones else {
+            return None;
+        };
+        let mut soles = [left, right];
+        let mut swinging = [false; 2];
+        if let (Some((Motion::Step { to, time, .. }, t)), Some(foot)) = (self.motion, self.foot) {
+            let k = foot_index(foot);
+            let u = if time > 0.0 {
+                (t / time).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            let smooth = u * u * (3.0 - 2.0 * u);
+            soles[k] = soles[k].lerp(to, smooth);
+            soles[k].y = plane + SOLE_LIFT * (std::f32::consts::PI * u).sin();
+            swinging[k] = true;
+        }
+        if ground(soles[0]).distance(ground(soles[1])) < 2.0 * SIDE_BY_SIDE {
+            let h = flat(self.heading);
+            let left = Vec3::new(h.z, 0.0, -h.x) * SIDE_BY_SIDE;
+            let middle = soles[0].midpoint(soles[1]);
+            soles = [middle + left, middle - left];
+        }
+        for (k, s) in soles.iter_mut().enumerate() {
+            if !swinging[k] {
+                s.y = plane;
+            }
+        }
+        Some((soles, swinging))
+    }
+}
+
+/// How high a stepping sole lifts over the footholds, and how far apart
+/// feet on one foothold stand from its middle (world units).
+pub const SOLE_LIFT: f32 = 0.1;
+const SIDE_BY_SIDE: f32 = 0.06;
+
+/// A foot's place in `[left, right]`.
+fn foot_index(f: Foot) -> usize {
+    match f {
+        Foot::Left => 0,
+        Foot::Right => 1,
     }
 }
 

@@ -268,6 +268,10 @@ impl Living {
             (length / self.speed.max(1e-3)).max(MIN_STEP_TIME)
         };
         self.footing.foot = Some(next.foot);
+        // Before its first step its feet stand together where it is.
+        for stone in &mut self.footing.stones {
+            stone.get_or_insert(from);
+        }
         self.move_body(
             Motion::Step {
                 from,
@@ -301,10 +305,17 @@ impl Living {
                 }
                 let lift =
                     HOP * ground(from).distance(ground(to)) * (std::f32::consts::PI * s).sin();
-                let p = from.lerp(to, s);
+                // The body over the middle of its feet: from between where
+                // they stand to between the standing foot and where the
+                // other lands.
+                let k = f.foot.map_or(0, foot_index);
+                let stance = f.stones[1 - k].unwrap_or(from);
+                let start = f.stones[k].unwrap_or(from).midpoint(stance);
+                let p = start.lerp(stance.midpoint(to), s);
                 let base = f.plane.unwrap_or(p.y);
                 self.eye = Vec3::new(p.x, base + stand + lift, p.z);
                 if s >= 1.0 {
+                    f.stones[k] = Some(to);
                     f.on = Some(to);
                     f.blocked = 0;
                     f.together = f.ahead.first().is_some_and(|p| p.together);
