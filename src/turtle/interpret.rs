@@ -945,10 +945,10 @@ impl Interpreter<'_> {
         let height = (g[1].is_finite() && g[1] > 0.0).then(|| g[1].min(1e3) as f32);
         let motion = if g[0].is_finite() { g[0] as i64 } else { 0 };
         let hold = match g[2] {
-            h if h == 1.0 => Some(Hold::Eyes),
-            h if h == 2.0 => Some(Hold::Hand),
-            h if h == 3.0 => Some(Hold::Ground),
-            h if h == 0.0 => None,
+            1.0 => Some(Hold::Eyes),
+            2.0 => Some(Hold::Hand),
+            3.0 => Some(Hold::Ground),
+            0.0 => None,
             h => {
                 self.warn(&format!(
                     "`D` par1 = 50 holds the body by {h}, not 0 (its frame), 1 (its eyes), 2 (its right hand) or 3 (its hips over the ground): by its frame"
