@@ -29,8 +29,9 @@ const HALT_TIME: f32 = 0.3;
 const TURN_SPEED: f32 = std::f32::consts::PI;
 /// A turn smaller than this (radians) is made while stepping.
 const TURN_ON_SPOT: f32 = 0.1;
-/// How high a step lifts the actor, as a share of the step's length.
-const HOP: f32 = 0.2;
+/// How high a step lifts the actor, as a share of the step's length: a
+/// walking body's hips rise a little over the standing foot.
+const HOP: f32 = 0.05;
 /// Least height of the eye over the plane, world units.
 const MIN_STAND: f32 = 0.1;
 /// How far ahead, in longest steps, the planned path is checked against
