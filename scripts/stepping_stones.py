@@ -42,6 +42,9 @@ for i in range(I0, I1):
 def sinking(x, z):
     return abs(x - SINK_AT[0]) < 0.2 and abs(z - SINK_AT[1]) < 0.2
 
+# The walker starts standing on the stone nearest the cube's start.
+START = min(stones, key=lambda s: (s[0] + 3.1) ** 2 + (s[1] + 3.4) ** 2)
+
 if WALKER:
     HEADER = f"""/* A person on stepping stones (thesis 5.9, 7.3.2; issue 39): the
    walk of scenes/actors/footholds.lm by the built-in humanoid. Actor 0
@@ -51,7 +54,9 @@ if WALKER:
    (foothold_step), a person's stride. Its body (D 50, held by its eyes
    1.6 up: 1.76 m tall) stands each foot on the foothold the plan chose
    for it, lifts the other over the water to the next, turns on the spot
-   with its feet together and follows its gaze with its head. It sees
+   with its feet together and follows its gaze with its head. Its map
+   keeps only footholds of 12 voxels or more (half a stone): a stone
+   seen far off at a grazing angle is no foothold yet. It sees
    only through its eyes, never its own body. At T = {SINK_T} the stone at
    about ({SINK_AT[0]}, {SINK_AT[1]}) sinks: the actor looks around and
    plans again.
@@ -62,12 +67,12 @@ pref_pos_x1_x2_y1_y2 0 640 0 360
 observer 0.5 5.5 -8.5
 lookatPoint 0 0 0.6
 viewAngle 450
-t_final_interval 37.0 0.04
+t_final_interval 42.0 0.04
 
 Options
 NBR_actors 1
 iVisionWinSize 0 96 8
-actorNbr_automata 0 walk_stepworthy init 10 -6.425 6.375 0.05 obs -3.1 1.6 -3.4 lat 0 0 0 fov 900 vision_range 0.2 12 3 goal -2.5 0 3.5 goal 3.1 0 0.6 speed 1.0 size_actor 0.35 foothold_plane 0 foothold_step 0.5 0.25
+actorNbr_automata 0 walk_stepworthy init 10 -6.425 6.375 0.05 obs {START[0]} 1.6 {START[1]} lat 0 0 0 fov 900 vision_range 0.2 12 3 goal -2.5 0 3.5 goal 3.1 0 0.6 speed 1.0 size_actor 0.35 foothold_plane 0 foothold_step 0.5 0.25 foothold_map 10 12 0.24
 actorNbr_automata 0 watch
 
 Axiom

@@ -429,9 +429,9 @@ impl TurtleWorld for WorldView<'_> {
                         .iter()
                         .any(|b| b.automata == Automata::WalkStepworthy));
             if on_footholds {
-                drive.ground = a.footing.plane.unwrap_or(0.0);
+                drive.ground = a.footing.plane.or(a.footing.settings.plane).unwrap_or(0.0);
                 drive.facing = (a.footing.heading != glam::Vec3::ZERO).then_some(a.footing.heading);
-                drive.soles = a.footing.soles();
+                drive.soles = a.footing.soles(a.eye, a.look_at - a.eye);
             }
         }
         let bodies = self.bodies.as_deref_mut()?;

@@ -8,6 +8,7 @@
 mod common;
 
 mod behaviour;
+mod bodies;
 mod footholds;
 mod maze;
 mod memory_room;

@@ -95,8 +95,15 @@ pub struct Planned {
 /// What the actor's body does now.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Motion {
-    /// A step (or the feet brought together) from `from` to `to`.
-    Step { from: Vec3, to: Vec3, time: f32 },
+    /// A step (or the feet brought together) from `from` to `to`, by
+    /// the body's foot `foot` (0 left, 1 right; see [`Footing::soles`]).
+    Step {
+        from: Vec3,
+        to: Vec3,
+        time: f32,
+        foot: usize,
+        together: bool,
+    },
     /// Turning on the spot, feet together, from one heading to another.
     Turn { from: Vec3, to: Vec3, time: f32 },
 }
@@ -124,8 +131,8 @@ pub struct Footing {
     pub heading: Vec3,
     /// Whether its feet are together on `on` (or it has not stepped yet).
     together: bool,
-    /// Where each foot stands (`[left, right]`), once it has stepped.
-    pub stones: [Option<Vec3>; 2],
+    /// Where each sole stands (`[left, right]`), once it has stepped.
+    soles: [Option<Vec3>; 2],
     motion: Option<(Motion, f32)>,
     /// The foothold a walk ended on short of its destination: ending
     /// there again means the map leads no nearer.
@@ -146,41 +153,125 @@ impl Footing {
         matches!(self.motion, Some((Motion::Turn { .. }, _)))
     }
 
-    /// Where its soles are now, on the foothold plane, and which is in
-    /// the air (`[left, right]`): each on its foothold, the stepping one
-    /// on its way (lifted by [`SOLE_LIFT`] mid-step); feet on one
-    /// foothold stand side by side on it. None before its first step.
-    pub fn soles(&self) -> Option<([Vec3; 2], [bool; 2])> {
-        let plane = self.plane?;
-        let [Some(left), Some(right)] = self.stones else {
-            return None;
+    /// Its left, across its body's direction (`facing` before it has
+    /// one).
+    fn left(&self, facing: Vec3) -> Vec3 {
+        let h = if self.heading == Vec3::ZERO {
+            flat(facing)
+        } else {
+            flat(self.heading)
         };
-        let mut soles = [left, right];
-        let mut swinging = [false; 2];
-        if let (Some((Motion::Step { to, time, .. }, t)), Some(foot)) = (self.motion, self.foot) {
-            let k = foot_index(foot);
-            let u = if time > 0.0 {
-                (t / time).clamp(0.0, 1.0)
-            } else {
-                1.0
-            };
-            let smooth = u * u * (3.0 - 2.0 * u);
-            soles[k] = soles[k].lerp(to, smooth);
-            soles[k].y = plane + SOLE_LIFT * (std::f32::consts::PI * u).sin();
-            swinging[k] = true;
+        Vec3::new(h.z, 0.0, -h.x)
+    }
+
+    /// Where the soles stand between steps; before the first step, side
+    /// by side under the eye `eye`.
+    fn standing(&self, eye: Vec3, facing: Vec3) -> [Vec3; 2] {
+        let left = self.left(facing);
+        [0, 1].map(|k| self.soles[k].unwrap_or(eye + left * (side(k) * SIDE_BY_SIDE)))
+    }
+
+    /// The body's foot that makes a step to `to` planned with `foot`:
+    /// bringing the feet together (`together`), the one farther from
+    /// `to`, else the planned one.
+    fn stepping(&self, foot: Foot, to: Vec3, together: bool, standing: [Vec3; 2]) -> usize {
+        if together {
+            let d = |k: usize| ground(standing[k]).distance(ground(to));
+            usize::from(d(1) > d(0))
+        } else {
+            foot_index(foot)
         }
-        if ground(soles[0]).distance(ground(soles[1])) < 2.0 * SIDE_BY_SIDE {
-            let h = flat(self.heading);
-            let left = Vec3::new(h.z, 0.0, -h.x) * SIDE_BY_SIDE;
-            let middle = soles[0].midpoint(soles[1]);
-            soles = [middle + left, middle - left];
+    }
+
+    /// Where foot `k` lands on the step to `to`: on `to`, or bringing the
+    /// feet together beside the other foot when that one stands on `to`.
+    fn landing(&self, k: usize, to: Vec3, together: bool, standing: [Vec3; 2]) -> Vec3 {
+        let other = standing[1 - k];
+        if together && ground(other).distance(ground(to)) < 2.0 * SIDE_BY_SIDE {
+            other + self.left(Vec3::Z) * (side(k) * 2.0 * SIDE_BY_SIDE)
+        } else {
+            to
         }
-        for (k, s) in soles.iter_mut().enumerate() {
-            if !swinging[k] {
-                s.y = plane;
+    }
+
+    /// Where foot `k` ends a turn on the spot to the heading `to`: beside
+    /// the other about the feet's middle.
+    fn turned(k: usize, standing: [Vec3; 2], to: Vec3) -> Vec3 {
+        let h = flat(to);
+        let middle = standing[0].midpoint(standing[1]);
+        middle + Vec3::new(h.z, 0.0, -h.x) * (side(k) * SIDE_BY_SIDE)
+    }
+
+    /// Where its soles are now, on the foothold plane, and which is in
+    /// the air (`[left, right]`): each where it was set down, the
+    /// stepping one on its way to its foothold (lifted by [`SOLE_LIFT`]
+    /// mid-step); at a halt the feet come side by side; turning on the
+    /// spot they step round one after the other. Before the first step
+    /// they stand under the eye `eye`, across `facing`. None while the
+    /// plane is unknown.
+    pub fn soles(&self, eye: Vec3, facing: Vec3) -> Option<([Vec3; 2], [bool; 2])> {
+        let plane = self.plane.or(self.settings.plane)?;
+        let standing = self.standing(eye, facing);
+        let mut soles = standing;
+        let mut lifted = [0.0f32; 2];
+        let lift = |u: f32| SOLE_LIFT * (std::f32::consts::PI * u).sin();
+        let smooth = |u: f32| u * u * (3.0 - 2.0 * u);
+        match (self.motion, self.foot) {
+            (
+                Some((
+                    Motion::Step {
+                        to,
+                        time,
+                        foot: k,
+                        together,
+                        ..
+                    },
+                    t,
+                )),
+                _,
+            ) => {
+                let u = if time > 0.0 {
+                    (t / time).clamp(0.0, 1.0)
+                } else {
+                    1.0
+                };
+                let target = self.landing(k, to, together, standing);
+                soles[k] = standing[k].lerp(target, smooth(u));
+                lifted[k] = lift(u).max(1e-4);
             }
+            (Some((Motion::Turn { to, time, .. }, t)), _) => {
+                let u = if time > 0.0 {
+                    (t / time).clamp(0.0, 1.0)
+                } else {
+                    1.0
+                };
+                // The left foot steps round in the turn's first half, the
+                // right in its second.
+                for (k, part) in [(2.0 * u).min(1.0), (2.0 * u - 1.0).max(0.0)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    soles[k] = standing[k].lerp(Self::turned(k, standing, to), smooth(part));
+                    if part > 0.0 && part < 1.0 {
+                        lifted[k] = lift(part).max(1e-4);
+                    }
+                }
+            }
+            _ => {}
         }
-        Some((soles, swinging))
+        for (sole, lift) in soles.iter_mut().zip(lifted) {
+            sole.y = plane + lift;
+        }
+        Some((soles, lifted.map(|l| l > 0.0)))
+    }
+}
+
+/// +1 for the left foot, −1 for the right.
+fn side(k: usize) -> f32 {
+    if k == 0 {
+        1.0
+    } else {
+        -1.0
     }
 }
 

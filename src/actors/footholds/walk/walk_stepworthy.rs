@@ -268,15 +268,25 @@ impl Living {
             (length / self.speed.max(1e-3)).max(MIN_STEP_TIME)
         };
         self.footing.foot = Some(next.foot);
-        // Before its first step its feet stand together where it is.
-        for stone in &mut self.footing.stones {
-            stone.get_or_insert(from);
+        if self.footing.soles[0].is_none() {
+            // Its first move: the feet stand where they stood.
+            let f = &mut self.footing;
+            f.soles = f.standing(self.eye, f.heading).map(Some);
         }
+        let f = &self.footing;
+        let foot = f.stepping(
+            next.foot,
+            next.at,
+            next.together,
+            f.standing(self.eye, f.heading),
+        );
         self.move_body(
             Motion::Step {
                 from,
                 to: next.at,
                 time,
+                foot,
+                together: next.together,
             },
             0.0,
         );
@@ -285,19 +295,31 @@ impl Living {
     /// The body at time `t` of `motion`; at its end the step is done.
     fn move_body(&mut self, motion: Motion, t: f32) {
         let f = &mut self.footing;
+        if f.soles[0].is_none() {
+            // Its first move: the feet stand where they stood.
+            f.soles = f.standing(self.eye, f.heading).map(Some);
+        }
         let stand = f.stand;
         match motion {
             Motion::Turn { from, to, time } => {
                 let s = if time > 0.0 { t / time } else { 1.0 };
                 f.heading = turn(from, angle_to(from, to) * s.clamp(0.0, 1.0));
                 if s >= 1.0 {
+                    let standing = f.standing(self.eye, to);
+                    f.soles = [0, 1].map(|k| Some(Footing::turned(k, standing, to)));
                     f.heading = to;
                     f.motion = None;
                 } else {
                     f.motion = Some((motion, t));
                 }
             }
-            Motion::Step { from, to, time } => {
+            Motion::Step {
+                from,
+                to,
+                time,
+                foot: k,
+                together,
+            } => {
                 let s = (t / time).min(1.0);
                 let d = flat(to - from);
                 if d != Vec3::ZERO {
@@ -308,14 +330,15 @@ impl Living {
                 // The body over the middle of its feet: from between where
                 // they stand to between the standing foot and where the
                 // other lands.
-                let k = f.foot.map_or(0, foot_index);
-                let stance = f.stones[1 - k].unwrap_or(from);
-                let start = f.stones[k].unwrap_or(from).midpoint(stance);
-                let p = start.lerp(stance.midpoint(to), s);
+                let standing = f.standing(self.eye, d);
+                let landing = f.landing(k, to, together, standing);
+                let start = standing[0].midpoint(standing[1]);
+                let p = start.lerp(standing[1 - k].midpoint(landing), s);
                 let base = f.plane.unwrap_or(p.y);
                 self.eye = Vec3::new(p.x, base + stand + lift, p.z);
                 if s >= 1.0 {
-                    f.stones[k] = Some(to);
+                    f.soles = standing.map(Some);
+                    f.soles[k] = Some(landing);
                     f.on = Some(to);
                     f.blocked = 0;
                     f.together = f.ahead.first().is_some_and(|p| p.together);

@@ -1,0 +1,139 @@
+//! Actors with bodies (issue 39), checked on what the film draws: the
+//! walkers of scenes/actors/ keep each standing foot where it was set
+//! down (within 2 cm) — the stepping-stone walker on the stone its plan
+//! chose —, and the film's geometry is the same bytes for 1 and 2
+//! threads.
+
+use glam::{Vec2, Vec3};
+use lmfilm::scene::{Scene, ShapeKind};
+
+use super::support::film;
+
+/// The bone of the built-in humanoid drawn as the capsule ending at
+/// joint `joint` (its number in `Skeleton::humanoid`), as the turtle
+/// numbers a body's bones: the joint + 1 in the symbol's top 16 bits.
+fn bone_ends(scene: &Scene, joint: u64) -> Vec<Vec3> {
+    scene
+        .geometries
+        .iter()
+        .flat_map(|g| &g.shapes)
+        .filter(|s| s.symbol >> 48 == joint + 1)
+        .filter_map(|s| match s.kind {
+            ShapeKind::Capsule { length } => {
+                Some(s.transform.transform_point3(Vec3::new(length, 0.0, 0.0)))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+const LEFT_FOOT: u64 = 15;
+const RIGHT_FOOT: u64 = 19;
+
+fn read(scene: &str) -> String {
+    std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(scene)).unwrap()
+}
+
+/// Follows each ankle of the one body of `scene` over `frames` frames:
+/// a contact is a run of frames with the ankle at its lowest height (to
+/// 3 mm); returns each contact's first point and the most it moved.
+fn contacts(scene: &str, frames: u64) -> Vec<(Vec3, f32)> {
+    let mut f = film(&read(scene));
+    let mut ankles: Vec<[Vec3; 2]> = Vec::new();
+    for _ in 0..frames {
+        let Some(frame) = f.next_frame().unwrap() else {
+            break;
+        };
+        let s = frame.scene();
+        let (l, r) = (bone_ends(s, LEFT_FOOT), bone_ends(s, RIGHT_FOOT));
+        assert_eq!((l.len(), r.len()), (1, 1), "one body");
+        ankles.push([l[0], r[0]]);
+    }
+    let low = ankles
+        .iter()
+        .flatten()
+        .map(|a| a.y)
+        .fold(f32::INFINITY, f32::min);
+    let mut out = Vec::new();
+    for foot in 0..2 {
+        let mut contact: Option<(Vec3, f32)> = None;
+        for a in ankles.iter().map(|a| a[foot]) {
+            if a.y > low + 0.003 {
+                out.extend(contact.take());
+                continue;
+            }
+            let c = contact.get_or_insert((a, 0.0));
+            c.1 = c.1.max(a.distance(c.0));
+        }
+        out.extend(contact);
+    }
+    out
+}
+
+#[test]
+fn the_maze_walker_plants_its_feet() {
+    let contacts = contacts("scenes/actors/walker_maze.lm", 700);
+    assert!(contacts.len() > 60, "{} contacts", contacts.len());
+    for (at, slid) in &contacts {
+        assert!(*slid < 0.02, "the foot set down at {at} slid {slid} m");
+    }
+}
+
+#[test]
+fn the_stone_walker_stands_each_foot_on_a_stone() {
+    let text = read("scenes/actors/walker_stones.lm");
+    // The stones: `f () () () (2) (x) (y) (z)` in material 16.
+    let number = |s: &str| match s.strip_suffix('_') {
+        Some(n) => -n.parse::<f32>().unwrap(),
+        None => s.parse().unwrap(),
+    };
+    let stones: Vec<Vec2> = text
+        .lines()
+        .filter(|l| l.starts_with("[ m () (16) $ () () (3) f () () () (2) ("))
+        .map(|l| {
+            let g: Vec<&str> = l.split('(').map(|g| g.split(')').next().unwrap()).collect();
+            let at = g.iter().position(|g| *g == "2").unwrap();
+            Vec2::new(number(g[at + 1]), number(g[at + 3]))
+        })
+        .collect();
+    let contacts = contacts("scenes/actors/walker_stones.lm", 1050);
+    assert!(contacts.len() > 40, "{} contacts", contacts.len());
+    for (at, slid) in &contacts {
+        assert!(*slid < 0.02, "the foot set down at {at} slid {slid} m");
+        // The sole's middle under the ankle, on a stone 0.24 wide (its
+        // half and a little for the sole's own size).
+        let on = stones
+            .iter()
+            .any(|s| (s.x - at.x).abs() < 0.15 && (s.y - at.z).abs() < 0.15);
+        assert!(on, "a foot stands at {at}, on no stone");
+    }
+}
+
+/// The film's geometry at a frame of a walk (`lmfilm export`), the same
+/// bytes for 1 and 2 threads.
+#[test]
+fn a_walking_body_is_the_same_for_one_and_two_threads() {
+    let dir = crate::common::fresh_dir("bodies", "threads");
+    let mut outputs = Vec::new();
+    for threads in ["1", "2"] {
+        let out = dir.join(format!("t{threads}.obj"));
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .env("RAYON_NUM_THREADS", threads)
+            .args([
+                "export",
+                "scenes/actors/walker_stones.lm",
+                "--frame",
+                "300",
+                "-o",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(status.status.success(), "{status:?}");
+        let obj = std::fs::read_to_string(&out).unwrap();
+        outputs.push(obj.replace(&format!("t{threads}.mtl"), "t.mtl"));
+    }
+    assert!(outputs[0].lines().count() > 1000);
+    assert_eq!(outputs[0], outputs[1]);
+}
