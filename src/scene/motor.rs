@@ -70,13 +70,16 @@ impl Drive {
 pub const DEFAULT_HEIGHT: f32 = 1.8;
 /// The height range a body may take.
 const HEIGHTS: std::ops::RangeInclusive<f32> = 0.05..=1000.0;
-/// Where the right wrist is against the hips' point in a ready stance
-/// (for a height of 1: right, at the hips' height, forward).
-const GRIP: Vec3 = Vec3::new(-0.2, 0.0, 0.3);
+/// Where the right wrist is, seen from above, against the hips in a
+/// ready stance (for a height of 1: right and a little forward, the arm
+/// hanging forward within reach).
+const GRIP: Vec3 = Vec3::new(-0.17, 0.0, 0.1);
 /// How quickly hips led by a hand follow it (seconds to close most of
-/// the way), and how low they may crouch for a low hand (of the height).
+/// the way), how low they may crouch for a low hand and how high they
+/// may rise for a high one, off the ground (of the height).
 const FOLLOW: f32 = 0.2;
 const MOST_CROUCH: f32 = 0.2;
+const MOST_RISE: f32 = 0.35;
 
 /// A body's motor, from frame to frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,7 +145,9 @@ impl Motor {
         self.time = d.time;
         let height = self.skeleton.height();
         let from = self.led.map_or(d.at, |(p, _)| p);
-        if let Some(want) = Self::wanted_facing(d, from) {
+        // Seated, the hips keep facing where they first faced.
+        let want = Self::wanted_facing(d, from).filter(|_| !d.seated);
+        if let Some(want) = want {
             // The hips turn toward it, no faster than the feet follow.
             let (a, b) = (self.facing, want);
             let angle = a.cross(b).y.atan2(a.dot(b));
@@ -207,8 +212,8 @@ impl Motor {
     }
 
     /// A right hand held at `d.at` leads the hips: they follow it to a
-    /// ready stance beside it, lower or nearer when it would be out of
-    /// the arm's reach, and the chest turns toward it.
+    /// ready stance beside it, lower, higher (a jump) or nearer when it
+    /// would be out of the arm's reach, and the chest turns toward it.
     fn lead(&mut self, d: &Drive, t: &mut Targets, dt: f32) {
         let s = &self.skeleton;
         let height = s.height();
@@ -223,24 +228,31 @@ impl Motor {
         };
         under += (wanted - under) * k;
         under.y = d.ground;
+        // Back up (or down) when the hand no longer needs it.
+        crouch *= 1.0 - k;
         let walking = s.joints[0].offset.y - CROUCH * height;
         let arm = (s.joints[11].offset.length() + s.joints[12].offset.length()) * 0.97;
-        for _ in 0..3 {
+        for _ in 0..6 {
             t.anchor = Anchor::Hips(under + Vec3::Y * (walking - crouch));
             t.twist = self.twist(d.at, under);
             let world = s.world(&s.solve(t));
             let shoulder = Vec3::from(world[10].translation);
             let gap = d.at - shoulder;
-            let over = gap.length() - arm;
-            if over <= 0.0 {
+            if gap.length() <= arm {
                 break;
             }
-            let shift = gap.normalize() * over;
-            under += Vec3::new(shift.x, 0.0, shift.z);
-            crouch = (crouch - shift.y).clamp(0.0, MOST_CROUCH * height);
+            // Nearer along the ground while that is enough; higher or
+            // lower first when the hand is beyond reach above or below.
+            let level = Vec3::new(gap.x, 0.0, gap.z);
+            let room = arm * arm - gap.y * gap.y;
+            if room > (0.3 * arm).powi(2) {
+                let go = level.length() - room.sqrt();
+                under += level.normalize_or_zero() * go;
+            } else {
+                let want = gap.y.signum() * 0.9 * arm;
+                crouch = (crouch - (gap.y - want)).clamp(-MOST_RISE * height, MOST_CROUCH * height);
+            }
         }
-        // Back up when the hand no longer needs it.
-        crouch *= 1.0 - k;
         self.led = Some((under, crouch));
         t.anchor = Anchor::Hips(under + Vec3::Y * (walking - crouch));
         t.twist = self.twist(d.at, under);

@@ -137,3 +137,93 @@ fn a_walking_body_is_the_same_for_one_and_two_threads() {
     assert!(outputs[0].lines().count() > 1000);
     assert_eq!(outputs[0], outputs[1]);
 }
+
+/// The grip of a player's racket in scenes/tennis/match.lm: a quarter
+/// of the way along the handle (a capsule 0.4 long, 0.04 thick, in the
+/// player's material), where its `D` 50 holds the body's right hand.
+fn grips(scene: &Scene, material: u32) -> Vec<Vec3> {
+    scene
+        .geometries
+        .iter()
+        .flat_map(|g| &g.shapes)
+        .filter(|s| s.material == material && s.symbol >> 48 == 0)
+        .filter_map(|s| match s.kind {
+            ShapeKind::Capsule { length } if (length - 10.0).abs() < 1e-3 => {
+                Some(s.transform.transform_point3(Vec3::new(6.25, 0.0, 0.0)))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+const RIGHT_HAND: u64 = 12;
+const HEAD: u64 = 22;
+
+/// The match's players hold their rackets: at each stroke's impact
+/// (the last frame of its hit phase, when the racket is on its planned
+/// path, eq. 5.6.15–5.6.17, services included) the right wrist of the
+/// body nearest each racket is on its grip within 2 cm, and nearly
+/// always between strokes too (a racket high over a service's follow
+/// through is beyond a 2 m player's reach); the seated referee's head
+/// turns to what it looks at.
+#[test]
+fn the_players_hold_their_rackets_and_the_referee_follows_the_ball() {
+    let mut f = film(&read("scenes/tennis/match.lm"));
+    let (mut held, mut frames, mut impacts) = (0, 0, 0);
+    let mut turned = Vec::new();
+    let mut hitting = [false; 2];
+    let mut last: [Option<f32>; 2] = [None; 2];
+    for _ in 0..900 {
+        let Some(frame) = f.next_frame().unwrap() else {
+            break;
+        };
+        let s = frame.scene().clone();
+        let number = frame.number();
+        let wrists = bone_ends(&s, RIGHT_HAND);
+        assert_eq!(wrists.len(), 3, "two players and the referee");
+        for (p, material) in [11, 12].into_iter().enumerate() {
+            let grip = grips(&s, material);
+            assert_eq!(grip.len(), 1, "one handle in material {material}");
+            let d = wrists
+                .iter()
+                .map(|w| w.distance(grip[0]))
+                .fold(f32::INFINITY, f32::min);
+            frames += 1;
+            held += usize::from(d < 0.02);
+            // The frame a hit phase ends follows the impact.
+            let now = f.living()[p].tennis_state == 13;
+            if hitting[p] && !now {
+                let at = last[p].unwrap();
+                assert!(
+                    at < 0.02,
+                    "frame {number}: player {p}'s hand {at} m off its grip at the impact"
+                );
+                impacts += 1;
+            }
+            hitting[p] = now;
+            last[p] = Some(d);
+        }
+        // The referee's head: its ellipsoid's forward axis.
+        let referee = &f.living()[2];
+        let head = s
+            .geometries
+            .iter()
+            .flat_map(|g| &g.shapes)
+            .find(|sh| sh.symbol >> 48 == HEAD + 1 && sh.material == 15)
+            .expect("the referee's head");
+        let forward = Vec3::from(head.transform.z_axis).normalize();
+        let look = (referee.look_at - referee.eye).normalize();
+        turned.push(forward.angle_between(look));
+    }
+    assert!(impacts >= 6, "{impacts} impacts");
+    assert!(
+        held * 100 >= frames * 97,
+        "the hand on its grip in {held} of {frames} frames"
+    );
+    turned.sort_by(f32::total_cmp);
+    let median = turned[turned.len() / 2];
+    assert!(
+        median < 0.2,
+        "the referee's head is {median} rad off its gaze (median)"
+    );
+}
