@@ -12,8 +12,7 @@ use crate::turtle::Options;
 /// The built-in film (`lmfilm run` with no scene): the first 14 s of the
 /// tennis match on its set, three files derived together (the camera
 /// section, the match with the court and the referee, the landscape with
-/// the moving camera). The surface its match imports is built in too
-/// ([`crate::scene::obj::BUILT_IN_MESHES`]).
+/// the moving camera).
 const BUILT_IN: [(&str, &str); 3] = [
     (
         "showcase.lm",

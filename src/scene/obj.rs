@@ -94,54 +94,11 @@ pub fn read_obj(
 }
 
 /// The folder part of the names of the built-in film's scenes
-/// (`built-in:match.lm`): their surfaces come from [`BUILT_IN_MESHES`].
+/// (`built-in:match.lm`): they name no file on disk.
 pub const BUILT_IN_PREFIX: &str = "built-in:";
-
-/// The files of the surfaces the built-in film imports, built into the
-/// program like its scenes (nothing at run time reads the source tree),
-/// by the name its scene gives them (relative to `scenes/tennis/`).
-pub const BUILT_IN_MESHES: [(&str, &[u8]); 2] = [
-    (
-        "../meshes/head.obj",
-        include_bytes!("../../scenes/meshes/head.obj"),
-    ),
-    (
-        "../meshes/head.mtl",
-        include_bytes!("../../scenes/meshes/head.mtl"),
-    ),
-];
 
 /// An imported mesh: its triangles and materials, as [`read_obj`] gives.
 pub type ObjMesh = (Vec<Triangle>, Vec<Material>);
-
-/// [`read_obj`] on a file of [`BUILT_IN_MESHES`], its MTL libraries
-/// looked up there next to it; `None` when `name` is not one of them.
-pub fn read_built_in_obj(name: &str, material_base: u32) -> Option<Result<ObjMesh, MeshError>> {
-    let find = |n: &str| {
-        BUILT_IN_MESHES
-            .iter()
-            .find(|(f, _)| *f == n)
-            .map(|(_, b)| *b)
-    };
-    let bytes = find(name)?;
-    let dir = name.rsplit_once('/').map_or("", |(d, _)| d);
-    let shown = format!("{BUILT_IN_PREFIX}{name}");
-    let parsed = parse_obj(bytes, material_base, &|lib| {
-        let lib_name = if dir.is_empty() {
-            lib.to_string()
-        } else {
-            format!("{dir}/{lib}")
-        };
-        Ok(find(&lib_name).map(|b| (format!("{BUILT_IN_PREFIX}{lib_name}"), b.to_vec())))
-    })
-    .map_err(|e| {
-        MeshError::Content(match e {
-            ObjError::Obj(e) => e.locate(&shown, bytes).to_string(),
-            ObjError::Other(e) => e,
-        })
-    });
-    Some(parsed)
-}
 
 /// Why [`read_obj`] failed: the caller locates a file it cannot read at
 /// the line that names it; problems inside are located in the file.

@@ -40,14 +40,7 @@ impl Surfaces {
             for (n, file) in &ls.def.surfaces {
                 let base = (material::COUNT + s.materials.len()) as u32;
                 let path = dir.join(&file.name);
-                // The built-in film's surfaces are part of the program.
-                let read = if ls.def.name.starts_with(obj::BUILT_IN_PREFIX) {
-                    obj::read_built_in_obj(&file.name, base)
-                } else {
-                    None
-                };
-                let read = read.unwrap_or_else(|| obj::read_obj(&path, base));
-                let (tris, mats) = read.map_err(|e| match e {
+                let (tris, mats) = obj::read_obj(&path, base).map_err(|e| match e {
                     // Where the scene names the file; problems inside are
                     // located in the OBJ or MTL file itself.
                     obj::MeshError::Read(e) => file.error(format!("surface {n}: {e}")).to_string(),

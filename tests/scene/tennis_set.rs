@@ -1,8 +1,7 @@
 //! The set of the tennis match (`scenes/tennis/match.lm`'s court, chair
-//! and sky, `scenes/tennis/landscape.lm`'s plants and camera), the
-//! referee's head it imports (`scenes/meshes/head.obj`, written by
-//! `scripts/head_mesh.py`), and the built-in film that shows them
-//! (`scenes/tennis/showcase.lm` first).
+//! and sky, `scenes/tennis/landscape.lm`'s plants and camera), its
+//! people (two players and the seated referee), and the built-in film
+//! that shows them (`scenes/tennis/showcase.lm` first).
 
 use std::path::{Path, PathBuf};
 
@@ -11,7 +10,6 @@ use lmfilm::commands::scenes;
 use lmfilm::film::Film;
 use lmfilm::lsys::automata::Automata;
 use lmfilm::lsys::Limits;
-use lmfilm::scene::obj::read_obj;
 use lmfilm::turtle::Options;
 
 /// The built-in film's files, in order.
@@ -25,46 +23,25 @@ fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
 }
 
-/// Where the scene's header puts the neck of the referee's head.
-const HEAD: Vec3 = Vec3::new(0.0, 2.6, -7.0);
+/// The referee actor's eye, over the umpire's chair.
+const REFEREE: Vec3 = Vec3::new(0.0, 3.0, -7.0);
+
+/// The hips joints of the bodies a scene draws: the start of each
+/// thigh's capsule (joint 14, LeftLeg, drawn from LeftUpLeg).
+fn hips(scene: &lmfilm::scene::Scene) -> Vec<Vec3> {
+    scene
+        .geometries
+        .iter()
+        .flat_map(|g| &g.shapes)
+        .filter(|s| s.symbol >> 48 == 15)
+        .map(|s| s.transform.transform_point3(Vec3::ZERO))
+        .collect()
+}
 
 /// The play area: nothing of the set stands in it but the court, the net
 /// and the umpire's chair with the referee.
 fn in_play_area(p: Vec3) -> bool {
     p.x.abs() < 18.0 && p.z.abs() < 10.0
-}
-
-#[test]
-fn the_head_mesh_imports_with_its_own_colours() {
-    let (tris, materials) = read_obj(&repo("scenes/meshes/head.obj"), 0).unwrap();
-    assert!(tris.len() > 1000, "{} triangles", tris.len());
-    assert!(tris.len() <= 8000, "{} triangles", tris.len());
-    let names: Vec<&str> = materials.iter().map(|m| m.name.as_str()).collect();
-    for name in ["head_skin", "head_hair", "head_eye_white", "head_iris"] {
-        assert!(names.contains(&name), "{name} not in {names:?}");
-    }
-    // Every face names a material of head.mtl: no default grey appended.
-    assert!(tris.iter().all(|t| {
-        let m = &materials[t.material as usize];
-        m.name.starts_with("head_")
-    }));
-    let skin = &materials[names.iter().position(|n| *n == "head_skin").unwrap()];
-    assert!(skin.diffuse.x > skin.diffuse.y && skin.diffuse.y > skin.diffuse.z);
-    // About 0.25 m wide, 0.3 m high, the neck's base at the origin; the
-    // nose (the front) towards +z.
-    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for t in &tris {
-        for v in t.v {
-            lo = lo.min(v);
-            hi = hi.max(v);
-        }
-    }
-    assert!((0.2..0.3).contains(&(hi.x - lo.x)), "{lo} {hi}");
-    assert!(
-        (0.27..0.34).contains(&hi.y) && lo.y.abs() < 1e-6,
-        "{lo} {hi}"
-    );
-    assert!(hi.z > 0.1 && lo.z > -0.13, "{lo} {hi}");
 }
 
 #[test]
@@ -105,24 +82,22 @@ fn the_showcase_derives_every_frame_without_warnings() {
     let eye = scene.camera.eye;
     assert!(eye.z < -20.0 && (6.0..=9.0).contains(&eye.y), "{eye}");
     assert!(scene.camera.look_at.length() < 2.0);
-    // The head is placed once, at the chair, with its colours.
-    let heads: Vec<_> = scene
-        .instances
+    // Three people: the two players on their sides of the net, and the
+    // referee seated on the chair under its eye.
+    let people = hips(scene);
+    assert_eq!(people.len(), 3, "{people:?}");
+    assert!(people.iter().any(|p| p.x < -5.0) && people.iter().any(|p| p.x > 5.0));
+    let seated = people
         .iter()
-        .filter(|i| {
-            let g = &scene.geometries[i.geometry as usize];
-            g.triangles.len() > 1000
-        })
-        .collect();
-    assert_eq!(heads.len(), 1);
-    assert!(Vec3::from(heads[0].transform.translation).distance(HEAD) < 1e-4);
-    assert!(scene.materials.iter().any(|m| m.name == "head_skin"));
-    // The plants (every instance but the main word and the head) stand
+        .find(|p| p.distance(REFEREE) < 1.0)
+        .expect("the referee on its chair");
+    assert!((2.1..2.5).contains(&seated.y), "{seated}");
+    // The plants (every instance but the main word) stand
     // out of the play area: their shapes' origins, in the world.
     let mut plants = 0;
     for inst in &scene.instances {
         let at = Vec3::from(inst.transform.translation);
-        if at == Vec3::ZERO || at.distance(HEAD) < 1e-4 {
+        if at == Vec3::ZERO {
             continue;
         }
         plants += 1;
@@ -169,12 +144,9 @@ fn the_built_in_film_is_the_tennis_showcase() {
         let frame = film.next_frame().unwrap().unwrap();
         no_warnings(frame);
     }
-    // The head is the built-in copy of head.obj, with its colours,
-    // whatever the current folder holds.
+    // It reads no file: its people are built in.
     let frame = film.frame().unwrap();
-    let scene = frame.scene();
-    assert!(scene.geometries.iter().any(|g| g.triangles.len() > 1000));
-    assert!(scene.materials.iter().any(|m| m.name == "head_skin"));
+    assert_eq!(hips(frame.scene()).len(), 3);
     assert!(
         film.referenced_files().is_empty(),
         "{:?}",
