@@ -423,15 +423,21 @@ impl TurtleWorld for WorldView<'_> {
             // What an actor gives its body: its gaze; on footholds, the
             // plane, its body's direction and where its soles are.
             drive.gaze = Some(a.look_at);
-            let on_footholds = a.automata == Some(Automata::WalkStepworthy)
-                || (a.automata == Some(Automata::Observe)
-                    && a.stack
-                        .iter()
-                        .any(|b| b.automata == Automata::WalkStepworthy));
-            if on_footholds {
+            // Walking on footholds, or still standing where that walk
+            // left it.
+            let soles = a.footing.soles(a.eye, a.look_at - a.eye);
+            let walking = a.automata == Some(Automata::WalkStepworthy)
+                || a.stack
+                    .iter()
+                    .any(|b| b.automata == Automata::WalkStepworthy);
+            let standing = soles.is_some_and(|(s, _)| {
+                let middle = s[0].midpoint(s[1]);
+                glam::Vec2::new(middle.x - a.eye.x, middle.z - a.eye.z).length() < 0.3
+            });
+            if walking || (a.footing.stepped() && standing) {
                 drive.ground = a.footing.plane.or(a.footing.settings.plane).unwrap_or(0.0);
                 drive.facing = (a.footing.heading != glam::Vec3::ZERO).then_some(a.footing.heading);
-                drive.soles = a.footing.soles(a.eye, a.look_at - a.eye);
+                drive.soles = soles;
             }
         }
         let bodies = self.bodies.as_deref_mut()?;

@@ -148,6 +148,17 @@ impl Walker {
         w
     }
 
+    /// Standing on `soles` (each sole's point on the ground), toes along
+    /// `toes`: a body whose feet something else placed until now.
+    pub fn standing_on(stride: Stride, soles: [Vec3; 2], toes: [Vec3; 2]) -> Walker {
+        let facing = (toes[0] + toes[1]).try_normalize().unwrap_or(Vec3::Z);
+        Walker {
+            feet: soles,
+            toes,
+            ..Walker::new(stride, soles[0].midpoint(soles[1]), facing)
+        }
+    }
+
     /// Where foot `foot` stands when the body stands at `under` facing
     /// `facing`: beside the middle, left (+x of the figure) first.
     fn home(&self, foot: usize, under: Vec3, facing: Vec3) -> Vec3 {

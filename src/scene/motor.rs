@@ -86,6 +86,8 @@ const MOST_RISE: f32 = 0.35;
 pub struct Motor {
     skeleton: Skeleton,
     walker: Option<Walker>,
+    /// Where its soles stood last frame, when its actor placed them.
+    soles: Option<[Vec3; 2]>,
     facing: Vec3,
     /// The hips' point on the ground and how much lower than walking they
     /// crouch, when a hand leads.
@@ -114,6 +116,7 @@ impl Motor {
         Motor {
             skeleton: Skeleton::humanoid(height),
             walker: None,
+            soles: None,
             facing: Self::wanted_facing(d, d.at).unwrap_or(Vec3::Z),
             led: None,
             time: d.time,
@@ -185,8 +188,8 @@ impl Motor {
         let feet = match d.soles {
             Some((soles, swinging)) => {
                 let stride = Stride::of(&self.skeleton);
-                // The motor takes over from where the feet stand.
                 self.walker = None;
+                self.soles = Some(soles);
                 Feet {
                     ankles: soles.map(|s| s + Vec3::Y * stride.ankle),
                     toes: [self.facing; 2],
@@ -195,9 +198,13 @@ impl Motor {
             }
             None => {
                 let stride = Stride::of(&self.skeleton);
-                let walker = self
-                    .walker
-                    .get_or_insert_with(|| Walker::new(stride, under, self.facing));
+                // The motor takes over from where the feet stand.
+                let soles = self.soles.take();
+                let facing = self.facing;
+                let walker = self.walker.get_or_insert_with(|| match soles {
+                    Some(soles) => Walker::standing_on(stride, soles, [facing; 2]),
+                    None => Walker::new(stride, under, facing),
+                });
                 walker.advance(d.time, under, self.facing)
             }
         };

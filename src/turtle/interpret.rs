@@ -3,6 +3,8 @@
 
 use std::collections::BTreeMap;
 
+mod figure;
+
 use glam::{Affine3A, DVec3, Vec3};
 
 use super::builder::Builder;
@@ -12,7 +14,8 @@ use super::world::{ActorMapping, BodyPart, ParticleMapping, SoundRequest, Turtle
 use crate::lsys::step::ActorScope;
 use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Limits, Symbol, Who};
-use crate::scene::motor::Hold;
+use crate::scene::body::Skeleton;
+use crate::scene::mocap::Mocap;
 use crate::scene::shape::{bounds, triangle_bounds, OVERLAY};
 use crate::scene::{material, MAX_COORDINATE};
 use crate::scene::{Geometry, Shape, ShapeKind, Triangle};
@@ -62,26 +65,6 @@ pub struct Structure {
     pub placements: Vec<(Placed, Affine3A, u32, Option<u32>)>,
     /// Named objects defined by this word.
     pub named: Vec<(i64, Geometry)>,
-    /// Bodies to draw (`D` par1 = 50), once the motions are at hand.
-    pub bodies: Vec<BodyAt>,
-}
-
-/// A body placed by `D` par1 = 50: the built-in humanoid of `height`
-/// (None: sized by its motor) standing in the turtle's frame (`frame`:
-/// its up along H, facing U) posed by motion capture `motion`
-/// (`fig_bvh`; 0: the rest pose), or held by the turtle at its eyes,
-/// hand or hips (`hold`) and moved by its motor (`motion` −1: seated).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BodyAt {
-    pub motion: i64,
-    pub height: Option<f32>,
-    pub hold: Option<Hold>,
-    pub frame: Affine3A,
-    pub material: u32,
-    pub symbol: u64,
-    /// The actor whose `M` branch drew it (its body: its own vision
-    /// looks through every bone).
-    pub owner: Option<u32>,
 }
 
 /// The active tropism (2.3.2): the most recent `v` met.
@@ -132,6 +115,12 @@ pub(super) struct Interpreter<'a> {
     ls: &'a mut LSystem,
     b: &'a mut Builder,
     world: &'a mut dyn TurtleWorld,
+    /// The motion captures of the Surfaces sections (`fig_bvh`), by
+    /// L-system and number.
+    motions: &'a [(usize, i64, Mocap)],
+    /// The joints of the body last placed (`D` par1 = 50, 52), where
+    /// `D` par1 = 51 takes the turtle.
+    joints: Option<(Skeleton, Vec<Affine3A>)>,
     time: f64,
     seed: u64,
     opts: Options,
@@ -164,12 +153,15 @@ pub fn interpret(
     b: &mut Builder,
     tables: &mut Tables,
     world: &mut dyn TurtleWorld,
+    motions: &[(usize, i64, Mocap)],
     opts: Options,
 ) -> Structure {
     let mut it = Interpreter {
         ls,
         b,
         world,
+        motions,
+        joints: None,
         time,
         seed,
         opts,
@@ -935,41 +927,6 @@ impl Interpreter<'_> {
                 g[0], g[1]
             )),
         }
-    }
-
-    /// `D` par1 = 50: a body at the turtle (see [`BodyAt`]); par4 the
-    /// motion number, par5 the height (where > 0), par6 what the turtle
-    /// holds: 0 the body's frame, 1 its eyes, 2 its right hand, 3 its
-    /// hips over the ground.
-    pub(super) fn body(&mut self, s: &Symbol, g: [f64; 3]) {
-        let height = (g[1].is_finite() && g[1] > 0.0).then(|| g[1].min(1e3) as f32);
-        let motion = if g[0].is_finite() { g[0] as i64 } else { 0 };
-        let hold = match g[2] {
-            1.0 => Some(Hold::Eyes),
-            2.0 => Some(Hold::Hand),
-            3.0 => Some(Hold::Ground),
-            0.0 => None,
-            h => {
-                self.warn(&format!(
-                    "`D` par1 = 50 holds the body by {h}, not 0 (its frame), 1 (its eyes), 2 (its right hand) or 3 (its hips over the ground): by its frame"
-                ));
-                None
-            }
-        };
-        let frame = placed(&self.t, 1.0, 1.0, 1.0);
-        if !frame.is_finite() {
-            self.warn("`D` par1 = 50 with a turtle frame that is not finite is skipped");
-            return;
-        }
-        self.out.bodies.push(BodyAt {
-            motion,
-            height,
-            hold,
-            frame,
-            material: self.material,
-            symbol: s.id,
-            owner: self.actor,
-        });
     }
 
     pub(super) fn growth_of(&mut self, s: &Symbol) -> [f64; 3] {

@@ -15,15 +15,13 @@ pub mod world;
 
 use std::collections::BTreeMap;
 
-use glam::{Affine3A, DVec3, Vec3, Vec3A};
+use glam::{DVec3, Vec3};
 
 use crate::lsys::Animation;
-use crate::scene::body::Skeleton;
-use crate::scene::motor::{Drive, Motor, DEFAULT_HEIGHT};
 use crate::scene::{Camera, Geometry, Instance, Lens, Light, Scene};
 use builder::surface_in;
 pub use builder::{Builder, Surfaces};
-pub use interpret::{interpret, BodyAt, Options, Placed, Structure, Tables};
+pub use interpret::{interpret, Options, Placed, Structure, Tables};
 pub use state::Turtle;
 pub use world::{
     ActorMapping, ActorPose, BodyPart, NoWorld, ParticleMapping, SoundRequest, TurtleWorld,
@@ -80,19 +78,16 @@ pub fn build_scene(
     let mut recoloured = BTreeMap::new();
     let mut instances = Vec::new();
     for (k, ls) in anim.systems.iter_mut().enumerate() {
-        let mut st = interpret(ls, time, seed, &mut b, &mut tables[k], world, opts);
-        for body in std::mem::take(&mut st.bodies) {
-            let shapes = body_shapes(&body, k, time, surfaces, &mut b, world, &ls.def.name);
-            if !b.count(shapes.len()) {
-                return Err(too_many(&ls.def.name));
-            }
-            if let Some(a) = body.owner {
-                for s in &shapes {
-                    world.body(a, BodyPart::Symbol(s.symbol));
-                }
-            }
-            st.geometry.shapes.extend(shapes);
-        }
+        let st = interpret(
+            ls,
+            time,
+            seed,
+            &mut b,
+            &mut tables[k],
+            world,
+            &surfaces.motions,
+            opts,
+        );
         // Each copy is one instance of the word and one per placement.
         let nbr = ls.def.repetition.start_side_nbr_dist.2.max(1) as usize;
         if b.over() || !b.count(nbr.saturating_mul(1 + st.placements.len())) {
@@ -167,102 +162,4 @@ pub fn build_scene(
         sky: b.sky,
     };
     Ok((scene, b.messages))
-}
-
-/// The humanoid's axes (x its left, y up, z forward) onto the turtle's:
-/// it stands along H, as a stem grows (`+(90)` turns H up, thesis code
-/// 6.2.1), faces U, and its left is −L (a right-handed turn).
-const HUMANOID_TO_TURTLE: Affine3A =
-    Affine3A::from_cols(Vec3A::NEG_Y, Vec3A::X, Vec3A::Z, Vec3A::ZERO);
-
-/// The shapes of the body `body` placed by L-system `k` at time `time`:
-/// held by the turtle, the pose its motor gives (see
-/// [`TurtleWorld::drive_body`]); else the built-in humanoid posed by its
-/// motion capture's frame nearest `time` (the rest pose for motion 0, or
-/// a motion the Surfaces section does not declare, with a warning). Each
-/// bone is its own symbol identifier, so motion blur pairs it with
-/// itself in the next frame.
-fn body_shapes(
-    body: &BodyAt,
-    k: usize,
-    time: f64,
-    surfaces: &Surfaces,
-    b: &mut Builder,
-    world: &mut dyn TurtleWorld,
-    name: &str,
-) -> Vec<crate::scene::Shape> {
-    let (skeleton, pose) = match body.hold {
-        Some(hold) => {
-            let at = Vec3::from(body.frame.translation);
-            let heading = Vec3::from(body.frame.x_axis);
-            let mut drive = Drive::new(hold, at, heading, time);
-            drive.height = body.height;
-            drive.seated = body.motion == SEATED;
-            let (skeleton, targets) = world
-                .drive_body((k, body.symbol), body.owner, drive)
-                .unwrap_or_else(|| {
-                    let mut motor = Motor::new(&drive);
-                    let targets = motor.drive(&drive);
-                    (motor.skeleton().clone(), targets)
-                });
-            let pose = skeleton.solve(&targets);
-            (skeleton, pose)
-        }
-        None => {
-            let skeleton = Skeleton::humanoid(body.height.unwrap_or(DEFAULT_HEIGHT));
-            let pose = framed_pose(body, k, time, surfaces, &skeleton, b, name);
-            (skeleton, pose)
-        }
-    };
-    let world = skeleton.world(&pose);
-    let mut shapes = skeleton.draw(&world, body.material, 0);
-    for s in &mut shapes {
-        // Distinct from every counter-made identifier: the bone's number
-        // in the top bits.
-        s.symbol = body.symbol ^ ((s.symbol + 1) << 48);
-    }
-    let drawn = shapes.len();
-    shapes.retain(|s| crate::scene::shape::bounds(s).is_some());
-    if shapes.len() < drawn {
-        b.warn(
-            name,
-            &format!(
-                "a body (`D` par1 = 50) reaching beyond ±{:e} is skipped",
-                crate::scene::MAX_COORDINATE
-            ),
-        );
-        shapes.clear();
-    }
-    shapes
-}
-
-/// `D` par1 = 50's motion −1: seated (a body held by the turtle).
-const SEATED: i64 = -1;
-
-/// The pose of a body standing in the turtle's frame: its motion
-/// capture's frame nearest `time`, or the rest pose.
-fn framed_pose(
-    body: &BodyAt,
-    k: usize,
-    time: f64,
-    surfaces: &Surfaces,
-    skeleton: &Skeleton,
-    b: &mut Builder,
-    name: &str,
-) -> crate::scene::body::Pose {
-    let mut pose = skeleton.rest(Affine3A::IDENTITY);
-    if body.motion != 0 {
-        match surfaces.motions.iter().find(|(l, n, _)| *l == k && *n == body.motion) {
-            Some((_, _, m)) => pose = skeleton.pose_from(m, m.frame_at(time)),
-            None => b.warn(
-                name,
-                &format!(
-                    "`D` par1 = 50 names motion {}, which the Surfaces section does not declare (`fig_bvh {} file.bvh`): the rest pose",
-                    body.motion, body.motion
-                ),
-            ),
-        }
-    }
-    pose.root = body.frame * HUMANOID_TO_TURTLE * pose.root;
-    pose
 }

@@ -160,3 +160,47 @@ fn a_body_out_of_bounds_is_skipped_with_a_warning() {
     assert!(scene.geometries[0].shapes.is_empty());
     assert!(warnings.iter().any(|w| w.contains("body")), "{warnings:?}");
 }
+
+/// A figure of the user's own (`D` 52 places a body undrawn, `D` 51
+/// takes the turtle to its joints): what the word draws at a joint is
+/// where the built-in body's joint is, and a capsule drawn from a joint
+/// along H of the bone's length ends at the next joint.
+#[test]
+fn a_word_draws_its_own_figure_at_the_joints() {
+    let text = "Camera_AnimationParameters\nt_final_interval 1 0.04\n\
+        Axiom\nf () () () (2) (3) + () () () () (90) & () () () () (20)\n\
+        D () (50) () () (0) (1.8)\n\
+        D () (52) () () (0) (1.8)\n\
+        [ D () (51) () () (15) m () (4) a () () () () (0.05) ]\n\
+        [ D () (51) () () (13) m () (5) O () () () () (0.441) (0.05) (0.05) ]\n\
+        D () (51) () () (99)\n";
+    let mut a = crate::common::from_text(text);
+    let (scene, warnings) = crate::common::scene(&mut a);
+    assert!(
+        warnings.iter().any(|w| w.contains("joint 99")),
+        "{warnings:?}"
+    );
+    let shapes = &scene.geometries[0].shapes;
+    // The built-in body's bones: the capsule ending at joint k is bone k.
+    let joint = |k: u64| {
+        let s = shapes.iter().find(|s| s.symbol >> 48 == k + 1).unwrap();
+        let ShapeKind::Capsule { length } = s.kind else {
+            panic!("bone {k}")
+        };
+        s.transform.transform_point3(Vec3::new(length, 0.0, 0.0))
+    };
+    let own = |material: u32| shapes.iter().find(|s| s.material == material).unwrap();
+    let foot = own(4).transform.transform_point3(Vec3::ZERO);
+    assert!(foot.distance(joint(15)) < 1e-4, "{foot} {}", joint(15));
+    let thigh = own(5);
+    let ShapeKind::Capsule { length } = thigh.kind else {
+        panic!("a capsule")
+    };
+    let end = thigh
+        .transform
+        .transform_point3(Vec3::new(length, 0.0, 0.0));
+    assert!(end.distance(joint(14)) < 1e-3, "{end} {}", joint(14));
+    // 21 bones of the drawn body, one sphere, one capsule: the undrawn
+    // body adds nothing.
+    assert_eq!(shapes.len(), 23);
+}

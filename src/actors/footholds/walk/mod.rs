@@ -153,6 +153,12 @@ impl Footing {
         matches!(self.motion, Some((Motion::Turn { .. }, _)))
     }
 
+    /// Whether it has stepped on footholds (its soles stand where steps
+    /// set them).
+    pub fn stepped(&self) -> bool {
+        self.soles[0].is_some()
+    }
+
     /// Its left, across its body's direction (`facing` before it has
     /// one).
     fn left(&self, facing: Vec3) -> Vec3 {
