@@ -51,7 +51,7 @@ fn d_symbol(it: &mut Interpreter, s: &Symbol) {
         11 => textured(it, Texture::Bump),
         15 => it.builder().sky(DVec3::from_array(g)),
         50 => it.body(s, g, true),
-        51 => it.to_joint(g),
+        51 => it.turtle_to_joint(g),
         52 => it.body(s, g, false),
         16 => clouds(it, s, g),
         18 => it.builder().observer_light(),

@@ -141,7 +141,7 @@ impl Interpreter<'_> {
     /// `D` par1 = 51: the turtle to joint par4 (0–21, in the order of
     /// docs/symbols.md) of the body last placed, H along its bone to its
     /// first child (a joint without one: its own up), U toward its front.
-    pub(in crate::turtle) fn to_joint(&mut self, g: [f64; 3]) {
+    pub(in crate::turtle) fn turtle_to_joint(&mut self, g: [f64; 3]) {
         let Some((skeleton, world)) = &self.joints else {
             return self.warn("`D` par1 = 51 takes the turtle to a joint, and no body (`D` 50, 52) was placed before it: skipped");
         };
