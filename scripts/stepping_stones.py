@@ -82,7 +82,7 @@ D () (16)
 l () () () (12) (0.5) (0.7_) (0.35)
 [ m () (3) m () () () (1) (0.10) (0.22) (0.30) D () (2) () () ({DEPTH}_) ]
 /* the actor: a person, its eyes at the actor's */
-[ M () (7) () (0) m () (10) D () (50) () () (0) () (1) ]
+[ M () (7) () (0) m () (14) D () (50) () () (0) () (1) ]
 """
 else:
     HEADER = f"""/* Walking on sparse foothold locations (thesis 5.9, 7.3.2):
