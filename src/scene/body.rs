@@ -36,6 +36,17 @@ pub struct Pose {
     pub rotations: Vec<Quat>,
 }
 
+/// The yaw rotation turning +z onto the horizontal part of `f` (the
+/// identity for a vertical or zero `f`).
+pub fn yaw(f: Vec3) -> Quat {
+    let (x, z) = (f.x, f.z);
+    if x * x + z * z < 1e-12 || !(x.is_finite() && z.is_finite()) {
+        Quat::IDENTITY
+    } else {
+        Quat::from_rotation_y(x.atan2(z))
+    }
+}
+
 /// The built-in humanoid, for a height of 1: (name, parent, offset,
 /// radius). Proportions after the usual eight-heads figure.
 const HUMANOID: [(&str, Option<usize>, [f32; 3], f32); 22] = [

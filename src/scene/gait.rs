@@ -10,8 +10,7 @@
 
 use glam::Vec3;
 
-use super::body::Skeleton;
-use super::rig::yaw;
+use super::body::{yaw, Skeleton};
 
 /// A foot in the air: from where, to where, how far along (0 to 1) and
 /// how fast (per second; a stance foot nearing its reach hurries it).

@@ -9,6 +9,7 @@
 
 use glam::{Affine3A, Mat3, Quat, Vec3};
 
+pub use super::body::yaw;
 use super::body::{Pose, Skeleton};
 
 /// Where the body hangs from.
@@ -97,17 +98,6 @@ const HEAD: usize = 4;
 const LEGS: [[usize; 3]; 2] = [[13, 14, 15], [17, 18, 19]];
 const ARMS: [[usize; 3]; 2] = [[6, 7, 8], [10, 11, 12]];
 const FEET: [usize; 2] = [15, 19];
-
-/// The yaw rotation turning +z onto the horizontal part of `f` (the
-/// identity for a vertical or zero `f`).
-pub fn yaw(f: Vec3) -> Quat {
-    let (x, z) = (f.x, f.z);
-    if x * x + z * z < 1e-12 || !(x.is_finite() && z.is_finite()) {
-        Quat::IDENTITY
-    } else {
-        Quat::from_rotation_y(x.atan2(z))
-    }
-}
 
 /// The rotation turning the orthonormal pair (`a`, `b`) onto (`c`, `d`).
 fn frame_turn(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Quat {

@@ -227,3 +227,59 @@ fn the_players_hold_their_rackets_and_the_referee_follows_the_ball() {
         "the referee's head is {median} rad off its gaze (median)"
     );
 }
+
+/// An imported trajectory drives a body (`$` par2 = 5, `import_trace`):
+/// held by its eyes at the trajectory's point (1 m up: a child of 1.1 m),
+/// it walks the path `pledge.lm` recorded with its feet planted.
+#[test]
+fn an_imported_trajectory_walks_a_body() {
+    let dir = crate::common::fresh_dir("bodies", "trace");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::copy(
+        root.join("scenes/actors/pledge.trace"),
+        dir.join("pledge.trace"),
+    )
+    .unwrap();
+    let scene = dir.join("walk.lm");
+    std::fs::write(
+        &scene,
+        "Camera_AnimationParameters\nt_final_interval 12 0.04\n\
+         Options\nimport_trace 0 pledge.trace\n\
+         Axiom\n[ $ () () (5) (0) m () (14) D () (50) () () (0) () (1) ]\n",
+    )
+    .unwrap();
+    let mut f = lmfilm::film::Film::load(&[&scene], lmfilm::turtle::Options::default()).unwrap();
+    let mut planted: [Option<Vec3>; 2] = [None; 2];
+    let (mut steps, mut travelled, mut last) = (0, 0.0, None::<Vec3>);
+    while let Some(frame) = f.next_frame().unwrap() {
+        let s = frame.scene();
+        let feet = [bone_ends(s, LEFT_FOOT)[0], bone_ends(s, RIGHT_FOOT)[0]];
+        // The spine joint, where the body is.
+        let hips = bone_ends(s, 1)[0];
+        if let Some(l) = last {
+            travelled += Vec3::new(hips.x - l.x, 0.0, hips.z - l.z).length();
+        }
+        last = Some(hips);
+        for (k, a) in feet.into_iter().enumerate() {
+            // Grounded: the ankle at its standing height.
+            if a.y > 0.035 {
+                planted[k] = None;
+                continue;
+            }
+            match planted[k] {
+                None => {
+                    planted[k] = Some(a);
+                    steps += 1;
+                }
+                Some(p) => assert!(
+                    a.distance(p) < 0.02,
+                    "frame {}: slid {}",
+                    frame.number(),
+                    a.distance(p)
+                ),
+            }
+        }
+    }
+    assert!(travelled > 5.0, "the body went {travelled} m");
+    assert!(steps > 10, "{steps} steps");
+}
