@@ -42,6 +42,14 @@ for i in range(I0, I1):
 def sinking(x, z):
     return abs(x - SINK_AT[0]) < 0.2 and abs(z - SINK_AT[1]) < 0.2
 
+# Both walks' set: the sky, clouds, the sun, the water.
+SET = f"""/* sky, clouds, the sun, the water */
+D () (15)
+D () (16)
+l () () () (12) (0.5) (0.7_) (0.35)
+[ m () (3) m () () () (1) (0.10) (0.22) (0.30) D () (2) () () ({DEPTH}_) ]
+"""
+
 # The walker starts standing on the stone nearest the cube's start.
 START = min(stones, key=lambda s: (s[0] + 3.1) ** 2 + (s[1] + 3.4) ** 2)
 
@@ -76,12 +84,7 @@ actorNbr_automata 0 walk_stepworthy init 10 -6.425 6.375 0.05 obs {START[0]} 1.6
 actorNbr_automata 0 watch
 
 Axiom
-/* sky, clouds, the sun, the water */
-D () (15)
-D () (16)
-l () () () (12) (0.5) (0.7_) (0.35)
-[ m () (3) m () () () (1) (0.10) (0.22) (0.30) D () (2) () () ({DEPTH}_) ]
-/* the actor: a person, its eyes at the actor's */
+{SET}/* the actor: a person, its eyes at the actor's */
 [ M () (7) () (0) m () (14) D () (50) () () (0) () (1) ]
 """
 else:
@@ -119,12 +122,7 @@ actorNbr_automata 0 walk_stepworthy init 10 -6.425 6.375 0.05 obs -3.1 0.7 -3.4 
 actorNbr_automata 0 watch
 
 Axiom
-/* sky, clouds, the sun, the water */
-D () (15)
-D () (16)
-l () () () (12) (0.5) (0.7_) (0.35)
-[ m () (3) m () () () (1) (0.10) (0.22) (0.30) D () (2) () () ({DEPTH}_) ]
-/* the actor: a cube with a periscope eye (turtle 1: H its heading, L up),
+{SET}/* the actor: a cube with a periscope eye (turtle 1: H its heading, L up),
    all of it within its near plane (0.75) so that it never sees itself */
 [ M () (7) () (0)
   [ a () () () () (0.12) ]

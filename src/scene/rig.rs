@@ -140,16 +140,12 @@ impl Skeleton {
     pub fn solve(&self, t: &Targets) -> Pose {
         let mut pose = self.upper_body(t);
         let facing = yaw(t.facing);
-
         let forward = facing * Vec3::Z;
         let down = Vec3::NEG_Y;
         for (side, [upper, middle, end]) in LEGS.into_iter().enumerate() {
             let world = self.world(&pose);
             let hip = Vec3::from(world[upper].translation);
-            let (l1, l2) = (
-                self.joints[middle].offset.length(),
-                self.joints[end].offset.length(),
-            );
+            let (l1, l2) = self.bones(middle, end);
             let target = t.feet[side].unwrap_or(hip + down * (l1 + l2));
             self.reach(
                 &mut pose,
@@ -172,10 +168,7 @@ impl Skeleton {
         for (side, [upper, middle, end]) in ARMS.into_iter().enumerate() {
             let world = self.world(&pose);
             let shoulder = Vec3::from(world[upper].translation);
-            let (l1, l2) = (
-                self.joints[middle].offset.length(),
-                self.joints[end].offset.length(),
-            );
+            let (l1, l2) = self.bones(middle, end);
             // A hanging arm: down, a little out and forward.
             let out = if side == 0 { 1.0 } else { -1.0 };
             let swing = Quat::from_rotation_x(-t.arm_swing[side].clamp(-1.0, 1.0));
@@ -252,6 +245,15 @@ impl Skeleton {
         pose
     }
 
+    /// The lengths of a limb's two bones: to its middle joint and to
+    /// its end.
+    fn bones(&self, middle: usize, end: usize) -> (f32, f32) {
+        (
+            self.joints[middle].offset.length(),
+            self.joints[end].offset.length(),
+        )
+    }
+
     /// The head joint's height in a standing figure (its eyes are
     /// measured from it).
     fn head_height(&self) -> f32 {
@@ -272,10 +274,7 @@ impl Skeleton {
     ) {
         let world = self.world(pose);
         let root = Vec3::from(world[upper].translation);
-        let (l1, l2) = (
-            self.joints[middle].offset.length(),
-            self.joints[end].offset.length(),
-        );
+        let (l1, l2) = self.bones(middle, end);
         if !(target.is_finite() && l1 > 0.0 && l2 > 0.0) {
             return;
         }
