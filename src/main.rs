@@ -84,6 +84,28 @@ enum Command {
         #[command(flatten)]
         quality: QualityArgs,
     },
+    /// Watch scene files and render a preview still of one frame each
+    /// time one of them (or a file it names) is saved: a live preview
+    /// beside an editor. Errors are printed, not fatal; Ctrl-C stops.
+    ///
+    /// The preview preset unless --preset is given. Example:
+    ///
+    ///     lmfilm watch scenes/examples/cours_tree3.lm --time 5 -o renders/preview.png
+    Watch {
+        /// The image to write, again at each change: .png or .exr.
+        #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = commands::frame::image_path)]
+        output: PathBuf,
+        /// Stop after this many renders (for scripts; default: never).
+        #[arg(long, value_name = "N")]
+        count: Option<u32>,
+        /// Diameter of the thin cylinders drawn for segments `R S`.
+        #[arg(long, default_value_t = 0.05, value_parser = segment_width)]
+        segment_width: f64,
+        #[command(flatten)]
+        at: FrameArgs,
+        #[command(flatten)]
+        quality: QualityArgs,
+    },
     /// Make a whole film: derive, render every frame, the soundtrack, the
     /// manifest, and an MP4 when ffmpeg is installed.
     ///
@@ -327,6 +349,13 @@ fn main() -> ExitCode {
             quality,
             segment_width,
         } => commands::frame::still(&at, &output, &quality, segment_width),
+        Command::Watch {
+            at,
+            output,
+            count,
+            quality,
+            segment_width,
+        } => commands::watch::watch(&at, &output, &quality, segment_width, count),
         Command::Run {
             scenes,
             output,

@@ -9,6 +9,7 @@ pub mod frame;
 pub mod scenes;
 pub mod sound;
 pub mod trace;
+pub mod watch;
 
 use std::io::{IsTerminal, Write};
 use std::time::Instant;

@@ -41,7 +41,7 @@ fn query_positions_feed_back_into_the_derivation() {
 fn help_lists_every_command_with_an_example() {
     let (code, out, _) = lmfilm(&["--help"]);
     assert_eq!(code, 0);
-    for cmd in ["print", "export", "still"] {
+    for cmd in ["print", "export", "still", "watch"] {
         assert!(out.contains(cmd), "{out}");
         let (_, sub, _) = lmfilm(&[cmd, "--help"]);
         assert!(sub.contains(&format!("lmfilm {cmd} scenes/")), "{sub}");

@@ -19,3 +19,4 @@ mod records;
 mod settings;
 mod support;
 mod tracks;
+mod watch;

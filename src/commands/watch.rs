@@ -1,0 +1,92 @@
+//! `lmfilm watch` (issue 40, thesis 8.1.2's live preview): the still of
+//! one frame, rendered again each time a scene file or a file it names
+//! is saved; a scene that does not load, derive or render prints its
+//! located error and is watched on.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant, SystemTime};
+
+use super::args::{FrameArgs, PresetArg, QualityArgs};
+use super::frame::still;
+use super::scenes;
+use crate::error::Result;
+use crate::turtle::Options;
+
+/// How often the files are looked at.
+const POLL: Duration = Duration::from_millis(150);
+/// Files up to this size are hashed, so that a save within the clock's
+/// resolution that keeps the size is seen too.
+const HASHED: u64 = 4 << 20;
+
+/// What a watched file looked like: its size, time and (small files)
+/// content hash; None when it cannot be read.
+type Stamp = Option<(u64, Option<SystemTime>, Option<String>)>;
+
+fn stamp(path: &Path) -> Stamp {
+    let meta = std::fs::metadata(path).ok()?;
+    let hash = (meta.len() <= HASHED)
+        .then(|| std::fs::read(path).ok())
+        .flatten()
+        .map(|bytes| crate::production::digest::sha256_bytes(&bytes));
+    Some((meta.len(), meta.modified().ok(), hash))
+}
+
+/// The files a change of which re-renders: the scenes and the files
+/// their film names (surfaces, motions, channels, trajectories), as far
+/// as the scenes load.
+fn watched(at: &FrameArgs) -> Vec<PathBuf> {
+    let mut files = at.scenes.clone();
+    if let Ok(film) = scenes::load_film(&at.scenes, at.scene.allow_commands, Options::default()) {
+        files.extend(film.referenced_files().into_iter().map(|(_, p)| p));
+    }
+    files
+}
+
+/// `lmfilm watch`: renders the still at once, then again after each
+/// change, until interrupted — or after `count` renders.
+pub fn watch(
+    at: &FrameArgs,
+    output: &Path,
+    quality: &QualityArgs,
+    segment_width: f64,
+    count: Option<u32>,
+) -> Result<()> {
+    // A preview unless a preset is asked for: quick to look at.
+    let mut quality = *quality;
+    quality.preset.get_or_insert(PresetArg::Preview);
+    let mut seen: Option<Vec<Stamp>> = None;
+    let mut files = at.scenes.clone();
+    let mut renders = 0;
+    eprintln!(
+        "watching {} (Ctrl-C stops)",
+        at.scenes
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    loop {
+        let now: Vec<Stamp> = files.iter().map(|f| stamp(f)).collect();
+        if seen.as_ref() != Some(&now) {
+            let start = Instant::now();
+            match still(at, output, &quality, segment_width) {
+                Ok(()) => eprintln!("rendered in {:.2} s", start.elapsed().as_secs_f64()),
+                // Printed, not fatal: the next save may fix it.
+                Err(e) => eprintln!("{e}"),
+            }
+            renders += 1;
+            if count.is_some_and(|n| renders >= n) {
+                return Ok(());
+            }
+            // The files as they were when this render began to read them
+            // (a save during the render renders again).
+            files = watched(at);
+            seen = Some(if files.len() == now.len() {
+                now
+            } else {
+                files.iter().map(|f| stamp(f)).collect()
+            });
+        }
+        std::thread::sleep(POLL);
+    }
+}
