@@ -205,6 +205,14 @@ impl Walker {
             self.swings[foot] = Some(s);
         }
         self.maybe_step(under, facing);
+        // A standing foot the body has left beyond its reach this frame (a
+        // start faster than any step) is lifted at once: it never slides.
+        for foot in 0..2 {
+            let off = flat(self.feet[foot] - self.home(foot, under, facing)).length();
+            if self.swings[foot].is_none() && off > self.stride.reach {
+                self.lift(foot, under, facing, QUICK_STEP);
+            }
+        }
         self.feet_now()
     }
 
@@ -302,6 +310,11 @@ impl Walker {
         } else {
             SLOW_STEP
         };
+        self.lift(foot, under, facing, duration);
+    }
+
+    /// Starts a step of `foot` taking `duration` seconds.
+    fn lift(&mut self, foot: usize, under: Vec3, facing: Vec3, duration: f64) {
         let (to, to_toes) = self.landing(foot, under, facing, duration);
         self.swings[foot] = Some(Swing {
             foot,

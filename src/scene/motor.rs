@@ -208,8 +208,12 @@ impl Motor {
                 walker.advance(d.time, under, self.facing)
             }
         };
-        t.feet = feet.ankles.map(Some);
+        // A hand that lifts the hips off the ground lifts the feet too
+        // (a jump).
+        let jump = self.led.map_or(0.0, |(_, crouch)| (-crouch).max(0.0));
+        t.feet = feet.ankles.map(|a| Some(a + Vec3::Y * jump));
         t.toes = feet.toes;
+        t.standing = feet.swinging.map(|s| !s && jump == 0.0);
         // The arms swing against the legs: each forward as the other
         // side's foot is.
         let reach = Stride::of(&self.skeleton).reach.max(1e-6);

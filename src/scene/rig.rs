@@ -32,6 +32,9 @@ pub struct Targets {
     pub feet: [Option<Vec3>; 2],
     /// Where each foot's toes point (horizontal; `facing` when zero).
     pub toes: [Vec3; 2],
+    /// Which feet stand on the ground (bear weight): a pose that leaves
+    /// one of them short of its target makes it slide.
+    pub standing: [bool; 2],
     /// Each wrist; None lets the arm hang.
     pub hands: [Option<Vec3>; 2],
     /// A point the head turns to, within what a neck allows.
@@ -51,6 +54,7 @@ impl Targets {
             facing,
             feet: [None; 2],
             toes: [Vec3::ZERO; 2],
+            standing: [false; 2],
             hands: [None; 2],
             gaze: None,
             arm_swing: [0.0; 2],
@@ -119,9 +123,9 @@ fn perpendicular(v: Vec3, n: Vec3, fallback: Vec3) -> Vec3 {
 }
 
 /// The middle joint of a two-bone chain from `root` toward `target`
-/// (bones `l1`, `l2`), bent toward `pole`: the target is held to the
-/// chain's reach.
-fn bend(root: Vec3, target: Vec3, l1: f32, l2: f32, pole: Vec3) -> (Vec3, Vec3) {
+/// (bones `l1`, `l2`), bent toward `pole`, the end (the target held to
+/// the chain's reach) and the normal of the plane the chain bends in.
+fn bend(root: Vec3, target: Vec3, l1: f32, l2: f32, pole: Vec3) -> (Vec3, Vec3, Vec3) {
     let to = target - root;
     let dir = to.try_normalize().unwrap_or(Vec3::NEG_Y);
     let d = to
@@ -131,7 +135,7 @@ fn bend(root: Vec3, target: Vec3, l1: f32, l2: f32, pole: Vec3) -> (Vec3, Vec3) 
     let a = (l1 * l1 - l2 * l2 + d * d) / (2.0 * d);
     let h = (l1 * l1 - a * a).max(0.0).sqrt();
     let side = perpendicular(pole, dir, Vec3::Z);
-    (root + dir * a + side * h, end)
+    (root + dir * a + side * h, end, dir.cross(side))
 }
 
 impl Skeleton {
@@ -278,12 +282,15 @@ impl Skeleton {
         if !(target.is_finite() && l1 > 0.0 && l2 > 0.0) {
             return;
         }
-        let (knee, foot) = bend(root, target, l1, l2, pole);
+        let (knee, foot, normal) = bend(root, target, l1, l2, pole);
         let d1 = (knee - root) / l1;
         let d2 = (foot - knee).try_normalize().unwrap_or(d1);
-        let side = perpendicular(pole, d1, Vec3::Z);
-        let upper_world = frame_turn(rest, rest_pole, d1, side);
-        let middle_world = frame_turn(rest, rest_pole, d2, perpendicular(pole, d2, side));
+        // Each bone's pole side within the plane the limb bends in: well
+        // defined even where a bone points along the pole (a seated
+        // thigh, forward).
+        let side = |d: Vec3| normal.cross(d).normalize();
+        let upper_world = frame_turn(rest, rest_pole, d1, side(d1));
+        let middle_world = frame_turn(rest, rest_pole, d2, side(d2));
         let parent = world[self.joints[upper].parent.expect("a limb has a parent")]
             .to_scale_rotation_translation()
             .1;

@@ -283,3 +283,28 @@ fn an_imported_trajectory_walks_a_body() {
     assert!(travelled > 5.0, "the body went {travelled} m");
     assert!(steps > 10, "{steps} steps");
 }
+
+/// A body whose legs cannot span its steps says so: the cube of
+/// scenes/actors/footholds.lm, whose eye is 0.7 up, given a body (0.77 m
+/// tall) for stones 0.62 apart.
+#[test]
+fn a_body_too_short_for_its_steps_says_so() {
+    let text = read("scenes/actors/footholds.lm").replace(
+        "[ M () (7) () (0)\n",
+        "[ M () (7) () (0) D () (50) () () (0) () (1)\n",
+    );
+    assert!(text.contains("D () (50)"));
+    let mut f = film(&text);
+    let mut said = Vec::new();
+    for _ in 0..300 {
+        let Some(frame) = f.next_frame().unwrap() else {
+            break;
+        };
+        said.extend(frame.warnings().iter().cloned());
+    }
+    assert!(
+        said.iter()
+            .any(|w| w.contains("cannot reach where its feet are set")),
+        "{said:?}"
+    );
+}

@@ -235,3 +235,66 @@ fn stance_feet_stay_planted_on_generated_paths() {
     }
     assert!(steps > 400, "{steps} steps in all");
 }
+
+/// Feet and hands anywhere within the limb's reach of its root — ahead
+/// along the knee's pole (a seated thigh), sideways, behind, above — are
+/// met: the limb's frame is taken in the plane it bends in, never from a
+/// pole along the bone.
+#[test]
+fn limbs_reach_in_every_direction_including_along_their_pole() {
+    use lmfilm::scene::motor::{Drive, Hold, Motor};
+    let mut state = 0x5eed_u64;
+    // The seated referee's case: the thigh straight ahead, as the pole.
+    let mut d = Drive::new(Hold::Eyes, Vec3::new(0.0, 3.0, -7.0), Vec3::Z, 0.0);
+    d.height = Some(1.9);
+    d.seated = true;
+    d.gaze = Some(Vec3::ZERO);
+    let t = Motor::new(&d).drive(&d);
+    let s = Skeleton::humanoid(1.9);
+    let world = s.world(&s.solve(&t));
+    for (name, want) in [("LeftFoot", t.feet[0]), ("RightFoot", t.feet[1])] {
+        let got = joint(&s, &world, name);
+        assert!(got.distance(want.unwrap()) < 1e-4, "{name} {got} {want:?}");
+    }
+    for case in 0..300 {
+        let s = Skeleton::humanoid(1.0 + next(&mut state));
+        let facing = Quat::from_rotation_y(6.3 * next(&mut state)) * Vec3::Z;
+        let mut t = Targets::standing(Anchor::Hips(Vec3::new(0.0, 1.0, 0.0)), facing);
+        let rest = s.world(&s.solve(&t));
+        let mut wants = Vec::new();
+        for (root, end, reach, slot) in [
+            ("LeftUpLeg", "LeftFoot", 0.48, 0),
+            ("RightUpLeg", "RightFoot", 0.48, 1),
+            ("LeftArm", "LeftHand", 0.32, 2),
+            ("RightArm", "RightHand", 0.32, 3),
+        ] {
+            // Along the pole itself in one case of four.
+            let dir = if case % 4 == 0 {
+                facing
+            } else {
+                Vec3::new(
+                    next(&mut state) - 0.5,
+                    next(&mut state) - 0.5,
+                    next(&mut state) - 0.5,
+                )
+                .normalize_or(Vec3::Z)
+            };
+            let length = reach * s.height() * (0.2 + 0.75 * next(&mut state));
+            let want = joint(&s, &rest, root) + dir * length;
+            match slot {
+                0 | 1 => t.feet[slot] = Some(want),
+                _ => t.hands[slot - 2] = Some(want),
+            }
+            wants.push((end, want));
+        }
+        let world = s.world(&s.solve(&t));
+        bones_keep_their_length(&s, &world);
+        for (end, want) in wants {
+            let got = joint(&s, &world, end);
+            assert!(
+                got.distance(want) < 1e-3 * s.height(),
+                "case {case}: {end} {got} against {want}"
+            );
+        }
+    }
+}

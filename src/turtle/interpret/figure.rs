@@ -11,6 +11,7 @@ use super::{placed, Interpreter};
 use crate::lsys::Symbol;
 use crate::scene::body::{Pose, Skeleton};
 use crate::scene::motor::{Drive, Hold, Motor, DEFAULT_HEIGHT};
+use crate::scene::rig::Targets;
 use crate::scene::shape::bounds;
 use crate::scene::MAX_COORDINATE;
 
@@ -19,6 +20,9 @@ use crate::scene::MAX_COORDINATE;
 /// 6.2.1), faces U, and its left is −L (a right-handed turn).
 const HUMANOID_TO_TURTLE: Affine3A =
     Affine3A::from_cols(Vec3A::NEG_Y, Vec3A::X, Vec3A::Z, Vec3A::ZERO);
+
+/// The ankle joints of the built-in humanoid, left and right.
+const FEET: [usize; 2] = [15, 19];
 
 /// `D` par1 = 50's motion −1: seated (a body held by the turtle).
 const SEATED: i64 = -1;
@@ -94,6 +98,7 @@ impl Interpreter<'_> {
                     (motor.skeleton().clone(), targets)
                 });
             let pose = skeleton.solve(&targets);
+            self.feet_beyond_reach(&skeleton, &pose, &targets);
             return (skeleton, pose);
         }
         let skeleton = Skeleton::humanoid(body.height.unwrap_or(DEFAULT_HEIGHT));
@@ -114,6 +119,26 @@ impl Interpreter<'_> {
         }
         pose.root = frame * HUMANOID_TO_TURTLE * pose.root;
         (skeleton, pose)
+    }
+
+    /// Warns (once per height) when the pose leaves a standing foot more
+    /// than 2 cm from where its motor or its actor's footholds set it:
+    /// the legs are too short for the steps, and the foot slides.
+    fn feet_beyond_reach(&mut self, skeleton: &Skeleton, pose: &Pose, targets: &Targets) {
+        let world = skeleton.world(pose);
+        let short = (0..2)
+            .filter(|&k| targets.standing[k])
+            .filter_map(|k| {
+                let at = Vec3::from(world[FEET[k]].translation);
+                Some(at.distance(targets.feet[k]?))
+            })
+            .fold(0.0, f32::max);
+        if short > 0.02 {
+            self.warn(&format!(
+                "a body {:.2} m tall cannot reach where its feet are set (steps or ground beyond its legs' reach): its feet slide; a taller body (`D` 50 par5) or shorter steps (`foothold_step`) keep them planted",
+                skeleton.height()
+            ));
+        }
     }
 
     /// The body's capsules and head in the current material, each bone
