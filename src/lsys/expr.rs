@@ -191,7 +191,12 @@ impl<'a> Compiler<'a> {
             return Ok(None);
         }
         let mut em = self.begin();
-        self.tokens(&mut em, text, offset)?;
+        // `(= …)`: an infix expression (issue 40).
+        let lead = text.len() - text.trim_start().len();
+        match text[lead..].strip_prefix('=') {
+            Some(infix) => self.infix(&mut em, infix, offset + lead + 1)?,
+            None => self.tokens(&mut em, text, offset)?,
+        }
         self.finish(em, offset).map(Some)
     }
 

@@ -10,6 +10,7 @@ pub mod definition;
 pub mod eval;
 pub mod expr;
 pub mod functions;
+pub mod infix;
 pub mod limits;
 pub mod options;
 pub mod parse;

@@ -202,8 +202,21 @@ impl<'a> Scanner<'a> {
         }
         let open = self.pos;
         let mut i = open + 1;
+        // An infix group, `(= …)`, nests parentheses (issue 40).
+        let infix = self.src.text[open + 1..]
+            .trim_start_matches([' ', '\t'])
+            .starts_with('=');
+        let mut depth = 0usize;
         while i < self.bytes.len() {
             match self.bytes[i] {
+                b'(' if infix => {
+                    depth += 1;
+                    i += 1;
+                }
+                b')' if depth > 0 => {
+                    depth -= 1;
+                    i += 1;
+                }
                 b')' => {
                     self.pos = i + 1;
                     return Ok(Some(Group {
@@ -268,6 +281,18 @@ pub fn near_miss<'k>(word: &str, keywords: &[&'k str]) -> Option<&'k str> {
         .filter(|(d, k)| *d <= k.len().max(word.len()) / 5)
         .min_by_key(|(d, _)| *d)
         .map(|(_, k)| k)
+}
+
+/// `; did you mean `N`?` when `word` is within an edit (one per four
+/// letters) of one of `names`: for identifiers of the infix form, where
+/// a short name misspelled (`sine`, `tme`) is still a name.
+pub fn name_suggestion(word: &str, names: &[&str]) -> String {
+    names
+        .iter()
+        .map(|n| (edit_distance(word, n), *n))
+        .filter(|(d, n)| *d <= (n.len().max(word.len()) / 4).max(1))
+        .min_by_key(|(d, _)| *d)
+        .map_or_else(String::new, |(_, n)| format!("; did you mean `{n}`?"))
 }
 
 /// Optimal string alignment distance: insertions, deletions,

@@ -10,5 +10,6 @@ mod common;
 mod bad_input;
 mod classic_grammars;
 mod fuzz_mutation;
+mod infix;
 mod special_functions;
 mod thesis_examples;
