@@ -227,7 +227,7 @@ impl<'a> Scanner<'a> {
                 b'(' => {
                     return Err(self.error(
                         i,
-                        "`(` inside a group: expressions are postfix and need no parentheses; close the group before with `)`",
+                        "`(` inside a group: postfix expressions need no parentheses; close the group before with `)`, or write it in infix, starting with `=`: `(= (x + 1) * 2)`",
                     ))
                 }
                 // A group never spans lines, so a missing `)` is reported

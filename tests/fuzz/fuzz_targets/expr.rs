@@ -1,6 +1,6 @@
 //! An expression in every place a scene puts one (an age, a parameter, a
 //! growth function, a condition), with every Constants letter defined,
-//! compiled and evaluated over two steps.
+//! compiled and evaluated over two steps; postfix, or infix after `=`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -10,8 +10,9 @@ fuzz_target!(|data: &[u8]| {
     let Ok(expr) = std::str::from_utf8(data) else {
         return;
     };
-    // A group ends at `)` or a line end: the fuzzer's text stays inside.
-    if expr.contains([')', '(', '\n']) {
+    // A group ends at `)` or a line end: the fuzzer's text stays inside
+    // (an infix group, `= …`, nests parentheses).
+    if expr.contains('\n') || (!expr.starts_with('=') && expr.contains([')', '('])) {
         return;
     }
     let constants: String = ('a'..='s')
