@@ -191,13 +191,23 @@ impl<'a> Compiler<'a> {
             return Ok(None);
         }
         let mut em = self.begin();
-        // `(= …)`: an infix expression (issue 40).
+        self.expression(&mut em, text, offset)?;
+        self.finish(em, offset).map(Some)
+    }
+
+    /// Appends the ops of the expression `text` (at `offset`): infix when
+    /// it starts with `=` (issue 40), else postfix.
+    pub fn expression(
+        &mut self,
+        em: &mut Emitter,
+        text: &str,
+        offset: usize,
+    ) -> Result<(), Diagnostic> {
         let lead = text.len() - text.trim_start().len();
         match text[lead..].strip_prefix('=') {
-            Some(infix) => self.infix(&mut em, infix, offset + lead + 1)?,
-            None => self.tokens(&mut em, text, offset)?,
+            Some(infix) => self.infix(em, infix, offset + lead + 1),
+            None => self.tokens(em, text, offset),
         }
-        self.finish(em, offset).map(Some)
     }
 
     /// Appends the ops of postfix `text` (which starts at `offset`).

@@ -630,7 +630,7 @@ impl<'a> Parser<'a> {
                         return Err(s.error(g.offset, "empty expression in a condition atom"));
                     }
                     let before = c.code.ops.len();
-                    c.tokens(&mut em, g.text, g.offset)?;
+                    c.expression(&mut em, g.text, g.offset)?;
                     if c.code.ops.len() == before {
                         return Err(s.error(g.offset, "empty expression in a condition atom"));
                     }

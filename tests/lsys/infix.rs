@@ -106,15 +106,13 @@ fn infix_of(text: &str) -> Option<String> {
     (st.len() == 1 && ops > 0).then(|| st.pop().unwrap().0)
 }
 
-/// The scene text with every postfix group of a symbol (one that
-/// converts) written `(= infix)`.
+/// The scene text with every postfix group (of a symbol, of a
+/// condition; one that converts) written `(= infix)`.
 fn rewritten(text: &str) -> (String, usize) {
     let mut out = String::with_capacity(text.len() * 2);
     let mut count = 0;
     let mut rest = text;
     while let Some(open) = rest.find('(') {
-        // A production's condition, `[(…)!]`, is not a parameter group.
-        let condition = open > 0 && rest.as_bytes()[open - 1] == b'[';
         out.push_str(&rest[..=open]);
         rest = &rest[open + 1..];
         let Some(close) = rest
@@ -123,7 +121,7 @@ fn rewritten(text: &str) -> (String, usize) {
         else {
             continue;
         };
-        match infix_of(&rest[..close]).filter(|_| !condition) {
+        match infix_of(&rest[..close]) {
             Some(infix) => {
                 out.push_str(&format!("= {infix}"));
                 count += 1;
