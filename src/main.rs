@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use lmfilm::commands::args::{
-    segment_width, FrameArgs, QualityArgs, RenderArgs, SceneArgs, SoundArgs, WorkArgs,
+    segment_width, FrameArgs, RenderArgs, SceneArgs, SoundArgs, StillArgs, WorkArgs,
 };
 use lmfilm::commands::film::FilmArgs;
 use lmfilm::commands::sound::SoundInput;
@@ -73,16 +73,8 @@ enum Command {
     ///
     ///     lmfilm still scenes/examples/cours_tree3.lm --time 5 -o renders/tree.png --preset preview
     Still {
-        /// The image to write: .png or .exr.
-        #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = commands::frame::image_path)]
-        output: PathBuf,
-        /// Diameter of the thin cylinders drawn for segments `R S`.
-        #[arg(long, default_value_t = 0.05, value_parser = segment_width)]
-        segment_width: f64,
         #[command(flatten)]
-        at: FrameArgs,
-        #[command(flatten)]
-        quality: QualityArgs,
+        still: StillArgs,
     },
     /// Watch scene files and render a preview still of one frame each
     /// time one of them (or a file it names) is saved: a live preview
@@ -92,19 +84,11 @@ enum Command {
     ///
     ///     lmfilm watch scenes/examples/cours_tree3.lm --time 5 -o renders/preview.png
     Watch {
-        /// The image to write, again at each change: .png or .exr.
-        #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = commands::frame::image_path)]
-        output: PathBuf,
         /// Stop after this many renders (for scripts; default: never).
         #[arg(long, value_name = "N")]
         count: Option<u32>,
-        /// Diameter of the thin cylinders drawn for segments `R S`.
-        #[arg(long, default_value_t = 0.05, value_parser = segment_width)]
-        segment_width: f64,
         #[command(flatten)]
-        at: FrameArgs,
-        #[command(flatten)]
-        quality: QualityArgs,
+        still: StillArgs,
     },
     /// Make a whole film: derive, render every frame, the soundtrack, the
     /// manifest, and an MP4 when ffmpeg is installed.
@@ -343,19 +327,8 @@ fn main() -> ExitCode {
             output,
             segment_width,
         } => commands::frame::export(&at, &output, segment_width),
-        Command::Still {
-            at,
-            output,
-            quality,
-            segment_width,
-        } => commands::frame::still(&at, &output, &quality, segment_width),
-        Command::Watch {
-            at,
-            output,
-            count,
-            quality,
-            segment_width,
-        } => commands::watch::watch(&at, &output, &quality, segment_width, count),
+        Command::Still { still } => commands::frame::still(&still),
+        Command::Watch { still, count } => commands::watch::watch(&still, count),
         Command::Run {
             scenes,
             output,

@@ -151,8 +151,23 @@ impl SceneArgs {
     }
 }
 
+/// What `still` and `watch` render: a frame into an image.
+#[derive(Args, Clone)]
+pub struct StillArgs {
+    /// The image to write: .png or .exr.
+    #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = super::frame::image_path)]
+    pub output: PathBuf,
+    /// Diameter of the thin cylinders drawn for segments `R S`.
+    #[arg(long, default_value_t = 0.05, value_parser = segment_width)]
+    pub segment_width: f64,
+    #[command(flatten)]
+    pub at: FrameArgs,
+    #[command(flatten)]
+    pub quality: QualityArgs,
+}
+
 /// The scene files and the frame a command works on.
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct FrameArgs {
     /// Definition files derived together as one animation.
     #[arg(required = true, value_name = "SCENE.lm")]

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use super::args::{FrameArgs, QualityArgs};
+use super::args::{FrameArgs, StillArgs};
 use super::{create_parent, print_line, scenes, Percent, Progress};
 use crate::error::{Error, Result};
 use crate::film::{Film, Frame};
@@ -124,12 +124,8 @@ pub fn image_path(text: &str) -> std::result::Result<std::path::PathBuf, String>
 
 /// `lmfilm still`: ray-traces the frame into OUT.png or OUT.exr with the
 /// BVH the frame owns.
-pub fn still(
-    at: &FrameArgs,
-    output: &Path,
-    quality: &QualityArgs,
-    segment_width: f64,
-) -> Result<()> {
+pub fn still(args: &StillArgs) -> Result<()> {
+    let (at, output, quality) = (&args.at, args.output.as_path(), &args.quality);
     let exr = is_exr(output);
     let limits = at.scene.limits.limits();
     let request = quality.request();
@@ -138,7 +134,7 @@ pub fn still(
         Limits::check_pixels(w, h, limits.pixels).map_err(Error::input)?;
     }
     let opts = Options {
-        segment_width,
+        segment_width: args.segment_width,
         limits,
     };
     let mut film = derive_to(at, opts)?;

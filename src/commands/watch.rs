@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime};
 
-use super::args::{FrameArgs, PresetArg, QualityArgs};
+use super::args::{FrameArgs, PresetArg, StillArgs};
 use super::frame::still;
 use super::scenes;
 use crate::error::Result;
@@ -44,16 +44,11 @@ fn watched(at: &FrameArgs) -> Vec<PathBuf> {
 
 /// `lmfilm watch`: renders the still at once, then again after each
 /// change, until interrupted — or after `count` renders.
-pub fn watch(
-    at: &FrameArgs,
-    output: &Path,
-    quality: &QualityArgs,
-    segment_width: f64,
-    count: Option<u32>,
-) -> Result<()> {
+pub fn watch(args: &StillArgs, count: Option<u32>) -> Result<()> {
     // A preview unless a preset is asked for: quick to look at.
-    let mut quality = *quality;
-    quality.preset.get_or_insert(PresetArg::Preview);
+    let mut still_args = args.clone();
+    still_args.quality.preset.get_or_insert(PresetArg::Preview);
+    let at = &args.at;
     let mut seen: Option<Vec<Stamp>> = None;
     let mut files = at.scenes.clone();
     let mut renders = 0;
@@ -69,7 +64,7 @@ pub fn watch(
         let now: Vec<Stamp> = files.iter().map(|f| stamp(f)).collect();
         if seen.as_ref() != Some(&now) {
             let start = Instant::now();
-            match still(at, output, &quality, segment_width) {
+            match still(&still_args) {
                 Ok(()) => eprintln!("rendered in {:.2} s", start.elapsed().as_secs_f64()),
                 // Printed, not fatal: the next save may fix it.
                 Err(e) => eprintln!("{e}"),
