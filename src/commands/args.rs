@@ -151,11 +151,21 @@ impl SceneArgs {
     }
 }
 
+/// `still -o`: an image path ending in .png or .exr.
+pub fn image_path(text: &str) -> std::result::Result<std::path::PathBuf, String> {
+    let path = std::path::PathBuf::from(text);
+    let ext = path.extension().and_then(|e| e.to_str());
+    match ext.map(str::to_ascii_lowercase).as_deref() {
+        Some("png" | "exr") => Ok(path),
+        _ => Err(format!("{text}: the output must end in .png or .exr")),
+    }
+}
+
 /// What `still` and `watch` render: a frame into an image.
 #[derive(Args, Clone)]
 pub struct StillArgs {
     /// The image to write: .png or .exr.
-    #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = super::frame::image_path)]
+    #[arg(short, long, value_name = "OUT.png|OUT.exr", value_parser = image_path)]
     pub output: PathBuf,
     /// Diameter of the thin cylinders drawn for segments `R S`.
     #[arg(long, default_value_t = 0.05, value_parser = segment_width)]

@@ -112,16 +112,6 @@ fn is_exr(output: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }
 
-/// `still -o`: an image path ending in .png or .exr.
-pub fn image_path(text: &str) -> std::result::Result<std::path::PathBuf, String> {
-    let path = std::path::PathBuf::from(text);
-    let ext = path.extension().and_then(|e| e.to_str());
-    match ext.map(str::to_ascii_lowercase).as_deref() {
-        Some("png" | "exr") => Ok(path),
-        _ => Err(format!("{text}: the output must end in .png or .exr")),
-    }
-}
-
 /// `lmfilm still`: ray-traces the frame into OUT.png or OUT.exr with the
 /// BVH the frame owns.
 pub fn still(args: &StillArgs) -> Result<()> {
