@@ -92,8 +92,13 @@ impl Skeleton {
 
     /// From the soles to the top of the head, standing at rest.
     pub fn height(&self) -> f32 {
-        let world = self.world(&self.rest(Affine3A::IDENTITY));
-        world.iter().map(|w| w.translation.y).fold(0.0, f32::max)
+        // At rest no joint turns: a joint stands at the sum of its
+        // chain's offsets (parents come first).
+        let mut y = Vec::with_capacity(self.joints.len());
+        for j in &self.joints {
+            y.push(j.parent.map_or(0.0, |p| y[p]) + j.offset.y);
+        }
+        y.into_iter().fold(0.0, f32::max)
     }
 
     /// The joint named `name`.

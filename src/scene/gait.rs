@@ -249,9 +249,9 @@ impl Walker {
         let step = self.step_length();
         let v = self.velocity;
         let ahead = v.normalize_or_zero() * (0.5 * step);
-        let mut to = self.home(foot, under + v * left as f32, facing) + ahead;
-        // Never beyond what the leg reaches from where the hips will be.
         let hip = self.home(foot, under + v * left as f32, facing);
+        let mut to = hip + ahead;
+        // Never beyond what the leg reaches from where the hips will be.
         let off = flat(to - hip);
         let most = 0.95 * self.stride.reach;
         if off.length() > most {

@@ -85,6 +85,8 @@ const MOST_RISE: f32 = 0.35;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Motor {
     skeleton: Skeleton,
+    /// The skeleton's stride (what the walking motor steps with).
+    stride: Stride,
     walker: Option<Walker>,
     /// Where its soles stood last frame, when its actor placed them.
     soles: Option<[Vec3; 2]>,
@@ -113,8 +115,10 @@ impl Motor {
         } else {
             DEFAULT_HEIGHT
         };
+        let skeleton = Skeleton::humanoid(height);
         Motor {
-            skeleton: Skeleton::humanoid(height),
+            stride: Stride::of(&skeleton),
+            skeleton,
             walker: None,
             soles: None,
             facing: Self::wanted_facing(d, d.at).unwrap_or(Vec3::Z),
@@ -187,20 +191,18 @@ impl Motor {
         let under = Vec3::new(hips.x, d.ground, hips.z);
         let feet = match d.soles {
             Some((soles, swinging)) => {
-                let stride = Stride::of(&self.skeleton);
                 self.walker = None;
                 self.soles = Some(soles);
                 Feet {
-                    ankles: soles.map(|s| s + Vec3::Y * stride.ankle),
+                    ankles: soles.map(|s| s + Vec3::Y * self.stride.ankle),
                     toes: [self.facing; 2],
                     swinging,
                 }
             }
             None => {
-                let stride = Stride::of(&self.skeleton);
                 // The motor takes over from where the feet stand.
                 let soles = self.soles.take();
-                let facing = self.facing;
+                let (stride, facing) = (self.stride, self.facing);
                 let walker = self.walker.get_or_insert_with(|| match soles {
                     Some(soles) => Walker::standing_on(stride, soles, [facing; 2]),
                     None => Walker::new(stride, under, facing),
@@ -216,7 +218,7 @@ impl Motor {
         t.standing = feet.swinging.map(|s| !s && jump == 0.0);
         // The arms swing against the legs: each forward as the other
         // side's foot is.
-        let reach = Stride::of(&self.skeleton).reach.max(1e-6);
+        let reach = self.stride.reach.max(1e-6);
         let ahead = |f: usize| (feet.ankles[f] - hips).dot(yaw(self.facing) * Vec3::Z) / reach;
         t.arm_swing = [0.35 * ahead(1), 0.35 * ahead(0)];
         t
