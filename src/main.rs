@@ -327,7 +327,7 @@ fn main() -> ExitCode {
             output,
             segment_width,
         } => commands::frame::export(&at, &output, segment_width),
-        Command::Still { still } => commands::frame::still(&still),
+        Command::Still { still } => commands::frame::still(&still).map(|_| ()),
         Command::Watch { still, count } => commands::watch::watch(&still, count),
         Command::Run {
             scenes,

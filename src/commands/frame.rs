@@ -1,6 +1,6 @@
 //! The commands about one frame: `print`, `export` and `still`.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::args::{FrameArgs, StillArgs};
 use super::{create_parent, print_line, scenes, Percent, Progress};
@@ -113,8 +113,9 @@ fn is_exr(output: &Path) -> bool {
 }
 
 /// `lmfilm still`: ray-traces the frame into OUT.png or OUT.exr with the
-/// BVH the frame owns.
-pub fn still(args: &StillArgs) -> Result<()> {
+/// BVH the frame owns; returns the files the frame was made from (the
+/// scenes and the files they name).
+pub fn still(args: &StillArgs) -> Result<Vec<PathBuf>> {
     let (at, output, quality) = (&args.at, args.output.as_path(), &args.quality);
     let exr = is_exr(output);
     let limits = at.scene.limits.limits();
@@ -128,6 +129,12 @@ pub fn still(args: &StillArgs) -> Result<()> {
         limits,
     };
     let mut film = derive_to(at, opts)?;
+    let read = at
+        .scenes
+        .iter()
+        .cloned()
+        .chain(film.referenced_files().into_iter().map(|(_, p)| p))
+        .collect();
     let frame = film.frame().expect("derive_to ran the film to its frame");
     for m in frame.warnings() {
         eprintln!("{m}");
@@ -162,5 +169,5 @@ pub fn still(args: &StillArgs) -> Result<()> {
         .map_err(|e| Error::other(format!("{}: {e}", output.display())))?;
     // Say what was written, so the user finds it.
     println!("{} ({w}×{h}, {} spp)", output.display(), settings.spp);
-    Ok(())
+    Ok(read)
 }

@@ -3,14 +3,12 @@
 //! is saved; a scene that does not load, derive or render prints its
 //! located error and is watched on.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant, SystemTime};
 
-use super::args::{FrameArgs, PresetArg, StillArgs};
+use super::args::{PresetArg, StillArgs};
 use super::frame::still;
-use super::scenes;
 use crate::error::Result;
-use crate::turtle::Options;
 
 /// How often the files are looked at.
 const POLL: Duration = Duration::from_millis(150);
@@ -29,17 +27,6 @@ fn stamp(path: &Path) -> Stamp {
         .flatten()
         .map(|bytes| crate::production::digest::sha256_bytes(&bytes));
     Some((meta.len(), meta.modified().ok(), hash))
-}
-
-/// The files a change of which re-renders: the scenes and the files
-/// their film names (surfaces, motions, channels, trajectories), as far
-/// as the scenes load.
-fn watched(at: &FrameArgs) -> Vec<PathBuf> {
-    let mut files = at.scenes.clone();
-    if let Ok(film) = scenes::load_film(&at.scenes, at.scene.allow_commands, Options::default()) {
-        files.extend(film.referenced_files().into_iter().map(|(_, p)| p));
-    }
-    files
 }
 
 /// `lmfilm watch`: renders the still at once, then again after each
@@ -64,23 +51,33 @@ pub fn watch(args: &StillArgs, count: Option<u32>) -> Result<()> {
         let now: Vec<Stamp> = files.iter().map(|f| stamp(f)).collect();
         if seen.as_ref() != Some(&now) {
             let start = Instant::now();
-            match still(&still_args) {
-                Ok(()) => eprintln!("rendered in {:.2} s", start.elapsed().as_secs_f64()),
+            // The files a change of which renders again: the scenes and
+            // the files their film names (surfaces, motions, channels,
+            // trajectories), as the last render that loaded read them.
+            let read = match still(&still_args) {
+                Ok(read) => {
+                    eprintln!("rendered in {:.2} s", start.elapsed().as_secs_f64());
+                    read
+                }
                 // Printed, not fatal: the next save may fix it.
-                Err(e) => eprintln!("{e}"),
-            }
+                Err(e) => {
+                    eprintln!("{e}");
+                    files.clone()
+                }
+            };
             renders += 1;
             if count.is_some_and(|n| renders >= n) {
                 return Ok(());
             }
             // The files as they were when this render began to read them
-            // (a save during the render renders again).
-            files = watched(at);
-            seen = Some(if files.len() == now.len() {
+            // (a save during the render renders again); files new to the
+            // list as they are now.
+            seen = Some(if read == files {
                 now
             } else {
-                files.iter().map(|f| stamp(f)).collect()
+                read.iter().map(|f| stamp(f)).collect()
             });
+            files = read;
         }
         std::thread::sleep(POLL);
     }

@@ -435,7 +435,7 @@ impl TurtleWorld for WorldView<'_> {
                 glam::Vec2::new(middle.x - a.eye.x, middle.z - a.eye.z).length() < 0.3
             });
             if walking || (a.footing.stepped() && standing) {
-                drive.ground = a.footing.plane.or(a.footing.settings.plane).unwrap_or(0.0);
+                drive.ground = a.footing.ground().unwrap_or(0.0);
                 drive.facing = (a.footing.heading != glam::Vec3::ZERO).then_some(a.footing.heading);
                 drive.soles = soles;
             }

@@ -101,7 +101,8 @@ const HEAD: usize = 4;
 /// the middle joint's.
 const LEGS: [[usize; 3]; 2] = [[13, 14, 15], [17, 18, 19]];
 const ARMS: [[usize; 3]; 2] = [[6, 7, 8], [10, 11, 12]];
-const FEET: [usize; 2] = [15, 19];
+/// The ankle joints, left and right.
+pub const FEET: [usize; 2] = [15, 19];
 
 /// The rotation turning the orthonormal pair (`a`, `b`) onto (`c`, `d`).
 fn frame_turn(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Quat {

@@ -34,21 +34,31 @@ fn read(scene: &str) -> String {
     std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(scene)).unwrap()
 }
 
-/// Follows each ankle of the one body of `scene` over `frames` frames:
-/// a contact is a run of frames with the ankle at its lowest height (to
-/// 3 mm); returns each contact's first point and the most it moved.
-fn contacts(scene: &str, frames: u64) -> Vec<(Vec3, f32)> {
-    let mut f = film(&read(scene));
-    let mut ankles: Vec<[Vec3; 2]> = Vec::new();
+/// The ends of bones `joints` (of the one body the film draws) in each
+/// of the film's first `frames` frames.
+fn track(f: &mut lmfilm::film::Film, frames: u64, joints: &[u64]) -> Vec<Vec<Vec3>> {
+    let mut out = Vec::new();
     for _ in 0..frames {
         let Some(frame) = f.next_frame().unwrap() else {
             break;
         };
-        let s = frame.scene();
-        let (l, r) = (bone_ends(s, LEFT_FOOT), bone_ends(s, RIGHT_FOOT));
-        assert_eq!((l.len(), r.len()), (1, 1), "one body");
-        ankles.push([l[0], r[0]]);
+        let ends: Vec<Vec3> = joints
+            .iter()
+            .map(|&j| {
+                let e = bone_ends(frame.scene(), j);
+                assert_eq!(e.len(), 1, "one body");
+                e[0]
+            })
+            .collect();
+        out.push(ends);
     }
+    out
+}
+
+/// Each ankle's contacts with the ground, from frames of `[left, right]`
+/// ankles: a contact is a run of frames with the ankle at its lowest
+/// height (to 3 mm); each contact's first point and the most it moved.
+fn contacts_of(ankles: &[Vec<Vec3>]) -> Vec<(Vec3, f32)> {
     let low = ankles
         .iter()
         .flatten()
@@ -68,6 +78,16 @@ fn contacts(scene: &str, frames: u64) -> Vec<(Vec3, f32)> {
         out.extend(contact);
     }
     out
+}
+
+/// The contacts of the ankles of the one body of `scene` over its first
+/// `frames` frames (see [`contacts_of`]).
+fn contacts(scene: &str, frames: u64) -> Vec<(Vec3, f32)> {
+    contacts_of(&track(
+        &mut film(&read(scene)),
+        frames,
+        &[LEFT_FOOT, RIGHT_FOOT],
+    ))
 }
 
 #[test]
@@ -249,37 +269,17 @@ fn an_imported_trajectory_walks_a_body() {
     )
     .unwrap();
     let mut f = lmfilm::film::Film::load(&[&scene], lmfilm::turtle::Options::default()).unwrap();
-    let mut planted: [Option<Vec3>; 2] = [None; 2];
-    let (mut steps, mut travelled, mut last) = (0, 0.0, None::<Vec3>);
-    while let Some(frame) = f.next_frame().unwrap() {
-        let s = frame.scene();
-        let feet = [bone_ends(s, LEFT_FOOT)[0], bone_ends(s, RIGHT_FOOT)[0]];
-        // The spine joint, where the body is.
-        let hips = bone_ends(s, 1)[0];
-        if let Some(l) = last {
-            travelled += Vec3::new(hips.x - l.x, 0.0, hips.z - l.z).length();
-        }
-        last = Some(hips);
-        for (k, a) in feet.into_iter().enumerate() {
-            // Grounded: the ankle at its standing height.
-            if a.y > 0.035 {
-                planted[k] = None;
-                continue;
-            }
-            match planted[k] {
-                None => {
-                    planted[k] = Some(a);
-                    steps += 1;
-                }
-                Some(p) => assert!(
-                    a.distance(p) < 0.02,
-                    "frame {}: slid {}",
-                    frame.number(),
-                    a.distance(p)
-                ),
-            }
-        }
+    // The ankles, and the spine joint (where the body is).
+    let frames = track(&mut f, u64::MAX, &[LEFT_FOOT, RIGHT_FOOT, 1]);
+    let travelled: f32 = frames
+        .windows(2)
+        .map(|w| Vec3::new(w[1][2].x - w[0][2].x, 0.0, w[1][2].z - w[0][2].z).length())
+        .sum();
+    let contacts = contacts_of(&frames);
+    for (at, slid) in &contacts {
+        assert!(*slid < 0.02, "the foot set down at {at} slid {slid} m");
     }
+    let steps = contacts.len();
     assert!(travelled > 5.0, "the body went {travelled} m");
     assert!(steps > 10, "{steps} steps");
 }

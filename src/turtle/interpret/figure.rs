@@ -11,7 +11,7 @@ use super::{placed, Interpreter};
 use crate::lsys::Symbol;
 use crate::scene::body::{Pose, Skeleton};
 use crate::scene::motor::{Drive, Hold, Motor, DEFAULT_HEIGHT};
-use crate::scene::rig::Targets;
+use crate::scene::rig::{Targets, FEET};
 use crate::scene::shape::bounds;
 use crate::scene::MAX_COORDINATE;
 
@@ -20,9 +20,6 @@ use crate::scene::MAX_COORDINATE;
 /// 6.2.1), faces U, and its left is −L (a right-handed turn).
 const HUMANOID_TO_TURTLE: Affine3A =
     Affine3A::from_cols(Vec3A::NEG_Y, Vec3A::X, Vec3A::Z, Vec3A::ZERO);
-
-/// The ankle joints of the built-in humanoid, left and right.
-const FEET: [usize; 2] = [15, 19];
 
 /// `D` par1 = 50's motion −1: seated (a body held by the turtle).
 const SEATED: i64 = -1;

@@ -153,6 +153,12 @@ impl Footing {
         matches!(self.motion, Some((Motion::Turn { .. }, _)))
     }
 
+    /// The plane its feet stand on: found, else the scene's
+    /// (`foothold_plane`).
+    pub fn ground(&self) -> Option<f32> {
+        self.plane.or(self.settings.plane)
+    }
+
     /// Whether it has stepped on footholds (its soles stand where steps
     /// set them).
     pub fn stepped(&self) -> bool {
@@ -216,7 +222,7 @@ impl Footing {
     /// they stand under the eye `eye`, across `facing`. None while the
     /// plane is unknown.
     pub fn soles(&self, eye: Vec3, facing: Vec3) -> Option<([Vec3; 2], [bool; 2])> {
-        let plane = self.plane.or(self.settings.plane)?;
+        let plane = self.ground()?;
         let standing = self.standing(eye, facing);
         let mut soles = standing;
         let mut lifted = [0.0f32; 2];
@@ -236,21 +242,13 @@ impl Footing {
                 )),
                 _,
             ) => {
-                let u = if time > 0.0 {
-                    (t / time).clamp(0.0, 1.0)
-                } else {
-                    1.0
-                };
+                let u = progress(t, time);
                 let target = self.landing(k, to, together, standing);
                 soles[k] = standing[k].lerp(target, smooth(u));
                 lifted[k] = lift(u).max(1e-4);
             }
             (Some((Motion::Turn { to, time, .. }, t)), _) => {
-                let u = if time > 0.0 {
-                    (t / time).clamp(0.0, 1.0)
-                } else {
-                    1.0
-                };
+                let u = progress(t, time);
                 // The left foot steps round in the turn's first half, the
                 // right in its second.
                 for (k, part) in [(2.0 * u).min(1.0), (2.0 * u - 1.0).max(0.0)]
@@ -269,6 +267,15 @@ impl Footing {
             sole.y = plane + lift;
         }
         Some((soles, lifted.map(|l| l > 0.0)))
+    }
+}
+
+/// How far along a motion of `time` seconds is after `t`: 0 to 1.
+fn progress(t: f32, time: f32) -> f32 {
+    if time > 0.0 {
+        (t / time).clamp(0.0, 1.0)
+    } else {
+        1.0
     }
 }
 
