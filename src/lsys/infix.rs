@@ -87,6 +87,12 @@ const PARAMETERS: [(&str, Param); 12] = [
     ("distance", Param::Distance),
 ];
 
+/// Every function's name, for suggestions.
+fn function_names() -> Vec<&'static str> {
+    let named = FUNCTIONS.iter().map(|(n, _, _)| *n);
+    named.chain(SPECIALS.iter().map(|(n, _)| *n)).collect()
+}
+
 /// A reader of one infix text, pushing ops in postfix order.
 struct Reader<'c, 'a> {
     c: &'c mut Compiler<'a>,
@@ -285,9 +291,8 @@ impl Reader<'_, '_> {
     /// form.
     fn letter(&self, name: &str, at: usize) -> Result<Op, Diagnostic> {
         let &[c] = name.as_bytes() else {
-            let mut known: Vec<&str> = PARAMETERS.iter().map(|(n, _)| *n).collect();
-            known.extend(FUNCTIONS.iter().map(|(n, _, _)| *n));
-            known.extend(SPECIALS.iter().map(|(n, _)| *n));
+            let mut known = function_names();
+            known.extend(PARAMETERS.iter().map(|(n, _)| *n));
             return Err(self.error(
                 at,
                 &format!(
@@ -332,8 +337,7 @@ impl Reader<'_, '_> {
             }
             (Op::Special(n), special_arity(n).unwrap_or(0))
         } else {
-            let mut known: Vec<&str> = FUNCTIONS.iter().map(|(n, _, _)| *n).collect();
-            known.extend(SPECIALS.iter().map(|(n, _)| *n));
+            let known = function_names();
             return Err(self.error(
                 at,
                 &format!("unknown function `{name}`{}", name_suggestion(name, &known)),
