@@ -50,6 +50,22 @@ enum Command {
         #[command(flatten)]
         at: FrameArgs,
     },
+    /// Spell a definition file in the other form: classic (.lm) to
+    /// readable (.lmr), or readable to classic.
+    ///
+    /// Both forms parse into the same definition, so the film, its frames
+    /// and its sound are the same bytes; comments and line breaks are
+    /// kept. Without -o the result is printed. Example:
+    ///
+    ///     lmfilm convert scenes/examples/parametric.lm -o renders/parametric.lmr
+    Convert {
+        /// The file to convert: .lm or .lmr.
+        #[arg(value_name = "FILE")]
+        input: PathBuf,
+        /// Where to write the other spelling (default: print it).
+        #[arg(short, long, value_name = "OUT")]
+        output: Option<PathBuf>,
+    },
     /// Export a frame's whole geometry as a mesh (the thesis's SM option).
     ///
     /// Writes OUT.obj and OUT.mtl: every shape tessellated at its `n`
@@ -321,6 +337,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Print { at, format } => {
             commands::frame::print(&at, matches!(format, PrintFormat::Full))
+        }
+        Command::Convert { input, output } => {
+            commands::convert::convert(&input, output.as_deref())
         }
         Command::Export {
             at,

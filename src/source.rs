@@ -6,12 +6,39 @@
 use std::fmt;
 use std::io::{self, Read};
 use std::path::Path;
+use std::sync::Arc;
 
 /// One definition file's text with its display name.
 #[derive(Debug, Clone)]
 pub struct Source {
     pub name: String,
     pub text: String,
+    /// The text as the user wrote it, when `text` was made from it (the
+    /// classic spelling of a readable file): errors point there.
+    pub written: Option<Arc<Written>>,
+}
+
+/// A file as written and where each piece of the text made from it came
+/// from.
+#[derive(Debug)]
+pub struct Written {
+    pub text: String,
+    /// (offset in the made text, offset in the written text, whether the
+    /// piece was copied, so that offsets within it advance together),
+    /// ordered by the first.
+    pub pieces: Vec<(usize, usize, bool)>,
+}
+
+impl Written {
+    /// Where byte `offset` of the made text came from.
+    pub fn origin(&self, offset: usize) -> usize {
+        let k = self.pieces.partition_point(|p| p.0 <= offset);
+        match k.checked_sub(1).map(|k| self.pieces[k]) {
+            Some((made, written, true)) => written + (offset - made),
+            Some((_, written, false)) => written,
+            None => 0,
+        }
+    }
 }
 
 impl Source {
@@ -19,7 +46,23 @@ impl Source {
         Source {
             name: name.into(),
             text: text.into(),
+            written: None,
         }
+    }
+
+    /// The text errors point into and the offset there of byte `offset`.
+    fn shown(&self, offset: usize) -> (&str, usize) {
+        match &self.written {
+            Some(w) => (&w.text, w.origin(offset)),
+            None => (&self.text, offset),
+        }
+    }
+
+    /// Line and column (1-based) where the user wrote byte `offset`.
+    pub fn place(&self, offset: usize) -> (usize, usize) {
+        let (text, offset) = self.shown(offset);
+        let (_, line, column) = position(text, offset);
+        (line, column)
     }
 
     /// The text of `bytes`, or a diagnostic at the first byte that is not
@@ -42,16 +85,17 @@ impl Source {
 
     /// A diagnostic at byte `offset` of the text.
     pub fn error(&self, offset: usize, message: impl Into<String>) -> Diagnostic {
-        let (line_start, line, column) = position(&self.text, offset);
-        let line_end = self.text[line_start..]
+        let (text, offset) = self.shown(offset);
+        let (line_start, line, column) = position(text, offset);
+        let line_end = text[line_start..]
             .find('\n')
-            .map_or(self.text.len(), |i| line_start + i);
+            .map_or(text.len(), |i| line_start + i);
         Diagnostic {
             file: self.name.clone(),
             line,
             column,
             message: message.into(),
-            source_line: self.text[line_start..line_end]
+            source_line: text[line_start..line_end]
                 .trim_end_matches('\r')
                 .to_string(),
         }

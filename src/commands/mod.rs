@@ -3,6 +3,7 @@
 //! Every command returns the one [`crate::error::Error`].
 
 pub mod args;
+pub mod convert;
 pub mod farm;
 pub mod film;
 pub mod frame;

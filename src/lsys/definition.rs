@@ -4,7 +4,7 @@
 use super::expr::{Code, Expr};
 use super::functions::{Constants, Spline};
 use super::options::OptionItem;
-use crate::source::FileRef;
+use crate::source::{FileRef, Source};
 
 /// `Camera_AnimationParameters`, including the two lines the BNF forgets.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,8 +142,8 @@ pub struct Production {
 #[derive(Debug, Clone)]
 pub struct Definition {
     pub name: String,
-    /// The file's text, to locate what later layers warn about.
-    pub text: String,
+    /// The file, to locate what later layers warn about.
+    pub source: Source,
     pub camera: CameraParams,
     /// Whether the file had a `Camera_AnimationParameters` section.
     pub has_camera: bool,
@@ -183,10 +183,10 @@ impl Definition {
     pub fn locate(&self, offset: u32) -> String {
         match usize::try_from(offset)
             .ok()
-            .filter(|o| *o < self.text.len())
+            .filter(|o| *o < self.source.text.len())
         {
             Some(o) => {
-                let (_, line, column) = crate::source::position(&self.text, o);
+                let (line, column) = self.source.place(o);
                 format!("{}:{line}:{column}", self.name)
             }
             None => self.name.clone(),

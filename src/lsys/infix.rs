@@ -11,7 +11,7 @@ use super::scan::{name_suggestion, MAX_NUMBER};
 use crate::source::Diagnostic;
 
 /// The named functions: (name, op, arguments).
-const FUNCTIONS: [(&str, Op, usize); 10] = [
+pub const FUNCTIONS: [(&str, Op, usize); 10] = [
     ("sin", Op::Sin, 1),
     ("cos", Op::Cos, 1),
     ("asin", Op::Asin, 1),
@@ -72,7 +72,7 @@ pub const SPECIALS: [(&str, u8); 42] = [
 ];
 
 /// The parameters by name (the letters of table B5 stay valid too).
-const PARAMETERS: [(&str, Param); 12] = [
+pub const PARAMETERS: [(&str, Param); 12] = [
     ("age", Param::Age),
     ("time", Param::Time),
     ("x", Param::Par(0)),

@@ -5,6 +5,7 @@
 
 pub mod animation;
 pub mod automata;
+pub mod catalogue;
 pub mod context;
 pub mod definition;
 pub mod eval;
@@ -15,9 +16,12 @@ pub mod limits;
 pub mod options;
 pub mod parse;
 pub mod print;
+pub mod readable;
+pub mod readable_writer;
 pub mod scan;
 pub mod sensors;
 pub mod step;
+pub mod unparse;
 pub mod word;
 
 pub use crate::source::{Diagnostic, Source};

@@ -8,7 +8,8 @@ use super::definition::{
 use super::expr::{Code, Compiler, Expr, Op};
 use super::functions::{constant_arity, Constants, Spline};
 use super::options::{parse_option, unknown_option};
-use super::scan::{suggestion, Group, Scanner, SECTIONS};
+use super::readable::{is_readable, to_classic};
+use super::scan::{is_symbol_char, suggestion, Group, Scanner, SECTIONS};
 use crate::source::{Diagnostic, FileRef, Source};
 
 /// Largest window coordinate of `pref_pos_x1_x2_y1_y2`: far beyond any
@@ -68,19 +69,17 @@ fn scale(s: &mut Scanner) -> Result<f64, Diagnostic> {
     Ok(v)
 }
 
-/// Characters that may name a symbol (BNF `Symbol`, plus the query `?`
-/// and the polygon vertex `.` of appendix C).
-pub fn is_symbol_char(c: u8) -> bool {
-    c.is_ascii_alphanumeric() || b"[]{}/^&$+-?.".contains(&c)
-}
-
-/// Parses a whole definition file.
+/// Parses a whole definition file, classic or readable (`.lmr`, spelt
+/// in the classic form first).
 pub fn parse(src: &Source) -> Result<Definition, Diagnostic> {
+    if is_readable(&src.name) && src.written.is_none() {
+        return parse(&to_classic(src)?);
+    }
     let mut p = Parser {
         s: Scanner::new(src),
         def: Definition {
             name: src.name.clone(),
-            text: src.text.clone(),
+            source: src.clone(),
             camera: CameraParams::default(),
             has_camera: false,
             repetition: RepetitionParams::default(),
@@ -602,72 +601,76 @@ impl<'a> Parser<'a> {
         })
     }
 
-    /// A logical expression: `[(expr)pred]` atoms combined postfix by
-    /// `&`, `|` and `!` (definition 2.1.6).
+    /// A logical expression (definition 2.1.6).
     fn condition(&mut self) -> Result<Expr, Diagnostic> {
-        let start = self.s.pos;
         let mut c = Compiler {
             src: self.s.src,
             code: &mut self.def.code,
             constants: &self.def.constants,
             splines: &self.spline_numbers,
         };
-        let mut em = c.begin();
-        let s = &mut self.s;
-        loop {
-            s.skip_trivia()?;
-            let at = s.pos;
-            match s.peek() {
-                Some(b'[') => {
-                    s.bump();
-                    let Some(g) = s.group()? else {
-                        return Err(s.error(
-                            s.pos,
-                            "expected `(expr)` after `[` in a condition, e.g. `[(x)>]`",
-                        ));
-                    };
-                    if g.text.trim().is_empty() {
-                        return Err(s.error(g.offset, "empty expression in a condition atom"));
-                    }
-                    let before = c.code.ops.len();
-                    c.expression(&mut em, g.text, g.offset)?;
-                    if c.code.ops.len() == before {
-                        return Err(s.error(g.offset, "empty expression in a condition atom"));
-                    }
-                    s.skip_trivia()?;
-                    let pat = s.pos;
-                    let pred = match s.peek() {
-                        Some(b'<') => Op::Lt,
-                        Some(b'p') => Op::Le,
-                        Some(b'>') => Op::Gt,
-                        Some(b'g') => Op::Ge,
-                        Some(b'=') => Op::Eq,
-                        Some(b'!') => Op::Ne,
-                        _ => return Err(s.error(pat, "expected a predicate `<`, `p`, `>`, `g`, `=` or `!` after the expression")),
-                    };
-                    s.bump();
-                    c.push(&mut em, pred, pat)?;
-                    s.skip_trivia()?;
-                    if s.peek() != Some(b']') {
-                        return Err(s.error(s.pos, "expected `]` to close the condition atom"));
-                    }
-                    s.bump();
-                }
-                Some(b'&') => {
-                    s.bump();
-                    c.push(&mut em, Op::And, at)?;
-                }
-                Some(b'|') => {
-                    s.bump();
-                    c.push(&mut em, Op::Or, at)?;
-                }
-                Some(b'!') => {
-                    s.bump();
-                    c.push(&mut em, Op::Not, at)?;
-                }
-                _ => break,
-            }
-        }
-        c.finish(em, start)
+        condition(&mut self.s, &mut c)
     }
+}
+
+/// A logical expression: `[(expr)pred]` atoms combined postfix by
+/// `&`, `|` and `!` (definition 2.1.6).
+pub fn condition(s: &mut Scanner, c: &mut Compiler) -> Result<Expr, Diagnostic> {
+    let start = s.pos;
+    let mut em = c.begin();
+    loop {
+        s.skip_trivia()?;
+        let at = s.pos;
+        match s.peek() {
+            Some(b'[') => {
+                s.bump();
+                let Some(g) = s.group()? else {
+                    return Err(s.error(
+                        s.pos,
+                        "expected `(expr)` after `[` in a condition, e.g. `[(x)>]`",
+                    ));
+                };
+                if g.text.trim().is_empty() {
+                    return Err(s.error(g.offset, "empty expression in a condition atom"));
+                }
+                let before = c.code.ops.len();
+                c.expression(&mut em, g.text, g.offset)?;
+                if c.code.ops.len() == before {
+                    return Err(s.error(g.offset, "empty expression in a condition atom"));
+                }
+                s.skip_trivia()?;
+                let pat = s.pos;
+                let pred = match s.peek() {
+                    Some(b'<') => Op::Lt,
+                    Some(b'p') => Op::Le,
+                    Some(b'>') => Op::Gt,
+                    Some(b'g') => Op::Ge,
+                    Some(b'=') => Op::Eq,
+                    Some(b'!') => Op::Ne,
+                    _ => return Err(s.error(pat, "expected a predicate `<`, `p`, `>`, `g`, `=` or `!` after the expression")),
+                };
+                s.bump();
+                c.push(&mut em, pred, pat)?;
+                s.skip_trivia()?;
+                if s.peek() != Some(b']') {
+                    return Err(s.error(s.pos, "expected `]` to close the condition atom"));
+                }
+                s.bump();
+            }
+            Some(b'&') => {
+                s.bump();
+                c.push(&mut em, Op::And, at)?;
+            }
+            Some(b'|') => {
+                s.bump();
+                c.push(&mut em, Op::Or, at)?;
+            }
+            Some(b'!') => {
+                s.bump();
+                c.push(&mut em, Op::Not, at)?;
+            }
+            _ => break,
+        }
+    }
+    c.finish(em, start)
 }

@@ -344,6 +344,12 @@ fn number_shaped(w: &str) -> Option<f64> {
     w.parse::<f64>().ok()
 }
 
+/// Characters that may name a symbol (BNF `Symbol`, plus the query `?`
+/// and the polygon vertex `.` of appendix C).
+pub fn is_symbol_char(c: u8) -> bool {
+    c.is_ascii_alphanumeric() || b"[]{}/^&$+-?.".contains(&c)
+}
+
 /// The section keywords of a definition file, in the order they come.
 pub const SECTIONS: [&str; 8] = [
     "Camera_AnimationParameters",
@@ -354,6 +360,18 @@ pub const SECTIONS: [&str; 8] = [
     "Surfaces",
     "Axiom",
     "Productions",
+];
+
+/// The section names of the readable form (issue 40), in the same order.
+pub const READABLE_SECTIONS: [&str; 8] = [
+    "camera",
+    "repetition",
+    "options",
+    "splines",
+    "constants",
+    "surfaces",
+    "axiom",
+    "productions",
 ];
 
 #[cfg(test)]

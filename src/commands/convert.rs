@@ -1,0 +1,38 @@
+//! `lmfilm convert`: a definition file spelt in the other form (issue
+//! 40): classic `.lm` to readable `.lmr`, or back. Both spellings parse
+//! into the same definition.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::lsys::animation::read_source;
+use crate::lsys::readable::{is_readable, to_classic};
+use crate::lsys::readable_writer::to_readable;
+
+/// The other spelling of `input`: written to `output`, or printed.
+pub fn convert(input: &Path, output: Option<&Path>) -> Result<()> {
+    let src = read_source(input).map_err(|e| Error::input(e.to_string()))?;
+    let text = if is_readable(&src.name) {
+        // Checked whole before it is written: a file that does not parse
+        // is not converted.
+        crate::lsys::parse(&src)?;
+        to_classic(&src)?.text
+    } else {
+        to_readable(&src)?
+    };
+    match output {
+        None => print!("{text}"),
+        Some(out) => {
+            if out == input {
+                return Err(Error::input(format!(
+                    "{}: the output would overwrite the input",
+                    out.display()
+                )));
+            }
+            std::fs::write(out, &text)
+                .map_err(|e| Error::input(format!("{}: cannot write: {e}", out.display())))?;
+            eprintln!("wrote {}", out.display());
+        }
+    }
+    Ok(())
+}

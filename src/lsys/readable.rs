@@ -1,0 +1,960 @@
+//! The readable form of the definition file (issue 40, thesis 8.1.2): a
+//! `.lmr` file names its symbols (`move_to(0, 2, 0) sphere(0.5)`), writes
+//! expressions in infix, arguments by position or by name with the
+//! others left out, and productions as rules:
+//!
+//! ```text
+//! rule A at_age 1 if y <= 3 {
+//!     1.0 -> A(x * 2, x + y)
+//! }
+//! ```
+//!
+//! It is read by spelling it in the classic form, piece by piece, and
+//! parsing that: one parser, one meaning. Every piece remembers where it
+//! was written, so errors point into the readable file.
+
+use std::sync::Arc;
+
+use super::catalogue::{named, names, Meaning, Unit, SLOTS};
+use super::scan::{is_symbol_char, name_suggestion, READABLE_SECTIONS, SECTIONS};
+use crate::source::{Diagnostic, Source, Written};
+
+/// Whether a file is in the readable form: by its extension.
+pub fn is_readable(name: &str) -> bool {
+    name.ends_with(".lmr")
+}
+
+/// The classic spelling of the readable file `src`; its errors point into
+/// `src`.
+pub fn to_classic(src: &Source) -> Result<Source, Diagnostic> {
+    let mut r = Reader {
+        src,
+        text: &src.text,
+        pos: 0,
+        out: String::with_capacity(src.text.len() * 2),
+        pieces: Vec::new(),
+    };
+    r.file()?;
+    Ok(Source {
+        name: src.name.clone(),
+        text: r.out,
+        written: Some(Arc::new(Written {
+            text: src.text.clone(),
+            pieces: r.pieces,
+        })),
+    })
+}
+
+/// Words that open a clause of a rule's head.
+const CLAUSES: [&str; 4] = ["at_age", "left", "right", "if"];
+
+/// One argument as written: its name if given, its text and where.
+struct Argument<'a> {
+    name: Option<(usize, &'a str)>,
+    at: usize,
+    text: &'a str,
+    quoted: bool,
+}
+
+struct Reader<'a> {
+    src: &'a Source,
+    text: &'a str,
+    pos: usize,
+    out: String,
+    pieces: Vec<(usize, usize, bool)>,
+}
+
+impl<'a> Reader<'a> {
+    fn error(&self, at: usize, message: impl Into<String>) -> Diagnostic {
+        self.src.error(at, message)
+    }
+
+    fn peek(&self) -> Option<u8> {
+        self.text.as_bytes().get(self.pos).copied()
+    }
+
+    fn rest(&self) -> &'a str {
+        &self.text[self.pos..]
+    }
+
+    /// Copies `from..to` of the written text: offsets within advance
+    /// together. Line breaks inside a group become spaces (a classic group
+    /// is one line), which keeps every offset.
+    fn copy(&mut self, from: usize, to: usize, in_group: bool) {
+        self.pieces.push((self.out.len(), from, true));
+        let piece = &self.text[from..to];
+        if in_group {
+            self.out.push_str(&piece.replace(['\n', '\r'], " "));
+        } else {
+            self.out.push_str(piece);
+        }
+    }
+
+    /// Writes made text that stands for what was written at `at`.
+    fn put(&mut self, made: &str, at: usize) {
+        self.pieces.push((self.out.len(), at, false));
+        self.out.push_str(made);
+    }
+
+    /// Copies the whitespace and comments ahead.
+    fn trivia(&mut self) -> Result<(), Diagnostic> {
+        let start = self.pos;
+        self.skip_trivia()?;
+        self.copy(start, self.pos, false);
+        Ok(())
+    }
+
+    fn skip_trivia(&mut self) -> Result<(), Diagnostic> {
+        loop {
+            let rest = self.rest();
+            let trimmed = rest.trim_start();
+            self.pos += rest.len() - trimmed.len();
+            if !trimmed.starts_with("/*") {
+                return Ok(());
+            }
+            match trimmed[2..].find("*/") {
+                Some(end) => self.pos += 2 + end + 2,
+                None => {
+                    return Err(self.error(
+                        self.pos,
+                        "unclosed comment: add `*/` to end it (comments do not nest)",
+                    ))
+                }
+            }
+        }
+    }
+
+    /// The identifier ahead, not consumed.
+    fn peek_name(&self) -> &'a str {
+        let rest = self.rest();
+        let n = rest
+            .bytes()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == b'_')
+            .count();
+        if rest.bytes().next().is_some_and(|c| c.is_ascii_digit()) {
+            return "";
+        }
+        &rest[..n]
+    }
+
+    fn at_section(&self) -> bool {
+        READABLE_SECTIONS.contains(&self.peek_name())
+    }
+
+    fn file(&mut self) -> Result<(), Diagnostic> {
+        loop {
+            self.trivia()?;
+            if self.pos >= self.text.len() {
+                return Ok(());
+            }
+            let at = self.pos;
+            let w = self.peek_name();
+            let Some(k) = READABLE_SECTIONS.iter().position(|s| *s == w) else {
+                let word: String = self.rest().split_whitespace().next().unwrap_or("").into();
+                let hint = match SECTIONS.iter().position(|s| *s == word) {
+                    Some(k) => format!("; in the readable form it is `{}`", READABLE_SECTIONS[k]),
+                    None => name_suggestion(&word, &READABLE_SECTIONS),
+                };
+                return Err(self.error(
+                    at,
+                    format!(
+                        "expected a section name ({}), found `{word}`{hint}",
+                        READABLE_SECTIONS.join(", ")
+                    ),
+                ));
+            };
+            self.pos += w.len();
+            self.put(SECTIONS[k], at);
+            match k {
+                6 => self.axiom()?,
+                7 => self.productions()?,
+                _ => self.keywords()?,
+            }
+        }
+    }
+
+    /// A section of keyword lines (camera … surfaces), copied as written.
+    fn keywords(&mut self) -> Result<(), Diagnostic> {
+        loop {
+            self.trivia()?;
+            if self.pos >= self.text.len() || self.at_section() {
+                return Ok(());
+            }
+            let at = self.pos;
+            let n = self
+                .rest()
+                .find(|c: char| c.is_whitespace())
+                .unwrap_or(self.rest().len());
+            let n = self.rest()[..n].find("/*").unwrap_or(n);
+            let word = &self.rest()[..n];
+            if let Some(k) = SECTIONS.iter().position(|s| *s == word) {
+                return Err(self.error(
+                    at,
+                    format!("in the readable form this section is `{}`", READABLE_SECTIONS[k]),
+                ));
+            }
+            self.pos += n;
+            self.copy(at, self.pos, false);
+        }
+    }
+
+    fn axiom(&mut self) -> Result<(), Diagnostic> {
+        loop {
+            self.trivia()?;
+            if self.pos >= self.text.len() || self.at_section() {
+                return Ok(());
+            }
+            self.symbol()?;
+        }
+    }
+
+    /// One symbol: `[`, `]`, a catalogue name, a letter or a quoted
+    /// character, each with its arguments in `( )` if it has any.
+    fn symbol(&mut self) -> Result<(), Diagnostic> {
+        let at = self.pos;
+        let (ch, meaning) = match self.peek() {
+            Some(b'[') => {
+                self.pos += 1;
+                return self.symbol_args(b'[', named("push"), at);
+            }
+            Some(b']') => {
+                self.pos += 1;
+                return self.symbol_args(b']', named("pop"), at);
+            }
+            Some(b'\'') => (self.quoted()?, None),
+            Some(c) if c.is_ascii_alphabetic() || c == b'_' => {
+                let name = self.peek_name();
+                self.pos += name.len();
+                if let [c] = name.as_bytes() {
+                    (*c, None)
+                } else {
+                    let Some(m) = named(name) else {
+                        return Err(self.error(
+                            at,
+                            format!(
+                                "unknown symbol `{name}`{}; a symbol of the rules' own is one letter, or any character quoted: 'F', '1'",
+                                name_suggestion(name, &names())
+                            ),
+                        ));
+                    };
+                    (m.ch, Some(m))
+                }
+            }
+            Some(c) if c.is_ascii_digit() => {
+                return Err(self.error(
+                    at,
+                    "a number where a symbol is expected: a right side starts `probability ->`, and a digit symbol is quoted: '1'",
+                ))
+            }
+            _ => {
+                let c: String = self.rest().chars().take(1).collect();
+                return Err(self.error(
+                    at,
+                    format!("`{c}` is not a symbol: write a name (`turn_left(30)`), a letter, `[`, `]`, or a character quoted ('+')"),
+                ));
+            }
+        };
+        self.symbol_args(ch, meaning, at)
+    }
+
+    /// A quoted symbol character: `'+'`.
+    fn quoted(&mut self) -> Result<u8, Diagnostic> {
+        let at = self.pos;
+        let b = self.text.as_bytes();
+        match (b.get(at + 1), b.get(at + 2)) {
+            (Some(&c), Some(b'\'')) if is_symbol_char(c) => {
+                self.pos += 3;
+                Ok(c)
+            }
+            _ => Err(self.error(
+                at,
+                "a quoted symbol is one character among letters, digits and [ ] { } / ^ & $ + - ? ., e.g. '+'",
+            )),
+        }
+    }
+
+    /// The symbol's arguments, if a `(` follows, and its classic spelling.
+    fn symbol_args(
+        &mut self,
+        ch: u8,
+        meaning: Option<&'static Meaning>,
+        at: usize,
+    ) -> Result<(), Diagnostic> {
+        let args = if self.peek() == Some(b'(') {
+            self.arguments()?
+        } else {
+            Vec::new()
+        };
+        let what = meaning.map_or_else(
+            || format!("`{}`", ch as char),
+            |m| format!("`{}`", m.name),
+        );
+        let mut slots: [Option<&Argument>; 7] = [None; 7];
+        for (k, a) in args.iter().enumerate() {
+            let (slot, unit, name) = match (a.name, meaning) {
+                (Some((nat, n)), Some(m)) => {
+                    let p = m.param(n).ok_or_else(|| self.unknown_param(m, n, nat))?;
+                    (p.slot, p.unit, p.name)
+                }
+                (Some((nat, n)), None) => {
+                    let slot = SLOTS.iter().position(|s| *s == n).ok_or_else(|| {
+                        self.error(
+                            nat,
+                            format!(
+                                "{what} has no parameter `{n}`; a symbol of its own takes {}{}",
+                                SLOTS.join(", "),
+                                name_suggestion(n, &SLOTS)
+                            ),
+                        )
+                    })?;
+                    (slot as u8, Unit::Number, SLOTS[slot])
+                }
+                (None, Some(m)) => {
+                    let p = m.params.get(k).ok_or_else(|| {
+                        self.error(
+                            a.at,
+                            format!(
+                                "{what} takes {} argument{} ({}), given {}; the age and free slots go by name",
+                                m.params.len(),
+                                if m.params.len() == 1 { "" } else { "s" },
+                                m.signature(),
+                                args.len()
+                            ),
+                        )
+                    })?;
+                    (p.slot, p.unit, p.name)
+                }
+                (None, None) => {
+                    if k >= 6 {
+                        return Err(self.error(
+                            a.at,
+                            format!("{what} takes at most 6 arguments (x, y, z, f1, f2, f3), given {}", args.len()),
+                        ));
+                    }
+                    (k as u8 + 1, Unit::Number, SLOTS[k + 1])
+                }
+            };
+            if slots[slot as usize].is_some() {
+                return Err(self.error(a.at, format!("{what}: `{name}` is given twice")));
+            }
+            self.check(a, unit, name, &what)?;
+            slots[slot as usize] = Some(a);
+        }
+        self.put(&(ch as char).to_string(), at);
+        let fixed = meaning.map_or(&[][..], |m| m.fixed);
+        let last = (0..7)
+            .rev()
+            .find(|&k| slots[k].is_some() || fixed.iter().any(|f| f.0 as usize == k && f.1 != 0.0));
+        let Some(last) = last else {
+            self.put(" ", at);
+            return Ok(());
+        };
+        for (k, given) in slots.iter().enumerate().take(last + 1) {
+            match (given, fixed.iter().find(|f| f.0 as usize == k)) {
+                (Some(a), _) => self.group(a),
+                (None, Some((_, v))) => self.put(&format!(" ({v})"), at),
+                (None, None) => self.put(" ()", at),
+            }
+        }
+        self.put(" ", at);
+        Ok(())
+    }
+
+    fn unknown_param(&self, m: &Meaning, n: &str, at: usize) -> Diagnostic {
+        let mut known: Vec<&str> = m.params.iter().map(|p| p.name).collect();
+        known.extend(SLOTS.iter().filter(|s| m.param(s).is_some()));
+        self.error(
+            at,
+            format!(
+                "`{}` has no parameter `{n}`{}; it takes {} (and by name: {})",
+                m.name,
+                name_suggestion(n, &known),
+                m.signature(),
+                SLOTS
+                    .iter()
+                    .filter(|s| m.free(SLOTS.iter().position(|t| t == *s).unwrap_or(0) as u8))
+                    .copied()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        )
+    }
+
+    /// Checks a plain-number or quoted argument against its unit.
+    fn check(&self, a: &Argument, unit: Unit, name: &str, what: &str) -> Result<(), Diagnostic> {
+        if unit == Unit::Text {
+            if !a.quoted {
+                return Err(self.error(
+                    a.at,
+                    format!("{what}: `{name}` is {}", unit.describe()),
+                ));
+            }
+            return Ok(());
+        }
+        if a.quoted {
+            return Err(self.error(
+                a.at,
+                format!("{what}: `{name}` is {}, not a text", unit.describe()),
+            ));
+        }
+        let t = a.text.trim();
+        let plain = t.strip_prefix('-').unwrap_or(t);
+        if plain.bytes().all(|c| c.is_ascii_digit() || c == b'.') {
+            if let Ok(v) = t.parse::<f64>() {
+                if let Some(why) = unit.reject(v) {
+                    return Err(self.error(
+                        a.at,
+                        format!("{what}: `{name}` is {why}, found {t}"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The classic group of one argument.
+    fn group(&mut self, a: &Argument) {
+        let end = a.at + a.text.len();
+        let t = a.text.trim();
+        let unsigned = !t.is_empty() && t.bytes().all(|c| c.is_ascii_digit() || c == b'.');
+        if a.quoted || unsigned {
+            self.put(" (", a.at);
+        } else {
+            self.put(" (= ", a.at);
+        }
+        self.copy(a.at, end, true);
+        self.put(")", end);
+    }
+
+    /// `( args )` after a symbol.
+    fn arguments(&mut self) -> Result<Vec<Argument<'a>>, Diagnostic> {
+        let open = self.pos;
+        self.pos += 1;
+        let mut args = Vec::new();
+        loop {
+            self.skip_space(open)?;
+            if self.peek() == Some(b')') && args.is_empty() {
+                self.pos += 1;
+                return Ok(args);
+            }
+            let mut name = None;
+            let n = self.peek_name();
+            if !n.is_empty() {
+                let after = self.text[self.pos + n.len()..].trim_start_matches([' ', '\t']);
+                if after.starts_with(':') {
+                    name = Some((self.pos, n));
+                    self.pos = self.text.len() - after.len() + 1;
+                    self.skip_space(open)?;
+                }
+            }
+            let at = self.pos;
+            let (text, quoted) = if self.peek() == Some(b'"') {
+                let end = self.rest()[1..].find(['"', '\n']).map(|e| e + 1);
+                match end.filter(|e| self.rest().as_bytes()[*e] == b'"') {
+                    Some(e) => {
+                        let t = &self.text[at + 1..at + e];
+                        self.pos += e + 1;
+                        (t, true)
+                    }
+                    None => return Err(self.error(at, "unclosed text: add the closing `\"`")),
+                }
+            } else {
+                (self.expression_text(open)?, false)
+            };
+            let at = if quoted { at + 1 } else { at };
+            if !quoted && text.trim().is_empty() {
+                return Err(self.error(at, "an empty argument: leave it out, or name the ones you give"));
+            }
+            args.push(Argument {
+                name,
+                at,
+                text,
+                quoted,
+            });
+            self.skip_space(open)?;
+            match self.peek() {
+                Some(b',') => self.pos += 1,
+                Some(b')') => {
+                    self.pos += 1;
+                    return Ok(args);
+                }
+                _ => return Err(self.error(self.pos, "expected `,` or `)` after an argument")),
+            }
+        }
+    }
+
+    /// Skips whitespace inside arguments; a comment there is an error
+    /// (a classic group holds none).
+    fn skip_space(&mut self, open: usize) -> Result<(), Diagnostic> {
+        let rest = self.rest();
+        self.pos += rest.len() - rest.trim_start().len();
+        if self.rest().starts_with("/*") {
+            return Err(self.error(self.pos, "a comment inside a symbol's `( )`: move it after the `)`"));
+        }
+        if self.pos >= self.text.len() {
+            return Err(self.error(open, "this `(` is not closed"));
+        }
+        Ok(())
+    }
+
+    /// An expression's text up to a `,` or `)` outside parentheses.
+    fn expression_text(&mut self, open: usize) -> Result<&'a str, Diagnostic> {
+        let start = self.pos;
+        let mut depth = 0usize;
+        for (i, c) in self.rest().bytes().enumerate() {
+            match c {
+                b'(' => depth += 1,
+                b')' if depth == 0 => {
+                    self.pos = start + i;
+                    return Ok(&self.text[start..start + i]);
+                }
+                b')' => depth -= 1,
+                b',' if depth == 0 => {
+                    self.pos = start + i;
+                    return Ok(&self.text[start..start + i]);
+                }
+                b'"' | b'{' | b'}' | b'[' | b']' => break,
+                _ => {}
+            }
+        }
+        Err(self.error(open, "this `(` is not closed"))
+    }
+
+    fn productions(&mut self) -> Result<(), Diagnostic> {
+        loop {
+            self.trivia()?;
+            if self.pos >= self.text.len() {
+                self.put("\nEndProductions\n", self.text.len());
+                return Ok(());
+            }
+            if self.at_section() {
+                return Err(self.error(self.pos, "`productions` is the last section"));
+            }
+            let at = self.pos;
+            if self.peek_name() != "rule" {
+                let w: String = self.rest().split_whitespace().next().unwrap_or("").into();
+                return Err(self.error(
+                    at,
+                    format!("expected a rule (`rule A at_age 1 {{ 1 -> … }}`), found `{w}`"),
+                ));
+            }
+            self.pos += 4;
+            self.rule(at)?;
+        }
+    }
+
+    /// The symbol a rule rewrites or a context names: a letter or a
+    /// quoted character.
+    fn rule_symbol(&mut self, what: &str) -> Result<u8, Diagnostic> {
+        self.skip_trivia()?;
+        let at = self.pos;
+        if self.peek() == Some(b'\'') {
+            return self.quoted();
+        }
+        let n = self.peek_name();
+        match n.as_bytes() {
+            [c] => {
+                self.pos += 1;
+                Ok(*c)
+            }
+            _ => Err(self.error(
+                at,
+                format!("{what} is one symbol: a letter, or a character quoted ('+'), found `{n}`"),
+            )),
+        }
+    }
+
+    fn rule(&mut self, at: usize) -> Result<(), Diagnostic> {
+        let lhs = self.rule_symbol("a rule rewrites")?;
+        self.put(&format!("{} ", lhs as char), at);
+        let mut age: Option<(usize, &str)> = None;
+        let mut cond: Option<(usize, &str)> = None;
+        let mut contexts: [Option<u8>; 2] = [None, None];
+        loop {
+            self.skip_trivia()?;
+            if self.peek() == Some(b'{') {
+                break;
+            }
+            let cat = self.pos;
+            let w = self.peek_name();
+            let Some(k) = CLAUSES.iter().position(|c| *c == w) else {
+                let found: String = self.rest().split_whitespace().next().unwrap_or("").into();
+                return Err(self.error(
+                    cat,
+                    format!(
+                        "expected `{{` or a clause ({}) in this rule's head, found `{found}`{}",
+                        CLAUSES.join(", "),
+                        name_suggestion(w, &CLAUSES)
+                    ),
+                ));
+            };
+            self.pos += w.len();
+            let again = match k {
+                0 | 3 => {
+                    let t = self.head_text(cat)?;
+                    let slot = if k == 0 { &mut age } else { &mut cond };
+                    slot.replace(t).is_some()
+                }
+                _ => {
+                    let c = self.rule_symbol("a context")?;
+                    contexts[k - 1].replace(c).is_some()
+                }
+            };
+            if again {
+                return Err(self.error(cat, format!("`{w}` is given twice in this rule")));
+            }
+        }
+        match age {
+            Some((a, t)) => {
+                self.group(&Argument {
+                    name: None,
+                    at: a,
+                    text: t,
+                    quoted: false,
+                });
+                self.put(" ", a + t.len());
+            }
+            None => self.put("() ", at),
+        }
+        match cond {
+            Some((c, t)) => {
+                self.pos = c;
+                let mut p = Condition {
+                    r: self,
+                    end: c + t.len(),
+                };
+                p.or()?;
+                p.r.skip_trivia()?;
+                if p.r.pos < p.end {
+                    return Err(p.r.error(p.r.pos, "unexpected text in the condition"));
+                }
+                self.pos = c + t.len();
+                self.skip_trivia()?;
+                self.put(" ", at);
+            }
+            None => self.put("() ", at),
+        }
+        for c in contexts {
+            match c {
+                Some(c) => self.put(&format!("({}) ", c as char), at),
+                None => self.put("() ", at),
+            }
+        }
+        // The body: `{ p -> symbols … }`.
+        let open = self.pos;
+        self.pos += 1;
+        self.put("", open);
+        let mut parts = 0;
+        loop {
+            self.trivia()?;
+            match self.peek() {
+                None => return Err(self.error(open, "this rule's `{` is not closed")),
+                Some(b'}') => {
+                    if parts == 0 {
+                        return Err(self.error(self.pos, "a rule needs a right side: `1 -> symbols…`"));
+                    }
+                    self.put(" End", self.pos);
+                    self.pos += 1;
+                    return Ok(());
+                }
+                _ => {}
+            }
+            let pat = self.pos;
+            let n = number_length(self.rest());
+            if n == 0 {
+                return Err(self.error(pat, "expected a right side's probability, e.g. `1 -> A B`, or `}`"));
+            }
+            self.pos += n;
+            self.copy(pat, self.pos, false);
+            self.skip_trivia()?;
+            if !self.rest().starts_with("->") {
+                return Err(self.error(self.pos, "expected `->` after the probability"));
+            }
+            self.put(" ", self.pos);
+            self.pos += 2;
+            parts += 1;
+            loop {
+                let start = self.pos;
+                self.skip_trivia()?;
+                let ends = match self.peek() {
+                    Some(c) => c == b'}' || c.is_ascii_digit() || c == b'.',
+                    None => true,
+                };
+                if ends {
+                    self.put(" EndProb", start);
+                }
+                self.copy(start, self.pos, false);
+                if ends {
+                    break;
+                }
+                self.symbol()?;
+            }
+        }
+    }
+
+    /// The text of an `at_age` or `if` clause: up to the next clause or
+    /// the `{`, outside parentheses.
+    fn head_text(&mut self, clause: usize) -> Result<(usize, &'a str), Diagnostic> {
+        self.skip_trivia()?;
+        let start = self.pos;
+        let b = self.text.as_bytes();
+        let mut depth = 0usize;
+        let mut i = start;
+        while i < b.len() {
+            match b[i] {
+                b'(' => depth += 1,
+                b')' => depth = depth.saturating_sub(1),
+                b'{' if depth == 0 => break,
+                c if depth == 0 && (c.is_ascii_alphabetic() || c == b'_') => {
+                    let n = b[i..]
+                        .iter()
+                        .take_while(|c| c.is_ascii_alphanumeric() || **c == b'_')
+                        .count();
+                    let boundary = i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
+                    if boundary && CLAUSES.contains(&&self.text[i..i + n]) {
+                        break;
+                    }
+                    i += n;
+                    continue;
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+        let t = self.text[start..i].trim_end();
+        if t.is_empty() {
+            return Err(self.error(clause, "this clause has nothing after it"));
+        }
+        self.pos = start + t.len();
+        Ok((start, t))
+    }
+}
+
+/// The length of the decimal number `text` starts with (`1`, `0.5`,
+/// `.5`, `1e-3`), 0 if none.
+fn number_length(text: &str) -> usize {
+    let b = text.as_bytes();
+    let digits = |mut i: usize| {
+        while i < b.len() && b[i].is_ascii_digit() {
+            i += 1;
+        }
+        i
+    };
+    let mut i = digits(0);
+    if i < b.len() && b[i] == b'.' {
+        i = digits(i + 1);
+    }
+    if i == 0 || &text[..i] == "." {
+        return 0;
+    }
+    if i < b.len() && matches!(b[i], b'e' | b'E') {
+        let j = if matches!(b.get(i + 1), Some(b'+' | b'-')) { i + 2 } else { i + 1 };
+        let k = digits(j);
+        if k > j {
+            i = k;
+        }
+    }
+    i
+}
+
+/// A rule's condition, `x > 0 and not y == 1`, spelt as classic atoms
+/// combined in postfix.
+struct Condition<'r, 'a> {
+    r: &'r mut Reader<'a>,
+    end: usize,
+}
+
+/// The comparisons and their classic predicates.
+const COMPARISONS: [(&str, char); 6] = [
+    ("<=", 'p'),
+    (">=", 'g'),
+    ("==", '='),
+    ("!=", '!'),
+    ("<", '<'),
+    (">", '>'),
+];
+
+impl Condition<'_, '_> {
+    /// Skips whitespace and comments, not past the condition's end.
+    fn skip(&mut self) -> Result<(), Diagnostic> {
+        self.r.skip_trivia()?;
+        self.r.pos = self.r.pos.min(self.end);
+        Ok(())
+    }
+
+    fn word(&mut self, w: &str) -> bool {
+        let _ = self.skip();
+        let rest = &self.r.text[self.r.pos..self.end];
+        let at_word = rest.starts_with(w)
+            && !rest[w.len()..]
+                .bytes()
+                .next()
+                .is_some_and(|c| c.is_ascii_alphanumeric() || c == b'_');
+        if at_word {
+            self.r.pos += w.len();
+        }
+        at_word
+    }
+
+    fn or(&mut self) -> Result<(), Diagnostic> {
+        self.and()?;
+        while self.word("or") {
+            let at = self.r.pos;
+            self.and()?;
+            self.r.put(" |", at);
+        }
+        Ok(())
+    }
+
+    fn and(&mut self) -> Result<(), Diagnostic> {
+        self.not()?;
+        while self.word("and") {
+            let at = self.r.pos;
+            self.not()?;
+            self.r.put(" &", at);
+        }
+        Ok(())
+    }
+
+    fn not(&mut self) -> Result<(), Diagnostic> {
+        if self.word("not") {
+            let at = self.r.pos;
+            self.not()?;
+            self.r.put(" !", at);
+            return Ok(());
+        }
+        self.primary()
+    }
+
+    /// `( condition )` or a comparison.
+    fn primary(&mut self) -> Result<(), Diagnostic> {
+        self.skip()?;
+        if self.r.peek() == Some(b'(') {
+            let close = self.matching(self.r.pos)?;
+            if self.has_comparison(self.r.pos + 1, close) {
+                self.r.pos += 1;
+                let end = std::mem::replace(&mut self.end, close);
+                self.or()?;
+                self.skip()?;
+                if self.r.pos != close {
+                    return Err(self.r.error(self.r.pos, "unexpected text in the condition"));
+                }
+                self.end = end;
+                self.r.pos = close + 1;
+                return Ok(());
+            }
+        }
+        self.comparison()
+    }
+
+    fn matching(&self, open: usize) -> Result<usize, Diagnostic> {
+        let mut depth = 0;
+        for (i, c) in self.r.text[open..self.end].bytes().enumerate() {
+            match c {
+                b'(' => depth += 1,
+                b')' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        return Ok(open + i);
+                    }
+                }
+                _ => {}
+            }
+        }
+        Err(self.r.error(open, "this `(` is not closed"))
+    }
+
+    /// Whether `from..to` holds a comparison or a logic word outside
+    /// parentheses: a condition, not an expression, in parentheses.
+    fn has_comparison(&self, from: usize, to: usize) -> bool {
+        let t = &self.r.text[from..to];
+        let mut depth = 0;
+        for (i, c) in t.bytes().enumerate() {
+            match c {
+                b'(' => depth += 1,
+                b')' => depth -= 1,
+                b'<' | b'>' | b'=' | b'!' if depth == 0 => return true,
+                _ if depth == 0 => {
+                    let boundary = i == 0 || !t.as_bytes()[i - 1].is_ascii_alphanumeric();
+                    if boundary
+                        && ["and ", "or ", "not "]
+                            .iter()
+                            .any(|w| t[i..].starts_with(w))
+                    {
+                        return true;
+                    }
+                }
+                _ => {}
+            }
+        }
+        false
+    }
+
+    /// An expression's extent: up to `stop` outside parentheses.
+    fn operand(&mut self, comparison_ends: bool) -> Result<(usize, usize), Diagnostic> {
+        self.skip()?;
+        let start = self.r.pos;
+        let b = self.r.text.as_bytes();
+        let mut depth = 0usize;
+        let mut i = start;
+        while i < self.end {
+            let c = b[i];
+            match c {
+                b'(' => depth += 1,
+                b')' if depth == 0 => break,
+                b')' => depth -= 1,
+                b'<' | b'>' | b'=' | b'!' if depth == 0 && comparison_ends => break,
+                c if depth == 0 && !comparison_ends && c.is_ascii_alphabetic() => {
+                    let boundary = i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
+                    let rest = &self.r.text[i..self.end];
+                    let word = rest
+                        .bytes()
+                        .take_while(|c| c.is_ascii_alphanumeric() || *c == b'_')
+                        .count();
+                    if boundary && ["and", "or", "not"].contains(&&rest[..word]) {
+                        break;
+                    }
+                    i += word;
+                    continue;
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+        let end = start + self.r.text[start..i].trim_end().len();
+        if end == start {
+            return Err(self.r.error(start, "a comparison needs an expression here"));
+        }
+        self.r.pos = i;
+        Ok((start, end))
+    }
+
+    /// `lhs cmp rhs` as `[(= (lhs) - (rhs))pred]`, or `[(= lhs)pred]`
+    /// when rhs is 0.
+    fn comparison(&mut self) -> Result<(), Diagnostic> {
+        let (l0, l1) = self.operand(true)?;
+        let at = self.r.pos;
+        let rest = &self.r.text[at..self.end];
+        let Some(&(sign, pred)) = COMPARISONS.iter().find(|(s, _)| rest.starts_with(s)) else {
+            return Err(self.r.error(
+                at,
+                "a condition compares two expressions: `x > 0`, `y <= 3`, `z != 1` (combined with and, or, not)",
+            ));
+        };
+        self.r.pos += sign.len();
+        let (r0, r1) = self.operand(false)?;
+        let zero = self.r.text[r0..r1].trim() == "0";
+        self.r.put(" [(= ", l0);
+        if zero {
+            self.r.copy(l0, l1, true);
+        } else {
+            self.r.put("(", l0);
+            self.r.copy(l0, l1, true);
+            self.r.put(") - (", at);
+            self.r.copy(r0, r1, true);
+            self.r.put(")", r1);
+        }
+        self.r.put(&format!("){pred}]"), at);
+        Ok(())
+    }
+}
