@@ -338,9 +338,7 @@ fn main() -> ExitCode {
         Command::Print { at, format } => {
             commands::frame::print(&at, matches!(format, PrintFormat::Full))
         }
-        Command::Convert { input, output } => {
-            commands::convert::convert(&input, output.as_deref())
-        }
+        Command::Convert { input, output } => commands::convert::convert(&input, output.as_deref()),
         Command::Export {
             at,
             output,

@@ -6,17 +6,15 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::lsys::animation::read_source;
-use crate::lsys::readable::{is_readable, to_classic};
+use crate::lsys::readable::is_readable;
 use crate::lsys::readable_writer::to_readable;
+use crate::lsys::thesis_form::to_thesis;
 
 /// The other spelling of `input`: written to `output`, or printed.
 pub fn convert(input: &Path, output: Option<&Path>) -> Result<()> {
     let src = read_source(input).map_err(|e| Error::input(e.to_string()))?;
     let text = if is_readable(&src.name) {
-        // Checked whole before it is written: a file that does not parse
-        // is not converted.
-        crate::lsys::parse(&src)?;
-        to_classic(&src)?.text
+        to_thesis(&src)?
     } else {
         to_readable(&src)?
     };

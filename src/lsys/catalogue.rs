@@ -56,7 +56,9 @@ impl Unit {
             Unit::Flag => "a switch, 0 or 1",
             Unit::Joint => "a joint number, an integer 0…21",
             Unit::Motion => "a motion number (an integer; 0 the rest pose, −1 seated)",
-            Unit::Hold => "what holds the body: 0 its frame, 1 its eyes, 2 its right hand, 3 its hips",
+            Unit::Hold => {
+                "what holds the body: 0 its frame, 1 its eyes, 2 its right hand, 3 its hips"
+            }
             Unit::Number => "a number",
             Unit::Text => "an automata command in quotes, e.g. \"goal 1 0 2\"",
         }
@@ -165,7 +167,11 @@ const PYRAMID: &[Param] = &[
     p("width_u", 6, Metres),
 ];
 const TABLE: &[Param] = &[p("table", 1, Integer)];
-const RGB: &[Param] = &[p("red", 4, Colour), p("green", 5, Colour), p("blue", 6, Colour)];
+const RGB: &[Param] = &[
+    p("red", 4, Colour),
+    p("green", 5, Colour),
+    p("blue", 6, Colour),
+];
 const FORCE: &[Param] = &[p("fx", 4, Number), p("fy", 5, Number), p("fz", 6, Number)];
 const OBJECT: &[Param] = &[p("object", 4, Index)];
 const ACTOR3: &[Param] = &[p("actor", 3, Actor)];
@@ -311,7 +317,8 @@ impl Meaning {
             return Some(*p);
         }
         let slot = SLOTS.iter().position(|s| *s == name)? as u8;
-        self.free(slot).then_some(p(SLOTS[slot as usize], slot, Number))
+        self.free(slot)
+            .then_some(p(SLOTS[slot as usize], slot, Number))
     }
 
     /// Whether a slot is neither a selector nor one of the meaning's
@@ -358,8 +365,15 @@ mod tests {
         let mut seen = std::collections::BTreeSet::new();
         for m in MEANINGS {
             assert!(seen.insert(m.name), "{} twice", m.name);
-            assert!(m.name.len() > 1, "{}: one letter names a raw symbol", m.name);
-            assert!(m.name.bytes().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'_'));
+            assert!(
+                m.name.len() > 1,
+                "{}: one letter names a raw symbol",
+                m.name
+            );
+            assert!(m
+                .name
+                .bytes()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'_'));
             let mut slots: Vec<u8> = m.fixed.iter().map(|f| f.0).collect();
             slots.extend(m.params.iter().map(|p| p.slot));
             let n = slots.len();

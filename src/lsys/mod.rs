@@ -21,6 +21,7 @@ pub mod readable_writer;
 pub mod scan;
 pub mod sensors;
 pub mod step;
+pub mod thesis_form;
 pub mod unparse;
 pub mod word;
 

@@ -647,7 +647,10 @@ pub fn condition(s: &mut Scanner, c: &mut Compiler) -> Result<Expr, Diagnostic> 
                     Some(b'g') => Op::Ge,
                     Some(b'=') => Op::Eq,
                     Some(b'!') => Op::Ne,
-                    _ => return Err(s.error(pat, "expected a predicate `<`, `p`, `>`, `g`, `=` or `!` after the expression")),
+                    _ => return Err(s.error(
+                        pat,
+                        "expected a predicate `<`, `p`, `>`, `g`, `=` or `!` after the expression",
+                    )),
                 };
                 s.bump();
                 c.push(&mut em, pred, pat)?;

@@ -24,15 +24,25 @@ pub fn is_readable(name: &str) -> bool {
     name.ends_with(".lmr")
 }
 
-/// The classic spelling of the readable file `src`; its errors point into
-/// `src`.
+/// The classic spelling of the readable file `src`, infix groups kept
+/// (`(= x * 2)`); its errors point into `src`.
 pub fn to_classic(src: &Source) -> Result<Source, Diagnostic> {
+    to_classic_with(src, None)
+}
+
+/// Spells an infix expression in postfix, where it can.
+pub type Respell<'a> = &'a dyn Fn(&str) -> Option<String>;
+
+/// As [`to_classic`], each expression spelt by `respell` where it gives
+/// a spelling (the thesis's postfix, for `lmfilm convert`).
+pub fn to_classic_with(src: &Source, respell: Option<Respell>) -> Result<Source, Diagnostic> {
     let mut r = Reader {
         src,
         text: &src.text,
         pos: 0,
         out: String::with_capacity(src.text.len() * 2),
         pieces: Vec::new(),
+        respell,
     };
     r.file()?;
     Ok(Source {
@@ -62,6 +72,7 @@ struct Reader<'a> {
     pos: usize,
     out: String,
     pieces: Vec<(usize, usize, bool)>,
+    respell: Option<Respell<'a>>,
 }
 
 impl<'a> Reader<'a> {
@@ -94,6 +105,14 @@ impl<'a> Reader<'a> {
     fn put(&mut self, made: &str, at: usize) {
         self.pieces.push((self.out.len(), at, false));
         self.out.push_str(made);
+    }
+
+    /// Writes a made word, after a space unless one is there.
+    fn put_word(&mut self, word: &str, at: usize) {
+        if !self.out.is_empty() && !self.out.ends_with(char::is_whitespace) {
+            self.put(" ", at);
+        }
+        self.put(word, at);
     }
 
     /// Copies the whitespace and comments ahead.
@@ -190,7 +209,10 @@ impl<'a> Reader<'a> {
             if let Some(k) = SECTIONS.iter().position(|s| *s == word) {
                 return Err(self.error(
                     at,
-                    format!("in the readable form this section is `{}`", READABLE_SECTIONS[k]),
+                    format!(
+                        "in the readable form this section is `{}`",
+                        READABLE_SECTIONS[k]
+                    ),
                 ));
             }
             self.pos += n;
@@ -285,10 +307,7 @@ impl<'a> Reader<'a> {
         } else {
             Vec::new()
         };
-        let what = meaning.map_or_else(
-            || format!("`{}`", ch as char),
-            |m| format!("`{}`", m.name),
-        );
+        let what = meaning.map_or_else(|| format!("`{}`", ch as char), |m| format!("`{}`", m.name));
         let mut slots: [Option<&Argument>; 7] = [None; 7];
         for (k, a) in args.iter().enumerate() {
             let (slot, unit, name) = match (a.name, meaning) {
@@ -328,14 +347,18 @@ impl<'a> Reader<'a> {
                     if k >= 6 {
                         return Err(self.error(
                             a.at,
-                            format!("{what} takes at most 6 arguments (x, y, z, f1, f2, f3), given {}", args.len()),
+                            format!(
+                                "{what} takes at most 6 arguments (x, y, z, f1, f2, f3), given {}",
+                                args.len()
+                            ),
                         ));
                     }
                     (k as u8 + 1, Unit::Number, SLOTS[k + 1])
                 }
             };
             if slots[slot as usize].is_some() {
-                return Err(self.error(a.at, format!("{what}: `{name}` is given twice")));
+                let at = a.name.map_or(a.at, |n| n.0);
+                return Err(self.error(at, format!("{what}: `{name}` is given twice")));
             }
             self.check(a, unit, name, &what)?;
             slots[slot as usize] = Some(a);
@@ -346,7 +369,18 @@ impl<'a> Reader<'a> {
             .rev()
             .find(|&k| slots[k].is_some() || fixed.iter().any(|f| f.0 as usize == k && f.1 != 0.0));
         let Some(last) = last else {
-            self.put(" ", at);
+            // A named letter given nothing is written with a group, which
+            // says it is meant as the name (a bare `C` reads as a letter
+            // of the rules' own).
+            if meaning.is_some_and(|m| !m.params.is_empty()) && ch.is_ascii_alphabetic() {
+                self.put(" ()", at);
+                return Ok(());
+            }
+            // A bare symbol keeps apart from a letter after it (`E n d`
+            // is not the keyword `End`).
+            if !self.rest().starts_with(char::is_whitespace) {
+                self.put(" ", at);
+            }
             return Ok(());
         };
         for (k, given) in slots.iter().enumerate().take(last + 1) {
@@ -356,7 +390,6 @@ impl<'a> Reader<'a> {
                 (None, None) => self.put(" ()", at),
             }
         }
-        self.put(" ", at);
         Ok(())
     }
 
@@ -384,10 +417,7 @@ impl<'a> Reader<'a> {
     fn check(&self, a: &Argument, unit: Unit, name: &str, what: &str) -> Result<(), Diagnostic> {
         if unit == Unit::Text {
             if !a.quoted {
-                return Err(self.error(
-                    a.at,
-                    format!("{what}: `{name}` is {}", unit.describe()),
-                ));
+                return Err(self.error(a.at, format!("{what}: `{name}` is {}", unit.describe())));
             }
             return Ok(());
         }
@@ -402,10 +432,7 @@ impl<'a> Reader<'a> {
         if plain.bytes().all(|c| c.is_ascii_digit() || c == b'.') {
             if let Ok(v) = t.parse::<f64>() {
                 if let Some(why) = unit.reject(v) {
-                    return Err(self.error(
-                        a.at,
-                        format!("{what}: `{name}` is {why}, found {t}"),
-                    ));
+                    return Err(self.error(a.at, format!("{what}: `{name}` is {why}, found {t}")));
                 }
             }
         }
@@ -417,6 +444,14 @@ impl<'a> Reader<'a> {
         let end = a.at + a.text.len();
         let t = a.text.trim();
         let unsigned = !t.is_empty() && t.bytes().all(|c| c.is_ascii_digit() || c == b'.');
+        if let Some(p) = self
+            .respell
+            .filter(|_| !a.quoted && !unsigned)
+            .and_then(|r| r(a.text))
+        {
+            self.put(&format!(" ({p})"), a.at);
+            return;
+        }
         if a.quoted || unsigned {
             self.put(" (", a.at);
         } else {
@@ -463,7 +498,10 @@ impl<'a> Reader<'a> {
             };
             let at = if quoted { at + 1 } else { at };
             if !quoted && text.trim().is_empty() {
-                return Err(self.error(at, "an empty argument: leave it out, or name the ones you give"));
+                return Err(self.error(
+                    at,
+                    "an empty argument: leave it out, or name the ones you give",
+                ));
             }
             args.push(Argument {
                 name,
@@ -489,7 +527,10 @@ impl<'a> Reader<'a> {
         let rest = self.rest();
         self.pos += rest.len() - rest.trim_start().len();
         if self.rest().starts_with("/*") {
-            return Err(self.error(self.pos, "a comment inside a symbol's `( )`: move it after the `)`"));
+            return Err(self.error(
+                self.pos,
+                "a comment inside a symbol's `( )`: move it after the `)`",
+            ));
         }
         if self.pos >= self.text.len() {
             return Err(self.error(open, "this `(` is not closed"));
@@ -512,6 +553,12 @@ impl<'a> Reader<'a> {
                 b',' if depth == 0 => {
                     self.pos = start + i;
                     return Ok(&self.text[start..start + i]);
+                }
+                b'/' if self.text[start + i..].starts_with("/*") => {
+                    return Err(self.error(
+                        start + i,
+                        "a comment inside a symbol's `( )`: move it after the `)`",
+                    ))
                 }
                 b'"' | b'{' | b'}' | b'[' | b']' => break,
                 _ => {}
@@ -566,7 +613,7 @@ impl<'a> Reader<'a> {
 
     fn rule(&mut self, at: usize) -> Result<(), Diagnostic> {
         let lhs = self.rule_symbol("a rule rewrites")?;
-        self.put(&format!("{} ", lhs as char), at);
+        self.put(&(lhs as char).to_string(), at);
         let mut age: Option<(usize, &str)> = None;
         let mut cond: Option<(usize, &str)> = None;
         let mut contexts: [Option<u8>; 2] = [None, None];
@@ -591,7 +638,7 @@ impl<'a> Reader<'a> {
             self.pos += w.len();
             let again = match k {
                 0 | 3 => {
-                    let t = self.head_text(cat)?;
+                    let t = self.head_text(cat, k == 0)?;
                     let slot = if k == 0 { &mut age } else { &mut cond };
                     slot.replace(t).is_some()
                 }
@@ -605,17 +652,16 @@ impl<'a> Reader<'a> {
             }
         }
         match age {
-            Some((a, t)) => {
-                self.group(&Argument {
-                    name: None,
-                    at: a,
-                    text: t,
-                    quoted: false,
-                });
-                self.put(" ", a + t.len());
-            }
-            None => self.put("() ", at),
+            Some((a, t)) => self.group(&Argument {
+                name: None,
+                at: a,
+                text: t,
+                quoted: false,
+            }),
+            None => self.put(" ()", at),
         }
+        // Trailing parts of the classic head are left out.
+        let contexts_given = contexts.iter().rposition(Option::is_some);
         match cond {
             Some((c, t)) => {
                 self.pos = c;
@@ -630,20 +676,22 @@ impl<'a> Reader<'a> {
                 }
                 self.pos = c + t.len();
                 self.skip_trivia()?;
-                self.put(" ", at);
             }
-            None => self.put("() ", at),
+            None if contexts_given.is_some() => self.put(" ()", at),
+            None => {}
         }
-        for c in contexts {
+        for c in contexts.iter().take(contexts_given.map_or(0, |k| k + 1)) {
             match c {
-                Some(c) => self.put(&format!("({}) ", c as char), at),
-                None => self.put("() ", at),
+                Some(c) => self.put(&format!(" ({})", *c as char), at),
+                None => self.put(" ()", at),
             }
         }
         // The body: `{ p -> symbols … }`.
         let open = self.pos;
         self.pos += 1;
-        self.put("", open);
+        if !self.rest().starts_with(char::is_whitespace) {
+            self.put(" ", open);
+        }
         let mut parts = 0;
         loop {
             self.trivia()?;
@@ -651,9 +699,11 @@ impl<'a> Reader<'a> {
                 None => return Err(self.error(open, "this rule's `{` is not closed")),
                 Some(b'}') => {
                     if parts == 0 {
-                        return Err(self.error(self.pos, "a rule needs a right side: `1 -> symbols…`"));
+                        return Err(
+                            self.error(self.pos, "a rule needs a right side: `1 -> symbols…`")
+                        );
                     }
-                    self.put(" End", self.pos);
+                    self.put_word("End", self.pos);
                     self.pos += 1;
                     return Ok(());
                 }
@@ -662,7 +712,10 @@ impl<'a> Reader<'a> {
             let pat = self.pos;
             let n = number_length(self.rest());
             if n == 0 {
-                return Err(self.error(pat, "expected a right side's probability, e.g. `1 -> A B`, or `}`"));
+                return Err(self.error(
+                    pat,
+                    "expected a right side's probability, e.g. `1 -> A B`, or `}`",
+                ));
             }
             self.pos += n;
             self.copy(pat, self.pos, false);
@@ -670,18 +723,32 @@ impl<'a> Reader<'a> {
             if !self.rest().starts_with("->") {
                 return Err(self.error(self.pos, "expected `->` after the probability"));
             }
-            self.put(" ", self.pos);
             self.pos += 2;
+            if !self.rest().starts_with(char::is_whitespace) {
+                self.put(" ", self.pos);
+            }
             parts += 1;
             loop {
                 let start = self.pos;
                 self.skip_trivia()?;
                 let ends = match self.peek() {
-                    Some(c) => c == b'}' || c.is_ascii_digit() || c == b'.',
+                    Some(c) if c.is_ascii_digit() || c == b'.' => {
+                        // The next right side's probability, or a digit
+                        // meant as a symbol.
+                        let after = &self.rest()[number_length(self.rest())..];
+                        if !after.trim_start().starts_with("->") {
+                            return Err(self.error(
+                                self.pos,
+                                "a number where a symbol is expected: a right side starts `probability ->`, and a digit symbol is quoted: '1'",
+                            ));
+                        }
+                        true
+                    }
+                    Some(c) => c == b'}',
                     None => true,
                 };
                 if ends {
-                    self.put(" EndProb", start);
+                    self.put_word("EndProb", start);
                 }
                 self.copy(start, self.pos, false);
                 if ends {
@@ -692,9 +759,13 @@ impl<'a> Reader<'a> {
         }
     }
 
-    /// The text of an `at_age` or `if` clause: up to the next clause or
-    /// the `{`, outside parentheses.
-    fn head_text(&mut self, clause: usize) -> Result<(usize, &'a str), Diagnostic> {
+    /// The text of an `at_age` (an `expression`) or `if` clause: up to
+    /// the next clause or the `{`, outside parentheses.
+    fn head_text(
+        &mut self,
+        clause: usize,
+        expression: bool,
+    ) -> Result<(usize, &'a str), Diagnostic> {
         self.skip_trivia()?;
         let start = self.pos;
         let b = self.text.as_bytes();
@@ -710,9 +781,26 @@ impl<'a> Reader<'a> {
                         .iter()
                         .take_while(|c| c.is_ascii_alphanumeric() || **c == b'_')
                         .count();
-                    let boundary = i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
-                    if boundary && CLAUSES.contains(&&self.text[i..i + n]) {
+                    let boundary =
+                        i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
+                    let word = &self.text[i..i + n];
+                    if boundary && CLAUSES.contains(&word) {
                         break;
+                    }
+                    // A name right after a whole operand starts a clause.
+                    let before = self.text[start..i].trim_end();
+                    let operand_ended = before.bytes().last().is_some_and(|c| {
+                        c.is_ascii_alphanumeric() || matches!(c, b'_' | b')' | b'.')
+                    });
+                    if expression && boundary && operand_ended && before.len() < i - start {
+                        return Err(self.error(
+                            i,
+                            format!(
+                                "expected `{{` or a clause ({}) in this rule's head, found `{word}`{}",
+                                CLAUSES.join(", "),
+                                name_suggestion(word, &CLAUSES)
+                            ),
+                        ));
                     }
                     i += n;
                     continue;
@@ -748,7 +836,11 @@ fn number_length(text: &str) -> usize {
         return 0;
     }
     if i < b.len() && matches!(b[i], b'e' | b'E') {
-        let j = if matches!(b.get(i + 1), Some(b'+' | b'-')) { i + 2 } else { i + 1 };
+        let j = if matches!(b.get(i + 1), Some(b'+' | b'-')) {
+            i + 2
+        } else {
+            i + 1
+        };
         let k = digits(j);
         if k > j {
             i = k;
@@ -905,7 +997,8 @@ impl Condition<'_, '_> {
                 b')' => depth -= 1,
                 b'<' | b'>' | b'=' | b'!' if depth == 0 && comparison_ends => break,
                 c if depth == 0 && !comparison_ends && c.is_ascii_alphabetic() => {
-                    let boundary = i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
+                    let boundary =
+                        i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
                     let rest = &self.r.text[i..self.end];
                     let word = rest
                         .bytes()
@@ -944,6 +1037,16 @@ impl Condition<'_, '_> {
         self.r.pos += sign.len();
         let (r0, r1) = self.operand(false)?;
         let zero = self.r.text[r0..r1].trim() == "0";
+        let (l, r) = (&self.r.text[l0..l1], &self.r.text[r0..r1]);
+        let infix = if zero {
+            l.to_string()
+        } else {
+            format!("({l}) - ({r})")
+        };
+        if let Some(p) = self.r.respell.and_then(|f| f(&infix)) {
+            self.r.put(&format!(" [({p}){pred}]"), l0);
+            return Ok(());
+        }
         self.r.put(" [(= ", l0);
         if zero {
             self.r.copy(l0, l1, true);

@@ -92,7 +92,8 @@ impl Writer<'_> {
         while let Some(i) = rest.find('\n') {
             self.out.push_str(&rest[..=i]);
             rest = &rest[i + 1..];
-            if !rest.starts_with([' ', '\t', '\n', '\r']) && !(rest.is_empty() && closes) {
+            let margin = !rest.starts_with([' ', '\t', '\n', '\r']);
+            if margin && !(rest.is_empty() && closes) {
                 self.out.push_str("    ");
             }
         }
@@ -115,9 +116,10 @@ impl Writer<'_> {
                 return Ok(());
             }
             let (at, w) = self.s.word("a section")?;
-            let k = SECTIONS.iter().position(|s| *s == w).ok_or_else(|| {
-                self.error(at, format!("expected a section name, found `{w}`"))
-            })?;
+            let k = SECTIONS
+                .iter()
+                .position(|s| *s == w)
+                .ok_or_else(|| self.error(at, format!("expected a section name, found `{w}`")))?;
             self.out.push_str(READABLE_SECTIONS[k]);
             self.copied = self.s.pos;
             match k {
@@ -133,7 +135,11 @@ impl Writer<'_> {
         let mut end = self.copied;
         loop {
             self.s.skip_trivia()?;
-            if self.s.at_end()? || SECTIONS.iter().any(|k| self.s.at_keyword(k).unwrap_or(false)) {
+            if self.s.at_end()?
+                || SECTIONS
+                    .iter()
+                    .any(|k| self.s.at_keyword(k).unwrap_or(false))
+            {
                 break;
             }
             let (at, w) = self.s.word("a keyword")?;
@@ -234,16 +240,19 @@ impl Writer<'_> {
             values[k] = if script && k == 4 {
                 let t = g.text.trim();
                 if t.contains('"') {
-                    return Err(self.error(g.offset, "an automata command with `\"` has no readable spelling"));
+                    return Err(self.error(
+                        g.offset,
+                        "an automata command with `\"` has no readable spelling",
+                    ));
                 }
                 Value::Text(t.to_string())
             } else {
                 self.value(Some(*g))?
             };
         }
-        let spelt = self.spell(ch, &values, groups.is_empty()).ok_or_else(|| {
-            self.error(at, "this symbol has no readable spelling")
-        })?;
+        let spelt = self
+            .spell(ch, &values, groups.is_empty())
+            .ok_or_else(|| self.error(at, "this symbol has no readable spelling"))?;
         let glue = !spaced
             && !self.out.is_empty()
             && !self.out.ends_with(|c: char| c.is_whitespace() || c == '[')
@@ -265,7 +274,7 @@ impl Writer<'_> {
             let found = MEANINGS
                 .iter()
                 .find(|m| m.ch == ch && fits(m, values))
-                .filter(|m| !(plain && !m.params.is_empty()));
+                .filter(|m| !plain || m.params.is_empty());
             if let Some(m) = found {
                 return Some(call(m.name, &arguments(m, values)));
             }
@@ -315,10 +324,7 @@ impl Writer<'_> {
     }
 
     fn context(&mut self) -> Result<Option<u8>, Diagnostic> {
-        Ok(self
-            .s
-            .group()?
-            .and_then(|g| g.text.trim().bytes().next()))
+        Ok(self.s.group()?.and_then(|g| g.text.trim().bytes().next()))
     }
 
     fn production(&mut self) -> Result<(), Diagnostic> {
@@ -418,7 +424,13 @@ fn fits(m: &Meaning, values: &[Value]) -> bool {
                 .iter()
                 .any(|p| p.slot as usize == slot && p.unit == super::catalogue::Unit::Text)
     });
-    fixed && cut && named && text
+    // A plain number its unit refuses is written as the bare symbol with
+    // its slots (`m(42.5)`), which the readable form reads unchecked.
+    let typed = m.params.iter().all(|p| match values[p.slot as usize] {
+        Value::Number(v) => p.unit.reject(v).is_none(),
+        _ => true,
+    });
+    fixed && cut && named && text && typed
 }
 
 /// The arguments of a meaning: its parameters in order (positional while

@@ -218,6 +218,51 @@ pub fn condition(ops: &[Op]) -> Option<String> {
     print(ops, true)
 }
 
+/// The postfix spelling of one expression's ops (thesis 2.1.4), tokens
+/// apart; `None` for a distance `r` where a Constants function `r` is
+/// defined (the letter would read as the function).
+pub fn postfix(ops: &[Op], constant_r: bool) -> Option<String> {
+    let mut out: Vec<String> = Vec::with_capacity(ops.len());
+    for &op in ops {
+        out.push(match op {
+            Op::Num(v) => number(v),
+            Op::Param(Param::Distance) if constant_r => return None,
+            Op::Param(p) => match p {
+                Param::Age => "t".into(),
+                Param::Time => "T".into(),
+                Param::Par(i) => ((b'x' + i) as char).to_string(),
+                Param::Other(i) => ((b'X' + i) as char).to_string(),
+                Param::Velocity(i) => ((b'u' + i) as char).to_string(),
+                Param::Distance => "r".into(),
+            },
+            Op::Constant(i) => constant_letter(i).to_string(),
+            Op::Special(n) => format!("?{n:02}"),
+            op => match op {
+                Op::Rand => "!",
+                Op::RandRange => "#",
+                Op::Add => "+",
+                Op::Sub => "-",
+                Op::Mul => "*",
+                Op::Div => "/",
+                Op::Pow => "^",
+                Op::Mod => "%",
+                Op::Step => "~",
+                Op::MemSet => "<",
+                Op::Abs => "|",
+                Op::Neg => "_",
+                Op::Sin => "$",
+                Op::Cos => "&",
+                Op::Asin => ":",
+                Op::Tanh => "\"",
+                Op::MemGet => ">",
+                _ => return None,
+            }
+            .into(),
+        });
+    }
+    Some(out.join(" "))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -265,6 +310,8 @@ mod tests {
             let o = ops(postfix);
             let text = expression(&o).unwrap();
             assert_eq!(ops(&format!("= {text}")), o, "{postfix} → {text}");
+            let back = super::postfix(&o, false).unwrap();
+            assert_eq!(ops(&back), o, "{postfix} → {back}");
         }
     }
 }

@@ -11,5 +11,6 @@ mod bad_input;
 mod classic_grammars;
 mod fuzz_mutation;
 mod infix;
+mod readable;
 mod special_functions;
 mod thesis_examples;
