@@ -15,6 +15,7 @@ mod film;
 mod frame_loop;
 mod limits;
 mod path;
+mod readable;
 mod records;
 mod settings;
 mod support;
