@@ -66,6 +66,14 @@ enum Command {
         #[arg(short, long, value_name = "OUT")]
         output: Option<PathBuf>,
     },
+    /// Serve editors: a language server for .lm and .lmr files over stdio.
+    ///
+    /// Diagnostics as you type, hover that says what a symbol, function
+    /// or parameter means, completion of names, go-to-definition of a
+    /// symbol's rules. Point an editor's LSP client at it, e.g. for Neovim:
+    ///
+    ///     vim.lsp.start({ name = "lmfilm", cmd = { "lmfilm", "lsp" } })
+    Lsp,
     /// Export a frame's whole geometry as a mesh (the thesis's SM option).
     ///
     /// Writes OUT.obj and OUT.mtl: every shape tessellated at its `n`
@@ -339,6 +347,7 @@ fn main() -> ExitCode {
             commands::frame::print(&at, matches!(format, PrintFormat::Full))
         }
         Command::Convert { input, output } => commands::convert::convert(&input, output.as_deref()),
+        Command::Lsp => commands::lsp::lsp(),
         Command::Export {
             at,
             output,

@@ -7,6 +7,7 @@ pub mod convert;
 pub mod farm;
 pub mod film;
 pub mod frame;
+pub mod lsp;
 pub mod scenes;
 pub mod sound;
 pub mod trace;

@@ -4,6 +4,7 @@
 //! them comes through [`Sensors`].
 
 pub mod animation;
+pub mod assist;
 pub mod automata;
 pub mod catalogue;
 pub mod context;

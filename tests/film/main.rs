@@ -14,6 +14,7 @@ mod farm;
 mod film;
 mod frame_loop;
 mod limits;
+mod lsp;
 mod path;
 mod readable;
 mod records;

@@ -186,7 +186,11 @@ fn generated(r: &mut Rng) -> String {
     );
     for _ in 0..r.next() % 12 {
         t.push_str(&symbol(r));
-        t.push(if r.next().is_multiple_of(3) { '\n' } else { ' ' });
+        t.push(if r.next().is_multiple_of(3) {
+            '\n'
+        } else {
+            ' '
+        });
     }
     t.push_str("\n\nProductions\n");
     for _ in 0..r.next() % 5 {
