@@ -10,6 +10,7 @@ mod common;
 mod bad_input;
 mod classic_grammars;
 mod fuzz_mutation;
+mod grammar;
 mod infix;
 mod readable;
 mod special_functions;
