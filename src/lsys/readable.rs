@@ -254,7 +254,7 @@ impl<'a> Reader<'a> {
                         return Err(self.error(
                             at,
                             format!(
-                                "unknown symbol `{name}`{}; a symbol of the rules' own is one letter, or any character quoted: 'F', '1'",
+                                "unknown symbol `{name}` (a symbol of the rules' own is one letter, or any character quoted: 'F', '1'){}",
                                 name_suggestion(name, &names())
                             ),
                         ));

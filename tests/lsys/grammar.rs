@@ -73,3 +73,13 @@ fn the_editor_grammars_name_what_the_program_names() {
         );
     }
 }
+
+#[test]
+fn the_language_reference_lists_every_name() {
+    let doc =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/language.md")).unwrap();
+    for m in MEANINGS {
+        let row = format!("| `{}` | `{}` |", m.name, m.classic().replace('|', "\\|"));
+        assert!(doc.contains(&row), "docs/language.md §10.8 lacks `{row}`");
+    }
+}
