@@ -41,6 +41,11 @@ fn repo(path: &str) -> Vec<u8> {
 /// Every `.lm` file under `scenes/`, sorted, so the seeds pick the same
 /// file on every machine.
 fn scenes() -> Vec<Vec<u8>> {
+    scene_files("lm")
+}
+
+/// Every scene file of one form (`lm`, `lmr`) under `scenes/`, sorted.
+fn scene_files(form: &str) -> Vec<Vec<u8>> {
     let mut paths = Vec::new();
     let root = format!("{}/scenes", env!("CARGO_MANIFEST_DIR"));
     for dir in std::fs::read_dir(&root).unwrap() {
@@ -50,7 +55,7 @@ fn scenes() -> Vec<Vec<u8>> {
         }
         for f in std::fs::read_dir(&dir).unwrap() {
             let f = f.unwrap().path();
-            if f.extension().is_some_and(|e| e == "lm") {
+            if f.extension().is_some_and(|e| e == form) {
                 paths.push(f);
             }
         }
@@ -216,6 +221,30 @@ fn read_scene(b: &[u8]) -> bool {
     Source::from_bytes("fuzz.lm", b.to_vec()).is_ok_and(|src| lsys::parse(&src).is_ok())
 }
 
+fn read_readable(b: &[u8]) -> bool {
+    Source::from_bytes("fuzz.lmr", b.to_vec()).is_ok_and(|src| lsys::parse(&src).is_ok())
+}
+
+/// A classic file that parses is spelt readable, and that spelling
+/// parses too (a converter bug panics here).
+fn convert_scene(b: &[u8]) -> bool {
+    let Ok(src) = Source::from_bytes("fuzz.lm", b.to_vec()) else {
+        return false;
+    };
+    if lsys::parse(&src).is_err() {
+        return false;
+    }
+    let Ok(readable) = lsys::readable_writer::to_readable(&src) else {
+        // A spelling the readable form lacks (a condition on plain
+        // values, a `"` in an automata command) is said so.
+        return false;
+    };
+    if let Err(e) = lsys::parse(&Source::new("fuzz.lmr", readable.as_str())) {
+        panic!("the readable spelling does not parse: {e}\n{readable}");
+    }
+    true
+}
+
 /// The scene parsed, two steps derived (its expressions evaluated) and
 /// the turtle run on the result.
 fn derive_scene(b: &[u8]) -> bool {
@@ -304,6 +333,8 @@ fn readers() -> Vec<Target> {
     vec![
         target("scene", read_scene, scenes(), mutate),
         target("derive", derive_scene, scenes(), mutate),
+        target("readable", read_readable, scene_files("lmr"), mutate),
+        target("convert", convert_scene, scenes(), mutate),
         target(
             "events",
             read_events,
