@@ -107,10 +107,16 @@ enum Command {
     /// The preview preset unless --preset is given. Example:
     ///
     ///     lmfilm watch scenes/examples/cours_tree3.lm --time 5 -o renders/preview.png
+    ///
+    ///     lmfilm watch scenes/examples/first.lmr --frames 90..=100 -o renders/first.png
     Watch {
         /// Stop after this many renders (for scripts; default: never).
         #[arg(long, value_name = "N")]
         count: Option<u32>,
+        /// A short range instead of one frame: A..B (B excluded) or
+        /// A..=B, written OUT.NNNN.png.
+        #[arg(long, value_name = "A..B", conflicts_with_all = ["frame", "time"])]
+        frames: Option<FrameRange>,
         #[command(flatten)]
         still: StillArgs,
     },
@@ -354,7 +360,11 @@ fn main() -> ExitCode {
             segment_width,
         } => commands::frame::export(&at, &output, segment_width),
         Command::Still { still } => commands::frame::still(&still).map(|_| ()),
-        Command::Watch { still, count } => commands::watch::watch(&still, count),
+        Command::Watch {
+            still,
+            count,
+            frames,
+        } => commands::watch::watch(&still, frames.as_ref(), count),
         Command::Run {
             scenes,
             output,

@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 use crate::film::{Film, Frame};
 use crate::lsys::print::Format;
 use crate::lsys::Limits;
+use crate::production::frames::FrameRange;
 use crate::production::settings::Defaults;
 use crate::render::motion::Motion;
 use crate::render::{self, Accel, Integrator};
@@ -116,7 +117,30 @@ fn is_exr(output: &Path) -> bool {
 /// BVH the frame owns; returns the files the frame was made from (the
 /// scenes and the files they name).
 pub fn still(args: &StillArgs) -> Result<Vec<PathBuf>> {
-    let (at, output, quality) = (&args.at, args.output.as_path(), &args.quality);
+    stills(args, None)
+}
+
+/// Frame `number`'s image path when a range is rendered: `OUT.0003.png`.
+pub fn numbered(output: &Path, number: u64) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map_or("frame".into(), |s| s.to_string_lossy());
+    let ext = output
+        .extension()
+        .map_or("png".into(), |e| e.to_string_lossy());
+    output.with_file_name(format!("{stem}.{number:04}.{ext}"))
+}
+
+/// The still of the frame `--frame`/`--time` names, or with `frames`,
+/// one image per frame of the range (`OUT.NNNN.png`, `lmfilm watch
+/// --frames`); returns the files the frames were made from.
+pub fn stills(args: &StillArgs, frames: Option<&FrameRange>) -> Result<Vec<PathBuf>> {
+    let (output, quality) = (args.output.as_path(), &args.quality);
+    let mut at = args.at.clone();
+    if let Some(r) = frames {
+        at.frame = Some(r.start);
+        at.time = None;
+    }
     let exr = is_exr(output);
     let limits = at.scene.limits.limits();
     let request = quality.request();
@@ -128,46 +152,64 @@ pub fn still(args: &StillArgs) -> Result<Vec<PathBuf>> {
         segment_width: args.segment_width,
         limits,
     };
-    let mut film = derive_to(at, opts)?;
+    let mut film = derive_to(&at, opts)?;
     let read = at
         .scenes
         .iter()
         .cloned()
         .chain(film.referenced_files().into_iter().map(|(_, p)| p))
         .collect();
-    let frame = film.frame().expect("derive_to ran the film to its frame");
-    for m in frame.warnings() {
-        eprintln!("{m}");
-    }
-    let (scene, number) = (std::sync::Arc::clone(frame.scene()), frame.number());
-    let camera = &scene.camera;
-    let choice = request.resolve(None, Defaults::default(), (camera.width, camera.height));
-    let (w, h) = (choice.width, choice.height);
-    Limits::check_pixels(w, h, limits.pixels).map_err(|e| {
-        let scene = at.scenes[0].display();
-        Error::input(format!("{scene}: frame {number}: {e}"))
-    })?;
-    let mut settings = choice.settings();
-    settings.frame = number;
-    // PNG holds colour only: no need for the layer rays.
-    settings.layers = exr;
-    // The path tracer blurs what moves toward the next frame.
-    let blurs = settings.integrator == Integrator::Path && settings.shutter > 0.0;
-    let motion = match blurs && number + 1 < film.frame_count() {
-        true => {
-            let next = film.next_frame()?.expect("the film has a next frame");
-            Motion::between(&scene, next.scene(), settings.shutter)
+    let first = film
+        .frame()
+        .expect("derive_to ran the film to its frame")
+        .number();
+    let end = frames.map_or(first + 1, |r| r.within(film.frame_count()).end);
+    loop {
+        let frame = film.frame().expect("the film is at a frame");
+        for m in frame.warnings() {
+            eprintln!("{m}");
         }
-        false => Motion::default(),
-    };
-    let accel = Accel::moving(scene, &motion);
-    let percent = Percent::new("rendering");
-    let img = render::render_with(&accel, &settings, &|done, rows| percent.tick(done, rows));
-    percent.done();
-    create_parent(output)?;
-    render::output::write(&img, output)
-        .map_err(|e| Error::other(format!("{}: {e}", output.display())))?;
-    // Say what was written, so the user finds it.
-    println!("{} ({w}×{h}, {} spp)", output.display(), settings.spp);
-    Ok(read)
+        let (scene, number) = (std::sync::Arc::clone(frame.scene()), frame.number());
+        let camera = &scene.camera;
+        let choice = request.resolve(None, Defaults::default(), (camera.width, camera.height));
+        let (w, h) = (choice.width, choice.height);
+        Limits::check_pixels(w, h, limits.pixels).map_err(|e| {
+            let scene = at.scenes[0].display();
+            Error::input(format!("{scene}: frame {number}: {e}"))
+        })?;
+        let mut settings = choice.settings();
+        settings.frame = number;
+        // PNG holds colour only: no need for the layer rays.
+        settings.layers = exr;
+        // The path tracer blurs what moves toward the next frame.
+        let blurs = settings.integrator == Integrator::Path && settings.shutter > 0.0;
+        let more = number + 1 < film.frame_count();
+        let motion = match blurs && more {
+            true => {
+                let next = film.next_frame()?.expect("the film has a next frame");
+                Motion::between(&scene, next.scene(), settings.shutter)
+            }
+            false => Motion::default(),
+        };
+        let accel = Accel::moving(scene, &motion);
+        let percent = Percent::new("rendering");
+        let img = render::render_with(&accel, &settings, &|done, rows| percent.tick(done, rows));
+        percent.done();
+        let path = match frames {
+            Some(_) => numbered(output, number),
+            None => output.to_path_buf(),
+        };
+        create_parent(&path)?;
+        render::output::write(&img, &path)
+            .map_err(|e| Error::other(format!("{}: {e}", path.display())))?;
+        // Say what was written, so the user finds it.
+        println!("{} ({w}×{h}, {} spp)", path.display(), settings.spp);
+        if number + 1 >= end {
+            return Ok(read);
+        }
+        // Motion blur has already gone on to the next frame.
+        if !(blurs && more) {
+            film.next_frame()?;
+        }
+    }
 }

@@ -7,8 +7,9 @@ use std::path::Path;
 use std::time::{Duration, Instant, SystemTime};
 
 use super::args::{PresetArg, StillArgs};
-use super::frame::still;
+use super::frame::stills;
 use crate::error::Result;
+use crate::production::frames::FrameRange;
 
 /// How often the files are looked at.
 const POLL: Duration = Duration::from_millis(150);
@@ -29,9 +30,10 @@ fn stamp(path: &Path) -> Stamp {
     Some((meta.len(), meta.modified().ok(), hash))
 }
 
-/// `lmfilm watch`: renders the still at once, then again after each
-/// change, until interrupted — or after `count` renders.
-pub fn watch(args: &StillArgs, count: Option<u32>) -> Result<()> {
+/// `lmfilm watch`: renders the still (or the range of `frames`) at
+/// once, then again after each change, until interrupted — or after
+/// `count` renders.
+pub fn watch(args: &StillArgs, frames: Option<&FrameRange>, count: Option<u32>) -> Result<()> {
     // A preview unless a preset is asked for: quick to look at.
     let mut still_args = args.clone();
     still_args.quality.preset.get_or_insert(PresetArg::Preview);
@@ -54,7 +56,7 @@ pub fn watch(args: &StillArgs, count: Option<u32>) -> Result<()> {
             // The files a change of which renders again: the scenes and
             // the files their film names (surfaces, motions, channels,
             // trajectories), as the last render that loaded read them.
-            let read = match still(&still_args) {
+            let read = match stills(&still_args, frames) {
                 Ok(read) => {
                     eprintln!("rendered in {:.2} s", start.elapsed().as_secs_f64());
                     read

@@ -3,6 +3,7 @@
 //! names that complete it, and where the rules of a symbol are. Both
 //! forms; positions are 1-based lines and columns in characters.
 
+use super::automata::AutomataCommand;
 use super::catalogue::{named, slot_timing, Meaning, MEANINGS, SLOTS};
 use super::expr::special_arity;
 use super::infix::{FUNCTIONS, PARAMETERS, SPECIALS};
@@ -82,6 +83,11 @@ pub fn hover(name: &str, text: &str, line: usize, column: usize) -> Option<Strin
     if let Some((n, _)) = PARAMETERS.iter().find(|p| p.0 == word) {
         return Some(format!("**{n}** — a parameter of expressions (table B5)"));
     }
+    if let Some((n, min, max)) = AutomataCommand::keywords().find(|c| c.0 == word) {
+        return Some(format!(
+            "**{n}** — an automata command (table B6) of {min}–{max} argument(s), in `automata(\"…\")` or an `e` symbol's text; docs/actors.md"
+        ));
+    }
     if let Some(k) = READABLE_SECTIONS.iter().position(|s| *s == word) {
         return Some(format!("Section **{word}** (classic `{}`)", SECTIONS[k]));
     }
@@ -150,6 +156,12 @@ pub fn complete(text: &str, line: usize, column: usize) -> Vec<(String, String)>
             .iter()
             .map(|s| (s.to_string(), "section".to_string())),
     );
+    out.extend(AutomataCommand::keywords().map(|(n, min, max)| {
+        (
+            n.to_string(),
+            format!("automata command, {min}–{max} argument(s)"),
+        )
+    }));
     for k in ["rule", "at_age", "left", "right", "if", "and", "or", "not"] {
         out.push((k.to_string(), "keyword".to_string()));
     }
@@ -192,6 +204,13 @@ mod tests {
         let c = complete(READABLE, 5, 16);
         assert!(c.iter().any(|(n, _)| n == "turn_left"), "{c:?}");
         assert!(c.iter().all(|(n, _)| n.starts_with("turn_")), "{c:?}");
+        let text = "axiom\nautomata(\"goal 1 0 2\")\n";
+        let c = complete(text, 2, 12);
+        assert!(
+            c.iter().any(|(n, d)| n == "goal" && d.contains("automata")),
+            "{c:?}"
+        );
+        assert!(hover("t.lmr", text, 2, 12).unwrap().contains("table B6"));
         assert_eq!(definitions("t.lmr", READABLE, 2, 13), vec![(4, 1)]);
         assert!(check("t.lmr", READABLE).is_none());
         let e = check("t.lmr", "axiom\nsphere(radius: 1)\n").unwrap();

@@ -705,6 +705,11 @@ impl AutomataCommand {
     pub fn is_keyword(word: &str) -> bool {
         COMMANDS.iter().any(|c| c.name == word)
     }
+
+    /// Every command keyword with how many arguments it takes (min, max).
+    pub fn keywords() -> impl Iterator<Item = (&'static str, usize, usize)> {
+        COMMANDS.iter().map(|c| (c.name, c.min, c.max))
+    }
 }
 
 /// A command with the location of its keyword and of each of its

@@ -69,3 +69,43 @@ fn watch_renders_again_on_each_save_and_survives_a_broken_one() {
     assert!(err.contains("w.lm:") && err.contains('^'), "{err}");
     assert_eq!(err.matches("rendered in").count(), 2, "{err}");
 }
+
+#[test]
+fn watch_renders_a_short_range_as_numbered_frames() {
+    let dir = crate::common::fresh_dir("watch", "range");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/examples/first.lmr");
+    let out = dir.join("first.png");
+    let (code, _, err) = crate::cli::lmfilm(&[
+        "watch",
+        scene,
+        "--frames",
+        "24..=26",
+        "--count",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    // Each frame as `still` renders it alone.
+    for n in 24..=26 {
+        let single = dir.join(format!("single{n}.png"));
+        let (code, _, err) = crate::cli::lmfilm(&[
+            "still",
+            scene,
+            "--frame",
+            &n.to_string(),
+            "--preset",
+            "preview",
+            "-o",
+            single.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let ranged = std::fs::read(dir.join(format!("first.{n:04}.png"))).unwrap();
+        assert!(
+            ranged == std::fs::read(&single).unwrap(),
+            "frame {n} differs"
+        );
+    }
+    assert!(!dir.join("first.0027.png").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
