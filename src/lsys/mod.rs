@@ -18,6 +18,7 @@ pub mod options;
 pub mod parse;
 pub mod print;
 pub mod readable;
+pub mod readable_condition;
 pub mod readable_writer;
 pub mod scan;
 pub mod sensors;

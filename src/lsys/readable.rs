@@ -16,7 +16,8 @@
 use std::sync::Arc;
 
 use super::catalogue::{named, names, Meaning, Unit, SLOTS};
-use super::scan::{is_symbol_char, name_suggestion, READABLE_SECTIONS, SECTIONS};
+use super::readable_condition::{condition, Step};
+use super::scan::{is_symbol_char, name_suggestion, trivia_end, READABLE_SECTIONS, SECTIONS};
 use crate::source::{Diagnostic, Source, Written};
 
 /// Whether a file is in the readable form: by its extension.
@@ -124,23 +125,13 @@ impl<'a> Reader<'a> {
     }
 
     fn skip_trivia(&mut self) -> Result<(), Diagnostic> {
-        loop {
-            let rest = self.rest();
-            let trimmed = rest.trim_start();
-            self.pos += rest.len() - trimmed.len();
-            if !trimmed.starts_with("/*") {
-                return Ok(());
-            }
-            match trimmed[2..].find("*/") {
-                Some(end) => self.pos += 2 + end + 2,
-                None => {
-                    return Err(self.error(
-                        self.pos,
-                        "unclosed comment: add `*/` to end it (comments do not nest)",
-                    ))
-                }
-            }
-        }
+        self.pos = trivia_end(self.text, self.pos).map_err(|open| {
+            self.error(
+                open,
+                "unclosed comment: add `*/` to end it (comments do not nest)",
+            )
+        })?;
+        Ok(())
     }
 
     /// The identifier ahead, not consumed.
@@ -664,15 +655,8 @@ impl<'a> Reader<'a> {
         let contexts_given = contexts.iter().rposition(Option::is_some);
         match cond {
             Some((c, t)) => {
-                self.pos = c;
-                let mut p = Condition {
-                    r: self,
-                    end: c + t.len(),
-                };
-                p.or()?;
-                p.r.skip_trivia()?;
-                if p.r.pos < p.end {
-                    return Err(p.r.error(p.r.pos, "unexpected text in the condition"));
+                for step in condition(self.src, c, c + t.len())? {
+                    self.step(step);
                 }
                 self.pos = c + t.len();
                 self.skip_trivia()?;
@@ -757,6 +741,52 @@ impl<'a> Reader<'a> {
                 self.symbol()?;
             }
         }
+    }
+
+    /// One step of a condition in postfix: an atom `lhs cmp rhs` as
+    /// `[(= (lhs) - (rhs))pred]` (or `[(= lhs)pred]` when rhs is 0), or a
+    /// logic operator.
+    fn step(&mut self, step: Step) {
+        match step {
+            Step::Logic { op, at } => self.put(&format!(" {op}"), at),
+            Step::Compare {
+                left,
+                right,
+                at,
+                pred,
+            } => self.comparison(left, right, at, pred),
+        }
+    }
+
+    fn comparison(
+        &mut self,
+        (l0, l1): (usize, usize),
+        (r0, r1): (usize, usize),
+        at: usize,
+        pred: char,
+    ) {
+        let zero = self.text[r0..r1].trim() == "0";
+        let (l, r) = (&self.text[l0..l1], &self.text[r0..r1]);
+        let infix = if zero {
+            l.to_string()
+        } else {
+            format!("({l}) - ({r})")
+        };
+        if let Some(p) = self.respell.and_then(|f| f(&infix)) {
+            self.put(&format!(" [({p}){pred}]"), l0);
+            return;
+        }
+        self.put(" [(= ", l0);
+        if zero {
+            self.copy(l0, l1, true);
+        } else {
+            self.put("(", l0);
+            self.copy(l0, l1, true);
+            self.put(") - (", at);
+            self.copy(r0, r1, true);
+            self.put(")", r1);
+        }
+        self.put(&format!("){pred}]"), at);
     }
 
     /// The text of an `at_age` (an `expression`) or `if` clause: up to
@@ -847,217 +877,4 @@ fn number_length(text: &str) -> usize {
         }
     }
     i
-}
-
-/// A rule's condition, `x > 0 and not y == 1`, spelt as classic atoms
-/// combined in postfix.
-struct Condition<'r, 'a> {
-    r: &'r mut Reader<'a>,
-    end: usize,
-}
-
-/// The comparisons and their classic predicates.
-const COMPARISONS: [(&str, char); 6] = [
-    ("<=", 'p'),
-    (">=", 'g'),
-    ("==", '='),
-    ("!=", '!'),
-    ("<", '<'),
-    (">", '>'),
-];
-
-impl Condition<'_, '_> {
-    /// Skips whitespace and comments, not past the condition's end.
-    fn skip(&mut self) -> Result<(), Diagnostic> {
-        self.r.skip_trivia()?;
-        self.r.pos = self.r.pos.min(self.end);
-        Ok(())
-    }
-
-    fn word(&mut self, w: &str) -> bool {
-        let _ = self.skip();
-        let rest = &self.r.text[self.r.pos..self.end];
-        let at_word = rest.starts_with(w)
-            && !rest[w.len()..]
-                .bytes()
-                .next()
-                .is_some_and(|c| c.is_ascii_alphanumeric() || c == b'_');
-        if at_word {
-            self.r.pos += w.len();
-        }
-        at_word
-    }
-
-    fn or(&mut self) -> Result<(), Diagnostic> {
-        self.and()?;
-        while self.word("or") {
-            let at = self.r.pos;
-            self.and()?;
-            self.r.put(" |", at);
-        }
-        Ok(())
-    }
-
-    fn and(&mut self) -> Result<(), Diagnostic> {
-        self.not()?;
-        while self.word("and") {
-            let at = self.r.pos;
-            self.not()?;
-            self.r.put(" &", at);
-        }
-        Ok(())
-    }
-
-    fn not(&mut self) -> Result<(), Diagnostic> {
-        if self.word("not") {
-            let at = self.r.pos;
-            self.not()?;
-            self.r.put(" !", at);
-            return Ok(());
-        }
-        self.primary()
-    }
-
-    /// `( condition )` or a comparison.
-    fn primary(&mut self) -> Result<(), Diagnostic> {
-        self.skip()?;
-        if self.r.peek() == Some(b'(') {
-            let close = self.matching(self.r.pos)?;
-            if self.has_comparison(self.r.pos + 1, close) {
-                self.r.pos += 1;
-                let end = std::mem::replace(&mut self.end, close);
-                self.or()?;
-                self.skip()?;
-                if self.r.pos != close {
-                    return Err(self.r.error(self.r.pos, "unexpected text in the condition"));
-                }
-                self.end = end;
-                self.r.pos = close + 1;
-                return Ok(());
-            }
-        }
-        self.comparison()
-    }
-
-    fn matching(&self, open: usize) -> Result<usize, Diagnostic> {
-        let mut depth = 0;
-        for (i, c) in self.r.text[open..self.end].bytes().enumerate() {
-            match c {
-                b'(' => depth += 1,
-                b')' => {
-                    depth -= 1;
-                    if depth == 0 {
-                        return Ok(open + i);
-                    }
-                }
-                _ => {}
-            }
-        }
-        Err(self.r.error(open, "this `(` is not closed"))
-    }
-
-    /// Whether `from..to` holds a comparison or a logic word outside
-    /// parentheses: a condition, not an expression, in parentheses.
-    fn has_comparison(&self, from: usize, to: usize) -> bool {
-        let t = &self.r.text[from..to];
-        let mut depth = 0;
-        for (i, c) in t.bytes().enumerate() {
-            match c {
-                b'(' => depth += 1,
-                b')' => depth -= 1,
-                b'<' | b'>' | b'=' | b'!' if depth == 0 => return true,
-                _ if depth == 0 => {
-                    let boundary = i == 0 || !t.as_bytes()[i - 1].is_ascii_alphanumeric();
-                    if boundary
-                        && ["and ", "or ", "not "]
-                            .iter()
-                            .any(|w| t[i..].starts_with(w))
-                    {
-                        return true;
-                    }
-                }
-                _ => {}
-            }
-        }
-        false
-    }
-
-    /// An expression's extent: up to `stop` outside parentheses.
-    fn operand(&mut self, comparison_ends: bool) -> Result<(usize, usize), Diagnostic> {
-        self.skip()?;
-        let start = self.r.pos;
-        let b = self.r.text.as_bytes();
-        let mut depth = 0usize;
-        let mut i = start;
-        while i < self.end {
-            let c = b[i];
-            match c {
-                b'(' => depth += 1,
-                b')' if depth == 0 => break,
-                b')' => depth -= 1,
-                b'<' | b'>' | b'=' | b'!' if depth == 0 && comparison_ends => break,
-                c if depth == 0 && !comparison_ends && c.is_ascii_alphabetic() => {
-                    let boundary =
-                        i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
-                    let rest = &self.r.text[i..self.end];
-                    let word = rest
-                        .bytes()
-                        .take_while(|c| c.is_ascii_alphanumeric() || *c == b'_')
-                        .count();
-                    if boundary && ["and", "or", "not"].contains(&&rest[..word]) {
-                        break;
-                    }
-                    i += word;
-                    continue;
-                }
-                _ => {}
-            }
-            i += 1;
-        }
-        let end = start + self.r.text[start..i].trim_end().len();
-        if end == start {
-            return Err(self.r.error(start, "a comparison needs an expression here"));
-        }
-        self.r.pos = i;
-        Ok((start, end))
-    }
-
-    /// `lhs cmp rhs` as `[(= (lhs) - (rhs))pred]`, or `[(= lhs)pred]`
-    /// when rhs is 0.
-    fn comparison(&mut self) -> Result<(), Diagnostic> {
-        let (l0, l1) = self.operand(true)?;
-        let at = self.r.pos;
-        let rest = &self.r.text[at..self.end];
-        let Some(&(sign, pred)) = COMPARISONS.iter().find(|(s, _)| rest.starts_with(s)) else {
-            return Err(self.r.error(
-                at,
-                "a condition compares two expressions: `x > 0`, `y <= 3`, `z != 1` (combined with and, or, not)",
-            ));
-        };
-        self.r.pos += sign.len();
-        let (r0, r1) = self.operand(false)?;
-        let zero = self.r.text[r0..r1].trim() == "0";
-        let (l, r) = (&self.r.text[l0..l1], &self.r.text[r0..r1]);
-        let infix = if zero {
-            l.to_string()
-        } else {
-            format!("({l}) - ({r})")
-        };
-        if let Some(p) = self.r.respell.and_then(|f| f(&infix)) {
-            self.r.put(&format!(" [({p}){pred}]"), l0);
-            return Ok(());
-        }
-        self.r.put(" [(= ", l0);
-        if zero {
-            self.r.copy(l0, l1, true);
-        } else {
-            self.r.put("(", l0);
-            self.r.copy(l0, l1, true);
-            self.r.put(") - (", at);
-            self.r.copy(r0, r1, true);
-            self.r.put(")", r1);
-        }
-        self.r.put(&format!("){pred}]"), at);
-        Ok(())
-    }
 }

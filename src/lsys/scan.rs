@@ -41,24 +41,16 @@ impl<'a> Scanner<'a> {
 
     /// Skips whitespace and comments; comments do not nest (thesis 6.2).
     pub fn skip_trivia(&mut self) -> Result<(), Diagnostic> {
-        loop {
-            while self.pos < self.bytes.len() && self.bytes[self.pos].is_ascii_whitespace() {
-                self.pos += 1;
+        let text = &self.src.text[..self.bytes.len()];
+        match trivia_end(text, self.pos) {
+            Ok(end) => {
+                self.pos = end;
+                Ok(())
             }
-            if self.bytes[self.pos..].starts_with(b"/*") {
-                let start = self.pos;
-                match self.src.text[self.pos + 2..].find("*/") {
-                    Some(end) => self.pos += 2 + end + 2,
-                    None => {
-                        return Err(self.error(
-                            start,
-                            "unclosed comment: add `*/` to end it (comments do not nest)",
-                        ))
-                    }
-                }
-            } else {
-                return Ok(());
-            }
+            Err(open) => Err(self.error(
+                open,
+                "unclosed comment: add `*/` to end it (comments do not nest)",
+            )),
         }
     }
 
@@ -348,6 +340,24 @@ fn number_shaped(w: &str) -> Option<f64> {
 /// and the polygon vertex `.` of appendix C).
 pub fn is_symbol_char(c: u8) -> bool {
     c.is_ascii_alphanumeric() || b"[]{}/^&$+-?.".contains(&c)
+}
+
+/// Where the whitespace and `/* */` comments from `from` end; the offset
+/// of a comment that is not closed as the error.
+pub fn trivia_end(text: &str, from: usize) -> Result<usize, usize> {
+    let mut pos = from;
+    loop {
+        let rest = &text[pos..];
+        let trimmed = rest.trim_start_matches(|c: char| c.is_ascii_whitespace());
+        pos += rest.len() - trimmed.len();
+        if !trimmed.starts_with("/*") {
+            return Ok(pos);
+        }
+        match trimmed[2..].find("*/") {
+            Some(end) => pos += 2 + end + 2,
+            None => return Err(pos),
+        }
+    }
 }
 
 /// The section keywords of a definition file, in the order they come.

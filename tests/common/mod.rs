@@ -13,6 +13,28 @@ pub fn fresh_dir(group: &str, name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// Every scene file of one form (`lm` or `lmr`) under `scenes/`, sorted,
+/// so that every machine sees them in the same order.
+pub fn scene_files(form: &str) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    let mut dirs = vec![std::path::PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes"
+    ))];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p.extension().is_some_and(|x| x == form) {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
 pub fn example(name: &str) -> String {
     format!("{}/scenes/examples/{name}", env!("CARGO_MANIFEST_DIR"))
 }

@@ -5,26 +5,12 @@
 use std::path::{Path, PathBuf};
 
 use crate::cli::lmfilm;
-use crate::common::fresh_dir;
+use crate::common::{fresh_dir, scene_files};
 
 fn scenes() -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut dirs = vec![PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes"
-    ))];
-    while let Some(d) = dirs.pop() {
-        for e in std::fs::read_dir(d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                dirs.push(p);
-            } else if p.extension().is_some_and(|x| x == "lm") {
-                out.push(p);
-            }
-        }
-    }
-    out.sort();
-    out
+    let scenes = scene_files("lm");
+    assert!(scenes.len() > 40, "{} scenes", scenes.len());
+    scenes
 }
 
 fn still(scene: &Path, frame: &str, out: &Path) -> (i32, String) {

@@ -44,24 +44,12 @@ fn scenes() -> Vec<Vec<u8>> {
     scene_files("lm")
 }
 
-/// Every scene file of one form (`lm`, `lmr`) under `scenes/`, sorted.
+/// Every scene file of one form (`lm`, `lmr`), read.
 fn scene_files(form: &str) -> Vec<Vec<u8>> {
-    let mut paths = Vec::new();
-    let root = format!("{}/scenes", env!("CARGO_MANIFEST_DIR"));
-    for dir in std::fs::read_dir(&root).unwrap() {
-        let dir = dir.unwrap().path();
-        if !dir.is_dir() {
-            continue;
-        }
-        for f in std::fs::read_dir(&dir).unwrap() {
-            let f = f.unwrap().path();
-            if f.extension().is_some_and(|e| e == form) {
-                paths.push(f);
-            }
-        }
-    }
-    paths.sort();
-    paths.iter().map(|p| std::fs::read(p).unwrap()).collect()
+    common::scene_files(form)
+        .iter()
+        .map(|p| std::fs::read(p).unwrap())
+        .collect()
 }
 
 /// What a hostile or damaged file puts where a number or a name belongs.

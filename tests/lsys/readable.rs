@@ -10,27 +10,12 @@ use lmfilm::lsys::readable_writer::to_readable;
 use lmfilm::lsys::thesis_form::to_thesis;
 use lmfilm::lsys::{parse, Definition, Source};
 
-use crate::common::Rng;
+use crate::common::{scene_files, Rng};
 
 fn scenes() -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut dirs = vec![PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes"
-    ))];
-    while let Some(d) = dirs.pop() {
-        for e in std::fs::read_dir(d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                dirs.push(p);
-            } else if p.extension().is_some_and(|x| x == "lm") {
-                out.push(p);
-            }
-        }
-    }
-    out.sort();
-    assert!(out.len() > 40, "{} scenes", out.len());
-    out
+    let scenes = scene_files("lm");
+    assert!(scenes.len() > 40, "{} scenes", scenes.len());
+    scenes
 }
 
 /// What a definition means, without where it was written: offsets and
