@@ -174,6 +174,9 @@ pub struct StillArgs {
     pub at: FrameArgs,
     #[command(flatten)]
     pub quality: QualityArgs,
+    /// Print where the time went: seconds to derive, build, render, encode.
+    #[arg(long)]
+    pub timings: bool,
 }
 
 /// The scene files and the frame a command works on.
@@ -416,6 +419,10 @@ pub struct WorkArgs {
     /// Worker threads (default: all cores); the images do not depend on it.
     #[arg(long, value_parser = threads)]
     pub threads: Option<usize>,
+    /// Print where the time went: seconds per stage of the frame pipeline
+    /// (derive, snapshots, BVH builds, render, EXR, PNG, records).
+    #[arg(long)]
+    pub timings: bool,
 }
 
 impl WorkArgs {

@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use super::args::{RenderArgs, SceneArgs, SoundArgs, WorkArgs};
 use super::scenes::{self, Loaded};
@@ -14,6 +15,7 @@ use crate::film::names::{
 use crate::lsys::Limits;
 use crate::production::frames::{FrameRange, FrameSelection, Shard};
 use crate::production::settings::{self, Defaults, RenderChoice, RenderRequest, SoundRequest};
+use crate::production::timings::Timings;
 use crate::production::{assemble, mux, record, stages, verify};
 use crate::render::Integrator;
 use crate::sound;
@@ -35,11 +37,17 @@ fn derive_options(allow_commands: bool) -> BTreeMap<String, String> {
 
 /// Derives the film into `dir` (nothing when its record is up to date)
 /// and writes the manifest; returns whether it derived.
-fn derive_into(loaded: &mut Loaded, dir: &Path, clean: bool, allow: bool) -> Result<bool> {
+fn derive_into(
+    loaded: &mut Loaded,
+    dir: &Path,
+    (clean, allow): (bool, bool),
+    timings: &Timings,
+) -> Result<bool> {
     let Loaded { film, texts, name } = loaded;
     let inputs = stages::inputs(film, texts, name, derive_options(allow))?;
     let mut p = Progress::new("deriving frame");
-    let (_, derived) = stages::derive(film, inputs, dir, clean, &mut |k, n| p.tick(k, n))?;
+    let tick = &mut |k, n| p.tick(k, n);
+    let (_, derived) = stages::derive(film, inputs, dir, clean, tick, timings)?;
     p.done();
     assemble::finish(dir)?;
     Ok(derived)
@@ -115,9 +123,9 @@ pub(crate) fn resolve_sound(dir: &Path, request: &SoundRequest) -> Result<sound:
 fn render_into(
     dir: &Path,
     choice: &RenderChoice,
-    frames: Option<FrameRange>,
-    shard: Shard,
+    (frames, shard): (Option<FrameRange>, Shard),
     max_pixels: u64,
+    timings: &Timings,
 ) -> Result<(u64, u64)> {
     let rec = record::open(dir)?;
     let selection = match frames {
@@ -131,7 +139,8 @@ fn render_into(
     };
     let frames = selection.frames(rec.frame_count, shard);
     let mut p = Progress::new("rendering frame");
-    let n = stages::render_frames(dir, &frames, choice, max_pixels, &mut |k, n| p.tick(k, n))?;
+    let tick = &mut |k, n| p.tick(k, n);
+    let n = stages::render_frames(dir, &frames, choice, max_pixels, tick, timings)?;
     p.done();
     Ok((n, frames.len() as u64))
 }
@@ -210,6 +219,8 @@ pub fn run(
     sound_args: &SoundArgs,
 ) -> Result<()> {
     work.threads();
+    let start = Instant::now();
+    let timings = Timings::default();
     let request = args.request();
     if let (Some(w), Some(h)) = (request.width, request.height) {
         Limits::check_pixels(w, h, film.limits.pixels).map_err(Error::input)?;
@@ -221,7 +232,8 @@ pub fn run(
         .scenes
         .first()
         .map_or("the built-in film".to_string(), |p| p.display().to_string());
-    let derived = derive_into(&mut loaded, &dir, film.clean, film.allow_commands)?;
+    let flags = (film.clean, film.allow_commands);
+    let derived = derive_into(&mut loaded, &dir, flags, &timings)?;
     let choice = resolve_render(
         &dir,
         &request,
@@ -231,8 +243,8 @@ pub fn run(
         film.limits.pixels,
     )?;
     let sound_settings = resolve_sound(&dir, &sound_args.request())?;
-    let (rendered, selected) =
-        render_into(&dir, &choice, work.frames, Shard::all(), film.limits.pixels)?;
+    let selection = (work.frames, Shard::all());
+    let (rendered, selected) = render_into(&dir, &choice, selection, film.limits.pixels, &timings)?;
     let sounded = soundtrack(&dir, &sound_settings)?;
     let complete = stages::all_rendered(&dir)?;
     let mp4 = if complete && mux::ffmpeg_available() {
@@ -260,6 +272,9 @@ pub fn run(
             "the frames show actor {a}'s vision window in their top-left corner (--inset {a})"
         );
     }
+    if work.timings {
+        eprint!("{}", timings.report(start.elapsed()));
+    }
     match mp4 {
         Some((path, made)) => println!("film: {} ({})", path.display(), now(made)),
         None if !complete => println!("no MP4: only some frames are rendered (`lmfilm render {}` renders the rest, then `lmfilm mux {}`)", dir.display(), dir.display()),
@@ -271,7 +286,8 @@ pub fn run(
 /// `lmfilm derive`.
 pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
     let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
-    let derived = derive_into(&mut loaded, out, film.clean, film.allow_commands)?;
+    let flags = (film.clean, film.allow_commands);
+    let derived = derive_into(&mut loaded, out, flags, &Timings::default())?;
     let rec = record::open(out)?;
     println!(
         "{}: {} frames {} (scene/NNNN.snap, {EVENTS_FILE}, {DERIVE_RECORD}, {})",
@@ -331,13 +347,13 @@ pub fn render(
         partial(work.frames, shard),
         max_pixels,
     )?;
-    let (n, selected) = render_into(
-        dir,
-        &choice,
-        work.frames,
-        shard.unwrap_or(Shard::all()),
-        max_pixels,
-    )?;
+    let start = Instant::now();
+    let timings = Timings::default();
+    let selection = (work.frames, shard.unwrap_or(Shard::all()));
+    let (n, selected) = render_into(dir, &choice, selection, max_pixels, &timings)?;
+    if work.timings {
+        eprint!("{}", timings.report(start.elapsed()));
+    }
     println!(
         "{}: {n} of {selected} frames rendered now (the others up to date) in {}; settings: {}",
         dir.display(),

@@ -10,6 +10,7 @@ use crate::lsys::print::Format;
 use crate::lsys::Limits;
 use crate::production::frames::FrameRange;
 use crate::production::settings::Defaults;
+use crate::production::timings::{Stage, Timings};
 use crate::render::motion::Motion;
 use crate::render::{self, Accel, Integrator};
 use crate::scene::{mesh, obj};
@@ -152,7 +153,8 @@ pub fn stills(args: &StillArgs, frames: Option<&FrameRange>) -> Result<Vec<PathB
         segment_width: args.segment_width,
         limits,
     };
-    let mut film = derive_to(&at, opts)?;
+    let (start, timings) = (std::time::Instant::now(), Timings::default());
+    let mut film = timings.time(Stage::Derive, || derive_to(&at, opts))?;
     let read = at
         .scenes
         .iter()
@@ -191,20 +193,31 @@ pub fn stills(args: &StillArgs, frames: Option<&FrameRange>) -> Result<Vec<PathB
             }
             false => Motion::default(),
         };
-        let accel = Accel::moving(scene, &motion);
+        let accel = timings.time(Stage::Accel, || Accel::moving(scene, &motion));
         let percent = Percent::new("rendering");
-        let img = render::render_with(&accel, &settings, &|done, rows| percent.tick(done, rows));
+        let img = timings.time(Stage::Render, || {
+            render::render_with(&accel, &settings, &|done, rows| percent.tick(done, rows))
+        });
         percent.done();
         let path = match frames {
             Some(_) => numbered(output, number),
             None => output.to_path_buf(),
         };
         create_parent(&path)?;
-        render::output::write(&img, &path)
+        let encode = if exr {
+            Stage::EncodeExr
+        } else {
+            Stage::EncodePng
+        };
+        timings
+            .time(encode, || render::output::write(&img, &path))
             .map_err(|e| Error::other(format!("{}: {e}", path.display())))?;
         // Say what was written, so the user finds it.
         println!("{} ({w}×{h}, {} spp)", path.display(), settings.spp);
         if number + 1 >= end {
+            if args.timings {
+                eprint!("{}", timings.report(start.elapsed()));
+            }
             return Ok(read);
         }
         // Motion blur has already gone on to the next frame.

@@ -13,4 +13,5 @@ pub mod mux;
 pub mod record;
 pub mod settings;
 pub mod stages;
+pub mod timings;
 pub mod verify;

@@ -28,6 +28,7 @@ use super::record::{
     self, intact, DeriveRecord, FileHash, FrameRecord, Inputs, MuxRecord, SoundRecord,
 };
 use super::settings::RenderChoice;
+use super::timings::{Stage, Timings};
 use super::{assemble, mux as ffmpeg};
 use crate::actors::live::Living;
 use crate::atomic::{remove_stale_temps, write_atomic};
@@ -43,6 +44,7 @@ use crate::render::motion::Motion;
 use crate::render::{self, output, Accel, Integrator};
 use crate::scene::snapshot;
 use crate::sound;
+use std::sync::mpsc::sync_channel;
 
 /// A scene file as the records name it, with its bytes.
 pub struct SceneText {
@@ -159,6 +161,7 @@ pub fn derive(
     dir: &Path,
     clean: bool,
     progress: Progress,
+    timings: &Timings,
 ) -> Result<(DeriveRecord, bool), Error> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     if clean {
@@ -193,16 +196,25 @@ pub fn derive(
     let frames = film.frame_count();
     let mut snapshots = Vec::new();
     let mut actors = BTreeMap::new();
+    let mut last = std::time::Instant::now();
     every_frame(film, progress, |frame, living| {
+        timings.add(Stage::Derive, last.elapsed());
         let path = dir.join(snapshot_path(frame.number()));
-        let bytes = snapshot::encode(frame.scene());
-        let hash = sha256_bytes(&bytes);
-        // Derivation is deterministic: an identical snapshot stays.
-        if !sha256_file(&path).is_ok_and(|h| h == hash) {
-            write_atomic(&path, &bytes).map_err(|e| Error::io(&path, e))?;
-        }
+        let hash = timings.time(Stage::Snapshot, || {
+            let bytes = snapshot::encode(frame.scene());
+            let hash = sha256_bytes(&bytes);
+            // Derivation is deterministic: an identical snapshot stays.
+            if !sha256_file(&path).is_ok_and(|h| h == hash) {
+                write_atomic(&path, &bytes).map_err(|e| Error::io(&path, e))?;
+            }
+            Ok::<_, Error>(hash)
+        })?;
         snapshots.push(hash);
-        actor_images::write(dir, frame.number(), living, &mut actors)
+        let written = timings.time(Stage::ActorImages, || {
+            actor_images::write(dir, frame.number(), living, &mut actors)
+        });
+        last = std::time::Instant::now();
+        written
     })?;
     let sounds = copy_sounds(film, dir)?;
     let tracks = write_tracks(film, dir, &old_tracks)?;
@@ -430,79 +442,208 @@ pub fn render_frames(
     choice: &RenderChoice,
     max_pixels: u64,
     progress: Progress,
+    timings: &Timings,
 ) -> Result<u64, Error> {
-    let (formats, inset) = (choice.formats, choice.inset);
+    let inset = choice.inset;
     let rec = open(dir)?;
     let insets = match inset {
         Some(a) => actor_images::inset_sources(dir, &rec, a, frames)?,
         None => BTreeMap::new(),
     };
-    let name = rec.inputs.name.clone();
     let frames_dir = dir.join(FRAMES_DIR);
     std::fs::create_dir_all(&frames_dir).map_err(|e| Error::io(&frames_dir, e))?;
     remove_stale_temps(&frames_dir);
-    let mut rendered = 0;
-    let st = choice.settings();
-    // The path tracer blurs what moves toward the next frame.
-    let blurs = st.integrator == Integrator::Path && st.shutter > 0.0;
-    for (i, &k) in frames.iter().enumerate() {
-        let snap = snapshot_hash(dir, &rec, k)?;
+    let job = FrameJob {
+        dir,
+        rec: &rec,
+        choice,
+        insets: &insets,
+        max_pixels,
+        timings,
+    };
+    // Three stages, one frame in each and at most one waiting between
+    // two (issue 45): frame n + 1 is read and its BVH built, and frame
+    // n − 1 encoded, hashed and recorded, while frame n renders on every
+    // core. Each frame's files depend on its own snapshot only, and are
+    // written here in frame order.
+    let (to_render, prepared) = sync_channel::<Prepared>(1);
+    let (to_write, rendered) = sync_channel::<Prepared>(1);
+    std::thread::scope(|scope| {
+        let reader = scope.spawn(move || -> Result<(), Error> {
+            for (i, &k) in frames.iter().enumerate() {
+                let p = job.prepare(i, k)?;
+                if to_render.send(p).is_err() {
+                    break; // a later stage stopped: its error is the one
+                }
+            }
+            Ok(())
+        });
+        let renderer = scope.spawn(move || {
+            for mut p in prepared {
+                job.render(&mut p)?;
+                if to_write.send(p).is_err() {
+                    break;
+                }
+            }
+            Ok::<(), Error>(())
+        });
+        let mut written = 0;
+        let mut result = Ok(());
+        for p in rendered {
+            match job.write(p) {
+                Ok((i, made)) => {
+                    written += u64::from(made);
+                    progress(i as u64 + 1, frames.len() as u64);
+                }
+                Err(e) => {
+                    result = Err(e);
+                    break;
+                }
+            }
+        }
+        // The earliest stage's error: a later one stopped because of it.
+        let joined = |h: std::thread::ScopedJoinHandle<'_, Result<(), Error>>| {
+            h.join()
+                .unwrap_or_else(|_| Err(Error::other("a frame stage panicked")))
+        };
+        joined(reader)?;
+        joined(renderer)?;
+        result.map(|()| written)
+    })
+}
+
+/// A frame on its way through the pipeline: what its record will say,
+/// and, unless its files are up to date, its scene and then its image.
+struct Prepared {
+    index: usize,
+    frame: u64,
+    want: FrameRecord,
+    accel: Option<Accel>,
+    image: Option<output::Image>,
+}
+
+/// What every stage of a render shares.
+#[derive(Clone, Copy)]
+struct FrameJob<'a> {
+    dir: &'a Path,
+    rec: &'a DeriveRecord,
+    choice: &'a RenderChoice,
+    insets: &'a BTreeMap<u64, FileHash>,
+    max_pixels: u64,
+    timings: &'a Timings,
+}
+
+impl FrameJob<'_> {
+    /// Frame `k`'s record as it will be, and its scene read and its BVH
+    /// built unless its files are up to date.
+    fn prepare(&self, index: usize, k: u64) -> Result<Prepared, Error> {
+        let (dir, rec, name) = (self.dir, self.rec, &self.rec.inputs.name);
+        let st = self.choice.settings();
+        let snap = snapshot_hash(dir, rec, k)?;
+        // The path tracer blurs what moves toward the next frame.
+        let blurs = st.integrator == Integrator::Path && st.shutter > 0.0;
         let next_snapshot = match blurs && k + 1 < rec.frame_count {
-            true => Some(snapshot_hash(dir, &rec, k + 1)?),
+            true => Some(snapshot_hash(dir, rec, k + 1)?),
             false => None,
         };
-        let exts = formats.extensions();
-        let mut want = FrameRecord {
+        let want = FrameRecord {
             frame: k,
-            inset: insets.get(&k).cloned(),
+            inset: self.insets.get(&k).cloned(),
             lmfilm_version: record::version(),
-            outputs: exts
+            outputs: self
+                .choice
+                .formats
+                .extensions()
                 .iter()
-                .map(|e| (key(&frame_path(&name, k, e)), String::new()))
+                .map(|e| (key(&frame_path(name, k, e)), String::new()))
                 .collect(),
-            render: choice.record(),
+            render: self.choice.record(),
             snapshot: snap.clone(),
             next_snapshot,
         };
-        if !frame_done(dir, &name, k, &snap, &want) {
-            let read = |k: u64| {
+        let mut p = Prepared {
+            index,
+            frame: k,
+            want,
+            accel: None,
+            image: None,
+        };
+        if frame_done(dir, name, k, &snap, &p.want) {
+            return Ok(p);
+        }
+        let read = |k: u64| {
+            self.timings.time(Stage::ReadSnapshot, || {
                 // The reader's message says to derive again.
                 snapshot::read(&dir.join(snapshot_path(k))).map_err(|e| Error::input(e.to_string()))
-            };
-            let scene = read(k)?;
-            let mut st = st;
-            let snap = dir.join(snapshot_path(k));
-            let refuse = |e: String| Error::input(format!("{}: {e}", snap.display()));
-            Limits::check_pixels(st.width, st.height, max_pixels).map_err(refuse)?;
-            render::check(&scene).map_err(refuse)?;
-            st.frame = k;
-            let motion = match want.next_snapshot {
-                Some(_) => Motion::between(&scene, &read(k + 1)?, st.shutter),
-                None => Motion::default(),
-            };
-            let accel = Accel::moving(std::sync::Arc::new(scene), &motion);
-            let mut img = render::render_with(&accel, &st, &|_, _| {});
-            if let Some(source) = &want.inset {
-                actor_images::compose(&mut img, &actor_images::read_inset(dir, source)?);
-            }
-            for ext in ["exr", "png"] {
-                let p = dir.join(frame_path(&name, k, ext));
-                if exts.contains(&ext) {
-                    output::write(&img, &p).map_err(|e| Error::io(&p, e))?;
-                    let hash = sha256_file(&p).map_err(|e| Error::io(&p, e))?;
-                    want.outputs.insert(key(&frame_path(&name, k, ext)), hash);
-                } else if p.exists() {
-                    // Another format's image of an earlier render.
-                    std::fs::remove_file(&p).map_err(|e| Error::io(&p, e))?;
-                }
-            }
-            let rp = dir.join(frame_record_path(&name, k));
-            record::write(&rp, &want).map_err(|e| Error::io(&rp, e))?;
-            rendered += 1;
-        }
-        progress(i as u64 + 1, frames.len() as u64);
+            })
+        };
+        let scene = read(k)?;
+        let snap_path = dir.join(snapshot_path(k));
+        let refuse = |e: String| Error::input(format!("{}: {e}", snap_path.display()));
+        Limits::check_pixels(st.width, st.height, self.max_pixels).map_err(refuse)?;
+        render::check(&scene).map_err(refuse)?;
+        let motion = match p.want.next_snapshot {
+            Some(_) => Motion::between(&scene, &read(k + 1)?, st.shutter),
+            None => Motion::default(),
+        };
+        p.accel = Some(self.timings.time(Stage::Accel, || {
+            Accel::moving(std::sync::Arc::new(scene), &motion)
+        }));
+        Ok(p)
     }
-    Ok(rendered)
+
+    /// Ray-traces a prepared frame, its inset composed in.
+    fn render(&self, p: &mut Prepared) -> Result<(), Error> {
+        let Some(accel) = p.accel.take() else {
+            return Ok(());
+        };
+        let mut st = self.choice.settings();
+        st.frame = p.frame;
+        let mut img = self.timings.time(Stage::Render, || {
+            render::render_with(&accel, &st, &|_, _| {})
+        });
+        if let Some(source) = &p.want.inset {
+            actor_images::compose(&mut img, &actor_images::read_inset(self.dir, source)?);
+        }
+        p.image = Some(img);
+        Ok(())
+    }
+
+    /// Writes a rendered frame's images and then its record; returns its
+    /// index and whether it was made now.
+    fn write(&self, mut p: Prepared) -> Result<(usize, bool), Error> {
+        let Some(img) = p.image.take() else {
+            return Ok((p.index, false));
+        };
+        let (dir, name, k) = (self.dir, &self.rec.inputs.name, p.frame);
+        let exts = self.choice.formats.extensions();
+        for ext in ["exr", "png"] {
+            let path = dir.join(frame_path(name, k, ext));
+            if exts.contains(&ext) {
+                let stage = if ext == "exr" {
+                    Stage::EncodeExr
+                } else {
+                    Stage::EncodePng
+                };
+                self.timings
+                    .time(stage, || output::write(&img, &path))
+                    .map_err(|e| Error::io(&path, e))?;
+                let hash = self
+                    .timings
+                    .time(Stage::Record, || sha256_file(&path))
+                    .map_err(|e| Error::io(&path, e))?;
+                p.want.outputs.insert(key(&frame_path(name, k, ext)), hash);
+            } else if path.exists() {
+                // Another format's image of an earlier render.
+                std::fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
+            }
+        }
+        let rp = dir.join(frame_record_path(name, k));
+        self.timings
+            .time(Stage::Record, || record::write(&rp, &p.want))
+            .map_err(|e| Error::io(&rp, e))?;
+        Ok((p.index, true))
+    }
 }
 
 /// The sound options as the soundtrack's record keeps them.

@@ -1,0 +1,132 @@
+//! Where a film's time goes (issue 45): seconds spent in each stage of
+//! the frame pipeline, summed over frames and threads, for `run
+//! --timings` and `render --timings`. Never part of a record: times vary,
+//! a record's bytes may not.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// A stage of the pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    /// The frame loop: derivation, physics, actors (their vision
+    /// included), interpretation into the frame's scene.
+    Derive,
+    /// A snapshot encoded, hashed and written.
+    Snapshot,
+    /// The actors' vision and memory images written.
+    ActorImages,
+    /// A snapshot read back and decoded for rendering.
+    ReadSnapshot,
+    /// The acceleration structure built.
+    Accel,
+    /// Ray tracing.
+    Render,
+    /// The EXR encoded and written.
+    EncodeExr,
+    /// The PNG encoded and written.
+    EncodePng,
+    /// Output files hashed and the frame's record written.
+    Record,
+}
+
+const STAGES: [Stage; 9] = [
+    Stage::Derive,
+    Stage::Snapshot,
+    Stage::ActorImages,
+    Stage::ReadSnapshot,
+    Stage::Accel,
+    Stage::Render,
+    Stage::EncodeExr,
+    Stage::EncodePng,
+    Stage::Record,
+];
+
+impl Stage {
+    fn name(self) -> &'static str {
+        match self {
+            Stage::Derive => "derive (frame loop)",
+            Stage::Snapshot => "snapshot encode, hash, write",
+            Stage::ActorImages => "actor images",
+            Stage::ReadSnapshot => "snapshot read",
+            Stage::Accel => "acceleration build",
+            Stage::Render => "render",
+            Stage::EncodeExr => "encode EXR",
+            Stage::EncodePng => "encode PNG",
+            Stage::Record => "hash and record",
+        }
+    }
+}
+
+/// Nanoseconds per stage, added from any thread.
+#[derive(Debug, Default)]
+pub struct Timings {
+    nanos: [AtomicU64; 9],
+}
+
+impl Timings {
+    /// Runs `f`, adding its time to `stage`.
+    pub fn time<T>(&self, stage: Stage, f: impl FnOnce() -> T) -> T {
+        let start = Instant::now();
+        let out = f();
+        self.add(stage, start.elapsed());
+        out
+    }
+
+    pub fn add(&self, stage: Stage, d: Duration) {
+        let k = STAGES.iter().position(|s| *s == stage).unwrap_or(0);
+        self.nanos[k].fetch_add(d.as_nanos() as u64, Ordering::Relaxed);
+    }
+
+    /// Seconds spent in `stage`.
+    pub fn seconds(&self, stage: Stage) -> f64 {
+        let k = STAGES.iter().position(|s| *s == stage).unwrap_or(0);
+        self.nanos[k].load(Ordering::Relaxed) as f64 * 1e-9
+    }
+
+    /// The breakdown, one line per stage that took any time, with its
+    /// share of the stages' sum; `wall` is the whole command's time.
+    pub fn report(&self, wall: Duration) -> String {
+        let total: f64 = STAGES.iter().map(|s| self.seconds(*s)).sum();
+        let mut out = format!(
+            "timings: {:.2} s wall, {:.2} s in the stages (summed over threads)\n",
+            wall.as_secs_f64(),
+            total
+        );
+        for s in STAGES {
+            let t = self.seconds(s);
+            if t > 0.0 {
+                out.push_str(&format!(
+                    "  {:<30} {:>9.3} s {:>5.1} %\n",
+                    s.name(),
+                    t,
+                    100.0 * t / total.max(1e-12)
+                ));
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stages_add_up_from_any_thread() {
+        let t = Timings::default();
+        std::thread::scope(|s| {
+            for _ in 0..4 {
+                s.spawn(|| t.add(Stage::Render, Duration::from_millis(250)));
+            }
+        });
+        t.time(Stage::EncodePng, || {
+            std::thread::sleep(Duration::from_millis(5))
+        });
+        assert!((t.seconds(Stage::Render) - 1.0).abs() < 1e-9);
+        assert!(t.seconds(Stage::EncodePng) >= 0.005);
+        let r = t.report(Duration::from_secs(2));
+        assert!(r.contains("render") && r.contains("encode PNG"), "{r}");
+        assert!(!r.contains("encode EXR"), "{r}");
+    }
+}
