@@ -22,10 +22,17 @@ timed() {
 }
 
 echo "== the built-in film, 351 frames, 480x270, 3 spp (run, a fresh folder each)"
-set -- $(timed $BIN run -o "$OUT/t1" --threads 1)
+# RAYON_NUM_THREADS bounds every pool (the EXR compressor's too), --threads
+# the renderer's; each run is held to as many processors as it has
+# threads (the pipeline's reading and writing stages share them), so that
+# T1 is the whole work done on one core.
+PIN1="taskset -c 0"
+PINN="taskset -c 0-$((HIGH - 1))"
+command -v taskset > /dev/null || { PIN1=""; PINN=""; }
+set -- $(timed env RAYON_NUM_THREADS=1 $PIN1 $BIN run -o "$OUT/t1" --threads 1)
 T1=$1
 echo "1 thread:  $1 s wall, $2 s CPU"
-set -- $(timed $BIN run -o "$OUT/tn" --threads "$HIGH" --timings)
+set -- $(timed env RAYON_NUM_THREADS=$HIGH $PINN $BIN run -o "$OUT/tn" --threads "$HIGH" --timings)
 TN=$1
 CPU=$2
 echo "$HIGH threads: $1 s wall, $2 s CPU"
