@@ -53,6 +53,53 @@ fn derive_into(
     Ok(derived)
 }
 
+/// Derives the film into its claimed folder while a render stage renders
+/// each selected frame as soon as its snapshot is on disk (issue 45);
+/// returns whether it derived and, when it did, how many frames were
+/// rendered (none are announced when the folder was up to date: the
+/// caller renders what is missing then).
+fn derive_rendering(
+    film: &mut crate::film::Film,
+    inputs: record::Inputs,
+    dir: &Path,
+    (choice, frames, max_pixels): (&RenderChoice, &[u64], u64),
+    timings: &Timings,
+) -> Result<(bool, Option<u64>)> {
+    let name = inputs.name.clone();
+    let (tx, rx) = std::sync::mpsc::channel::<(u64, String)>();
+    std::thread::scope(|scope| {
+        let render = scope.spawn(|| {
+            let mut p = Progress::new("rendering frame");
+            let tick = &mut |k, n| p.tick(k, n);
+            let n = stages::render_announced(
+                dir,
+                &name,
+                (frames, rx),
+                choice,
+                max_pixels,
+                tick,
+                timings,
+            );
+            p.done();
+            n
+        });
+        let mut announce = move |k: u64, hash: &str| {
+            tx.send((k, hash.to_string()))
+                .map_err(|_| Error::other("the render stage stopped"))
+        };
+        let derived =
+            stages::derive_announcing(film, inputs, dir, &mut |_, _| {}, timings, &mut announce);
+        drop(announce); // the render stage ends with the announcements
+        let rendered = render
+            .join()
+            .unwrap_or_else(|_| Err(Error::other("the render stage panicked")));
+        // The render stage's error first: the derivation stopped for it.
+        let rendered = rendered?;
+        let (_, derived) = derived?;
+        Ok((derived, derived.then_some(rendered)))
+    })
+}
+
 /// The film's render settings in `dir`: `request` over the folder's
 /// recorded settings, else the defaults, at the scene camera's size
 /// `camera` (`window_of` says where it was read, for a size over the
@@ -232,8 +279,15 @@ pub fn run(
         .scenes
         .first()
         .map_or("the built-in film".to_string(), |p| p.display().to_string());
-    let flags = (film.clean, film.allow_commands);
-    let derived = derive_into(&mut loaded, &dir, flags, &timings)?;
+    let Loaded {
+        film: f,
+        texts,
+        name,
+    } = &mut loaded;
+    let inputs = stages::inputs(f, texts, name, derive_options(film.allow_commands))?;
+    // The folder is claimed (emptied with --clean) before the settings
+    // are recorded in it.
+    stages::claim(&dir, &inputs, film.clean)?;
     let choice = resolve_render(
         &dir,
         &request,
@@ -243,8 +297,33 @@ pub fn run(
         film.limits.pixels,
     )?;
     let sound_settings = resolve_sound(&dir, &sound_args.request())?;
-    let selection = (work.frames, Shard::all());
-    let (rendered, selected) = render_into(&dir, &choice, selection, film.limits.pixels, &timings)?;
+    let selection = match work.frames {
+        Some(range) => FrameSelection::range(range),
+        None => FrameSelection::resolve(None, f.rs_switch()),
+    };
+    let frames = selection.frames(f.frame_count(), Shard::all());
+    let max_pixels = film.limits.pixels;
+    let (derived, streamed) = if stages::streams(&choice) {
+        derive_rendering(f, inputs, &dir, (&choice, &frames, max_pixels), &timings)?
+    } else {
+        let mut p = Progress::new("deriving frame");
+        let tick = &mut |k, n| p.tick(k, n);
+        let (_, derived) =
+            stages::derive_announcing(f, inputs, &dir, tick, &timings, &mut |_, _| Ok(()))?;
+        p.done();
+        (derived, None)
+    };
+    assemble::finish(&dir)?;
+    let (rendered, selected) = match streamed {
+        Some(n) => (n, frames.len() as u64),
+        None => render_into(
+            &dir,
+            &choice,
+            (work.frames, Shard::all()),
+            max_pixels,
+            &timings,
+        )?,
+    };
     let sounded = soundtrack(&dir, &sound_settings)?;
     let complete = stages::all_rendered(&dir)?;
     let mp4 = if complete && mux::ffmpeg_available() {

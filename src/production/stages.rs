@@ -44,7 +44,7 @@ use crate::render::motion::Motion;
 use crate::render::{self, output, Accel, Integrator};
 use crate::scene::snapshot;
 use crate::sound;
-use std::sync::mpsc::sync_channel;
+use std::sync::mpsc::{sync_channel, Receiver};
 
 /// A scene file as the records name it, with its bytes.
 pub struct SceneText {
@@ -163,12 +163,32 @@ pub fn derive(
     progress: Progress,
     timings: &Timings,
 ) -> Result<(DeriveRecord, bool), Error> {
+    claim(dir, &inputs, clean)?;
+    derive_announcing(film, inputs, dir, progress, timings, &mut |_, _| Ok(()))
+}
+
+/// Makes `dir` the film's folder: created, emptied of lmfilm's outputs
+/// with `clean`, else refused when it holds another film.
+pub fn claim(dir: &Path, inputs: &Inputs, clean: bool) -> Result<(), Error> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     if clean {
-        clear(dir)?;
+        clear(dir)
     } else {
-        check_same_film(dir, &inputs)?;
+        check_same_film(dir, inputs)
     }
+}
+
+/// [`derive`] into a claimed folder, calling `announce(frame, snapshot
+/// hash)` as each snapshot is on disk (for the render stage to start on
+/// it); nothing is announced when the folder is up to date.
+pub fn derive_announcing(
+    film: &mut Film,
+    inputs: Inputs,
+    dir: &Path,
+    progress: Progress,
+    timings: &Timings,
+    announce: &mut dyn FnMut(u64, &str) -> Result<(), Error>,
+) -> Result<(DeriveRecord, bool), Error> {
     let scene_dir = dir.join(SCENE_DIR);
     std::fs::create_dir_all(&scene_dir).map_err(|e| Error::io(&scene_dir, e))?;
     remove_stale_temps(&scene_dir);
@@ -209,6 +229,7 @@ pub fn derive(
             }
             Ok::<_, Error>(hash)
         })?;
+        announce(frame.number(), &hash)?;
         snapshots.push(hash);
         let written = timings.time(Stage::ActorImages, || {
             actor_images::write(dir, frame.number(), living, &mut actors)
@@ -444,73 +465,73 @@ pub fn render_frames(
     progress: Progress,
     timings: &Timings,
 ) -> Result<u64, Error> {
-    let inset = choice.inset;
     let rec = open(dir)?;
-    let insets = match inset {
+    let insets = match choice.inset {
         Some(a) => actor_images::inset_sources(dir, &rec, a, frames)?,
         None => BTreeMap::new(),
     };
-    let frames_dir = dir.join(FRAMES_DIR);
-    std::fs::create_dir_all(&frames_dir).map_err(|e| Error::io(&frames_dir, e))?;
-    remove_stale_temps(&frames_dir);
+    // The path tracer blurs what moves toward the next frame.
+    let st = choice.settings();
+    let blurs = st.integrator == Integrator::Path && st.shutter > 0.0;
+    let source = frames.iter().map(|&k| {
+        let next = match blurs && k + 1 < rec.frame_count {
+            true => Some(snapshot_hash(dir, &rec, k + 1)?),
+            false => None,
+        };
+        Ok((k, snapshot_hash(dir, &rec, k)?, next))
+    });
     let job = FrameJob {
         dir,
-        rec: &rec,
+        name: &rec.inputs.name,
         choice,
         insets: &insets,
         max_pixels,
         timings,
     };
-    // Three stages, one frame in each and at most one waiting between
-    // two (issue 45): frame n + 1 is read and its BVH built, and frame
-    // n − 1 encoded, hashed and recorded, while frame n renders on every
-    // core. Each frame's files depend on its own snapshot only, and are
-    // written here in frame order.
-    let (to_render, prepared) = sync_channel::<Prepared>(1);
-    let (to_write, rendered) = sync_channel::<Prepared>(1);
-    std::thread::scope(|scope| {
-        let reader = scope.spawn(move || -> Result<(), Error> {
-            for (i, &k) in frames.iter().enumerate() {
-                let p = job.prepare(i, k)?;
-                if to_render.send(p).is_err() {
-                    break; // a later stage stopped: its error is the one
-                }
-            }
-            Ok(())
-        });
-        let renderer = scope.spawn(move || {
-            for mut p in prepared {
-                job.render(&mut p)?;
-                if to_write.send(p).is_err() {
-                    break;
-                }
-            }
-            Ok::<(), Error>(())
-        });
-        let mut written = 0;
-        let mut result = Ok(());
-        for p in rendered {
-            match job.write(p) {
-                Ok((i, made)) => {
-                    written += u64::from(made);
-                    progress(i as u64 + 1, frames.len() as u64);
-                }
-                Err(e) => {
-                    result = Err(e);
-                    break;
-                }
-            }
-        }
-        // The earliest stage's error: a later one stopped because of it.
-        let joined = |h: std::thread::ScopedJoinHandle<'_, Result<(), Error>>| {
-            h.join()
-                .unwrap_or_else(|_| Err(Error::other("a frame stage panicked")))
-        };
-        joined(reader)?;
-        joined(renderer)?;
-        result.map(|()| written)
-    })
+    job.run(source, frames.len() as u64, progress)
 }
+
+/// Renders the listed frames of a film as its derivation announces them
+/// (`derive_announcing`): frame k from its snapshot as soon as that is
+/// on disk, so that deriving overlaps rendering (issue 45). Only for
+/// settings that need nothing of the derivation but each frame's own
+/// snapshot: no inset, no motion blur ([`streams`]).
+pub fn render_announced(
+    dir: &Path,
+    name: &str,
+    (frames, announced): (&[u64], Receiver<(u64, String)>),
+    choice: &RenderChoice,
+    max_pixels: u64,
+    progress: Progress,
+    timings: &Timings,
+) -> Result<u64, Error> {
+    let wanted: std::collections::BTreeSet<u64> = frames.iter().copied().collect();
+    let source = announced
+        .into_iter()
+        .filter(|(k, _)| wanted.contains(k))
+        .map(|(k, hash)| Ok((k, hash, None)));
+    let insets = BTreeMap::new();
+    let job = FrameJob {
+        dir,
+        name,
+        choice,
+        insets: &insets,
+        max_pixels,
+        timings,
+    };
+    job.run(source, frames.len() as u64, progress)
+}
+
+/// Whether frames with these settings can render as they are derived.
+pub fn streams(choice: &RenderChoice) -> bool {
+    let st = choice.settings();
+    let blurs = st.integrator == Integrator::Path && st.shutter > 0.0;
+    choice.inset.is_none() && !blurs
+}
+
+/// A frame's number, its snapshot's hash and the next frame's (motion
+/// blur), or why they are not known.
+type Announced = Result<(u64, String, Option<String>), Error>;
 
 /// A frame on its way through the pipeline: what its record will say,
 /// and, unless its files are up to date, its scene and then its image.
@@ -526,7 +547,8 @@ struct Prepared {
 #[derive(Clone, Copy)]
 struct FrameJob<'a> {
     dir: &'a Path,
-    rec: &'a DeriveRecord,
+    /// The film's name, which names its frames.
+    name: &'a str,
     choice: &'a RenderChoice,
     insets: &'a BTreeMap<u64, FileHash>,
     max_pixels: u64,
@@ -534,18 +556,79 @@ struct FrameJob<'a> {
 }
 
 impl FrameJob<'_> {
+    /// Renders the frames `source` names, `count` of them, through three
+    /// stages, one frame in each and at most one waiting between two
+    /// (issue 45): frame n + 1 is read and its BVH built, and frame n − 1
+    /// encoded, hashed and recorded, while frame n renders on every core.
+    /// Each frame's files depend on its own snapshot only, and are written
+    /// here in frame order. Returns how many frames were rendered.
+    fn run(
+        self,
+        source: impl Iterator<Item = Announced> + Send,
+        count: u64,
+        progress: Progress,
+    ) -> Result<u64, Error> {
+        let frames_dir = self.dir.join(FRAMES_DIR);
+        std::fs::create_dir_all(&frames_dir).map_err(|e| Error::io(&frames_dir, e))?;
+        remove_stale_temps(&frames_dir);
+        let (to_render, prepared) = sync_channel::<Prepared>(1);
+        let (to_write, rendered) = sync_channel::<Prepared>(1);
+        std::thread::scope(|scope| {
+            let reader = scope.spawn(move || -> Result<(), Error> {
+                for (i, announced) in source.enumerate() {
+                    let (k, snap, next) = announced?;
+                    let p = self.prepare(i, k, snap, next)?;
+                    if to_render.send(p).is_err() {
+                        break; // a later stage stopped: its error is the one
+                    }
+                }
+                Ok(())
+            });
+            let renderer = scope.spawn(move || {
+                for mut p in prepared {
+                    self.render(&mut p)?;
+                    if to_write.send(p).is_err() {
+                        break;
+                    }
+                }
+                Ok::<(), Error>(())
+            });
+            let mut written = 0;
+            let mut result = Ok(());
+            for p in rendered {
+                match self.write(p) {
+                    Ok((i, made)) => {
+                        written += u64::from(made);
+                        progress(i as u64 + 1, count);
+                    }
+                    Err(e) => {
+                        result = Err(e);
+                        break;
+                    }
+                }
+            }
+            // The earliest stage's error: a later one stopped because of it.
+            let joined = |h: std::thread::ScopedJoinHandle<'_, Result<(), Error>>| {
+                h.join()
+                    .unwrap_or_else(|_| Err(Error::other("a frame stage panicked")))
+            };
+            joined(reader)?;
+            joined(renderer)?;
+            result.map(|()| written)
+        })
+    }
+
     /// Frame `k`'s record as it will be, and its scene read and its BVH
     /// built unless its files are up to date.
-    fn prepare(&self, index: usize, k: u64) -> Result<Prepared, Error> {
-        let (dir, rec, name) = (self.dir, self.rec, &self.rec.inputs.name);
+    fn prepare(
+        &self,
+        index: usize,
+        k: u64,
+        snap: String,
+        next_snapshot: Option<String>,
+    ) -> Result<Prepared, Error> {
+        let (dir, name) = (self.dir, self.name);
         let st = self.choice.settings();
-        let snap = snapshot_hash(dir, rec, k)?;
-        // The path tracer blurs what moves toward the next frame.
-        let blurs = st.integrator == Integrator::Path && st.shutter > 0.0;
-        let next_snapshot = match blurs && k + 1 < rec.frame_count {
-            true => Some(snapshot_hash(dir, rec, k + 1)?),
-            false => None,
-        };
         let want = FrameRecord {
             frame: k,
             inset: self.insets.get(&k).cloned(),
@@ -615,7 +698,7 @@ impl FrameJob<'_> {
         let Some(img) = p.image.take() else {
             return Ok((p.index, false));
         };
-        let (dir, name, k) = (self.dir, &self.rec.inputs.name, p.frame);
+        let (dir, name, k) = (self.dir, self.name, p.frame);
         let exts = self.choice.formats.extensions();
         for ext in ["exr", "png"] {
             let path = dir.join(frame_path(name, k, ext));

@@ -179,7 +179,11 @@ fn encode_exr_with(img: &Image, parallel: bool) -> io::Result<Vec<u8>> {
     let mut buf = Cursor::new(Vec::new());
     let image = ExrImage::from_layer(layer);
     let write = image.write();
-    let write = if parallel { write } else { write.non_parallel() };
+    let write = if parallel {
+        write
+    } else {
+        write.non_parallel()
+    };
     write.to_buffered(&mut buf).map_err(exr_encode_error)?;
     Ok(buf.into_inner())
 }
