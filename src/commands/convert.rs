@@ -21,7 +21,10 @@ pub fn convert(input: &Path, output: Option<&Path>) -> Result<()> {
     match output {
         None => print!("{text}"),
         Some(out) => {
-            if out == input {
+            let same = |a: &Path, b: &Path| {
+                a == b || matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+            };
+            if same(out, input) {
                 return Err(Error::input(format!(
                     "{}: the output would overwrite the input",
                     out.display()

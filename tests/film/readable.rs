@@ -100,3 +100,34 @@ fn a_film_from_the_readable_form_has_the_same_frames_and_sound() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn convert_goes_both_ways_from_the_command_line() {
+    let dir = fresh_dir("readable", "convert");
+    let lm = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/examples/parametric.lm");
+    let lmr = dir.join("p.lmr");
+    let (code, _, err) = lmfilm(&["convert", lm, "-o", lmr.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("wrote"), "{err}");
+    let (code, classic, err) = lmfilm(&["convert", lmr.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        classic.contains("[(y 3 -)p]") && classic.contains("EndProductions"),
+        "{classic}"
+    );
+    // The same words from the thesis's spelling as from the original.
+    let back = dir.join("p.lm");
+    std::fs::write(&back, &classic).unwrap();
+    let words = |f: &str| lmfilm(&["print", f, "--frame", "4", "--format", "full"]).1;
+    assert_eq!(words(back.to_str().unwrap()), words(lm));
+    // Never over its own input, however the path is written.
+    let twisted = format!(
+        "{}/../{}/p.lmr",
+        dir.display(),
+        dir.file_name().unwrap().to_str().unwrap()
+    );
+    let (code, _, err) = lmfilm(&["convert", lmr.to_str().unwrap(), "-o", &twisted]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("overwrite the input"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
