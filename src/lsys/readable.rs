@@ -712,34 +712,40 @@ impl<'a> Reader<'a> {
                 self.put(" ", self.pos);
             }
             parts += 1;
-            loop {
-                let start = self.pos;
-                self.skip_trivia()?;
-                let ends = match self.peek() {
-                    Some(c) if c.is_ascii_digit() || c == b'.' => {
-                        // The next right side's probability, or a digit
-                        // meant as a symbol.
-                        let after = &self.rest()[number_length(self.rest())..];
-                        if !after.trim_start().starts_with("->") {
-                            return Err(self.error(
-                                self.pos,
-                                "a number where a symbol is expected: a right side starts `probability ->`, and a digit symbol is quoted: '1'",
-                            ));
-                        }
-                        true
+            self.right_side()?;
+        }
+    }
+
+    /// A right side's symbols, up to the next `probability ->` or the
+    /// rule's `}`, closed by the classic `EndProb`.
+    fn right_side(&mut self) -> Result<(), Diagnostic> {
+        loop {
+            let start = self.pos;
+            self.skip_trivia()?;
+            let ends = match self.peek() {
+                Some(c) if c.is_ascii_digit() || c == b'.' => {
+                    // The next right side's probability, or a digit meant
+                    // as a symbol.
+                    let after = &self.rest()[number_length(self.rest())..];
+                    if !after.trim_start().starts_with("->") {
+                        return Err(self.error(
+                            self.pos,
+                            "a number where a symbol is expected: a right side starts `probability ->`, and a digit symbol is quoted: '1'",
+                        ));
                     }
-                    Some(c) => c == b'}',
-                    None => true,
-                };
-                if ends {
-                    self.put_word("EndProb", start);
+                    true
                 }
-                self.copy(start, self.pos, false);
-                if ends {
-                    break;
-                }
-                self.symbol()?;
+                Some(c) => c == b'}',
+                None => true,
+            };
+            if ends {
+                self.put_word("EndProb", start);
             }
+            self.copy(start, self.pos, false);
+            if ends {
+                return Ok(());
+            }
+            self.symbol()?;
         }
     }
 
