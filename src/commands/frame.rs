@@ -12,7 +12,7 @@ use crate::production::frames::FrameRange;
 use crate::production::settings::Defaults;
 use crate::production::timings::{Stage, Timings};
 use crate::render::motion::Motion;
-use crate::render::{self, Accel, Integrator};
+use crate::render::{self, Accel};
 use crate::scene::{mesh, obj};
 use crate::turtle::Options;
 
@@ -183,8 +183,7 @@ pub fn stills(args: &StillArgs, frames: Option<&FrameRange>) -> Result<Vec<PathB
         settings.frame = number;
         // PNG holds colour only: no need for the layer rays.
         settings.layers = exr;
-        // The path tracer blurs what moves toward the next frame.
-        let blurs = settings.integrator == Integrator::Path && settings.shutter > 0.0;
+        let blurs = settings.blurs();
         let more = number + 1 < film.frame_count();
         let motion = match blurs && more {
             true => {

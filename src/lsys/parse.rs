@@ -99,19 +99,6 @@ pub fn parse(src: &Source) -> Result<Definition, Diagnostic> {
     Ok(p.def)
 }
 
-/// True at the end of the file or at the next section's name.
-fn at_section(s: &mut Scanner) -> Result<bool, Diagnostic> {
-    if s.at_end()? {
-        return Ok(true);
-    }
-    for k in SECTIONS {
-        if s.at_keyword(k)? {
-            return Ok(true);
-        }
-    }
-    Ok(false)
-}
-
 struct Parser<'a> {
     s: Scanner<'a>,
     def: Definition,
@@ -159,7 +146,7 @@ impl<'a> Parser<'a> {
     }
 
     fn at_section(&mut self) -> Result<bool, Diagnostic> {
-        at_section(&mut self.s)
+        self.s.at_section()
     }
 
     fn unknown(&self, at: usize, w: &str, section: &str, known: &str) -> Diagnostic {
@@ -176,7 +163,7 @@ impl<'a> Parser<'a> {
         self.def.has_camera = true;
         let c = &mut self.def.camera;
         let s = &mut self.s;
-        while !at_section(s)? {
+        while !s.at_section()? {
             let (at, w) = s.word("a keyword")?;
             match w {
                 "pref_pos_x1_x2_y1_y2" | "prefpos_x1_x2_y1_y2" => {
@@ -224,7 +211,7 @@ impl<'a> Parser<'a> {
     fn repetition(&mut self) -> Result<(), Diagnostic> {
         let r = &mut self.def.repetition;
         let s = &mut self.s;
-        while !at_section(s)? {
+        while !s.at_section()? {
             let (at, w) = s.word("a keyword")?;
             match w {
                 "rotate" => r.rotate = s.floats("a rotation angle")?,

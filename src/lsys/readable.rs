@@ -125,12 +125,7 @@ impl<'a> Reader<'a> {
     }
 
     fn skip_trivia(&mut self) -> Result<(), Diagnostic> {
-        self.pos = trivia_end(self.text, self.pos).map_err(|open| {
-            self.error(
-                open,
-                "unclosed comment: add `*/` to end it (comments do not nest)",
-            )
-        })?;
+        self.pos = trivia_end(self.src, self.text.len(), self.pos)?;
         Ok(())
     }
 
@@ -396,8 +391,9 @@ impl<'a> Reader<'a> {
                 m.signature(),
                 SLOTS
                     .iter()
-                    .filter(|s| m.free(SLOTS.iter().position(|t| t == *s).unwrap_or(0) as u8))
-                    .copied()
+                    .enumerate()
+                    .filter(|(slot, _)| m.free(*slot as u8))
+                    .map(|(_, s)| *s)
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
@@ -419,8 +415,7 @@ impl<'a> Reader<'a> {
             ));
         }
         let t = a.text.trim();
-        let plain = t.strip_prefix('-').unwrap_or(t);
-        if plain.bytes().all(|c| c.is_ascii_digit() || c == b'.') {
+        if unsigned_number(t.strip_prefix('-').unwrap_or(t)) {
             if let Ok(v) = t.parse::<f64>() {
                 if let Some(why) = unit.reject(v) {
                     return Err(self.error(a.at, format!("{what}: `{name}` is {why}, found {t}")));
@@ -433,8 +428,7 @@ impl<'a> Reader<'a> {
     /// The classic group of one argument.
     fn group(&mut self, a: &Argument) {
         let end = a.at + a.text.len();
-        let t = a.text.trim();
-        let unsigned = !t.is_empty() && t.bytes().all(|c| c.is_ascii_digit() || c == b'.');
+        let unsigned = unsigned_number(a.text.trim());
         if let Some(p) = self
             .respell
             .filter(|_| !a.quoted && !unsigned)
@@ -512,16 +506,22 @@ impl<'a> Reader<'a> {
         }
     }
 
+    /// A comment at `at`, inside a symbol's arguments (a classic group
+    /// holds none).
+    fn comment_inside(&self, at: usize) -> Diagnostic {
+        self.error(
+            at,
+            "a comment inside a symbol's `( )`: move it after the `)`",
+        )
+    }
+
     /// Skips whitespace inside arguments; a comment there is an error
     /// (a classic group holds none).
     fn skip_space(&mut self, open: usize) -> Result<(), Diagnostic> {
         let rest = self.rest();
         self.pos += rest.len() - rest.trim_start().len();
         if self.rest().starts_with("/*") {
-            return Err(self.error(
-                self.pos,
-                "a comment inside a symbol's `( )`: move it after the `)`",
-            ));
+            return Err(self.comment_inside(self.pos));
         }
         if self.pos >= self.text.len() {
             return Err(self.error(open, "this `(` is not closed"));
@@ -546,10 +546,7 @@ impl<'a> Reader<'a> {
                     return Ok(&self.text[start..start + i]);
                 }
                 b'/' if self.text[start + i..].starts_with("/*") => {
-                    return Err(self.error(
-                        start + i,
-                        "a comment inside a symbol's `( )`: move it after the `)`",
-                    ))
+                    return Err(self.comment_inside(start + i))
                 }
                 b'"' | b'{' | b'}' | b'[' | b']' => break,
                 _ => {}
@@ -722,19 +719,15 @@ impl<'a> Reader<'a> {
         loop {
             let start = self.pos;
             self.skip_trivia()?;
+            // The rule's end or the next right side's `probability ->`; a
+            // number without its arrow is a symbol's mistake (`symbol`
+            // says so).
+            let next_side = || {
+                let after = &self.rest()[number_length(self.rest())..];
+                after.trim_start().starts_with("->")
+            };
             let ends = match self.peek() {
-                Some(c) if c.is_ascii_digit() || c == b'.' => {
-                    // The next right side's probability, or a digit meant
-                    // as a symbol.
-                    let after = &self.rest()[number_length(self.rest())..];
-                    if !after.trim_start().starts_with("->") {
-                        return Err(self.error(
-                            self.pos,
-                            "a number where a symbol is expected: a right side starts `probability ->`, and a digit symbol is quoted: '1'",
-                        ));
-                    }
-                    true
-                }
+                Some(c) if c.is_ascii_digit() || c == b'.' => next_side(),
                 Some(c) => c == b'}',
                 None => true,
             };
@@ -852,6 +845,12 @@ impl<'a> Reader<'a> {
         self.pos = start + t.len();
         Ok((start, t))
     }
+}
+
+/// Whether `text` is written as a plain unsigned decimal (`2`, `0.5`):
+/// what a classic group holds as it is, and what a unit can check.
+fn unsigned_number(text: &str) -> bool {
+    !text.is_empty() && text.bytes().all(|c| c.is_ascii_digit() || c == b'.')
 }
 
 /// The length of the decimal number `text` starts with (`1`, `0.5`,

@@ -60,12 +60,7 @@ const COMPARISONS: [(&str, char); 6] = [
 impl Condition<'_> {
     /// Skips whitespace and comments, not past the condition's end.
     fn skip(&mut self) -> Result<(), Diagnostic> {
-        let end = trivia_end(self.text, self.pos).map_err(|open| {
-            self.src.error(
-                open,
-                "unclosed comment: add `*/` to end it (comments do not nest)",
-            )
-        })?;
+        let end = trivia_end(self.src, self.text.len(), self.pos)?;
         self.pos = end.min(self.end);
         Ok(())
     }

@@ -6,7 +6,7 @@
 
 use std::collections::BTreeSet;
 
-use super::catalogue::{is_cut, Meaning, MEANINGS, SLOTS};
+use super::catalogue::{is_cut, Meaning, Unit, MEANINGS, SLOTS};
 use super::definition::Definition;
 use super::expr::{Code, Compiler, Expr, Op};
 use super::parse::{condition, parse};
@@ -134,12 +134,7 @@ impl Writer<'_> {
     fn keywords(&mut self) -> Result<(), Diagnostic> {
         let mut end = self.copied;
         loop {
-            self.s.skip_trivia()?;
-            if self.s.at_end()?
-                || SECTIONS
-                    .iter()
-                    .any(|k| self.s.at_keyword(k).unwrap_or(false))
-            {
+            if self.s.at_section()? {
                 break;
             }
             let (at, w) = self.s.word("a keyword")?;
@@ -157,22 +152,10 @@ impl Writer<'_> {
         Ok(())
     }
 
-    fn at_section(&mut self) -> Result<bool, Diagnostic> {
-        if self.s.at_end()? {
-            return Ok(true);
-        }
-        for k in SECTIONS {
-            if self.s.at_keyword(k)? {
-                return Ok(true);
-            }
-        }
-        Ok(false)
-    }
-
     fn axiom(&mut self) -> Result<(), Diagnostic> {
         loop {
             let spaced = self.trivia(false)?;
-            if self.at_section()? {
+            if self.s.at_section()? {
                 return Ok(());
             }
             self.symbol(spaced)?;
@@ -276,29 +259,17 @@ impl Writer<'_> {
                 .find(|m| m.ch == ch && fits(m, values))
                 .filter(|m| !plain || m.params.is_empty());
             if let Some(m) = found {
-                return Some(call(m.name, &arguments(m, values)));
+                let ordered = m.params.iter().map(|p| (p.name, p.slot));
+                let free = (0..7).filter(|&slot| m.free(slot));
+                return Some(call(m.name, &arguments(ordered, free, values)));
             }
         }
         if values.iter().any(|v| matches!(v, Value::Text(_))) {
             return None;
         }
-        let name = raw(ch);
         // x, y, z, f1, f2, f3 in order, the age by name.
-        let mut args = Vec::new();
-        let mut positional = true;
-        for (slot, v) in values.iter().enumerate().skip(1).chain([(0, &values[0])]) {
-            if *v == Value::Empty {
-                positional = false;
-                continue;
-            }
-            args.push(if positional && slot > 0 {
-                v.text()
-            } else {
-                positional = false;
-                format!("{}: {}", SLOTS[slot], v.text())
-            });
-        }
-        Some(call(&name, &args))
+        let ordered = (1..7u8).map(|slot| (SLOTS[slot as usize], slot));
+        Some(call(&raw(ch), &arguments(ordered, [0], values)))
     }
 
     fn productions(&mut self) -> Result<(), Diagnostic> {
@@ -422,7 +393,7 @@ fn fits(m: &Meaning, values: &[Value]) -> bool {
         !matches!(v, Value::Text(_))
             || m.params
                 .iter()
-                .any(|p| p.slot as usize == slot && p.unit == super::catalogue::Unit::Text)
+                .any(|p| p.slot as usize == slot && p.unit == Unit::Text)
     });
     // A plain number its unit refuses is written as the bare symbol with
     // its slots (`m(42.5)`), which the readable form reads unchecked.
@@ -433,13 +404,18 @@ fn fits(m: &Meaning, values: &[Value]) -> bool {
     fixed && cut && named && text && typed
 }
 
-/// The arguments of a meaning: its parameters in order (positional while
-/// none is skipped), then free slots by their generic names.
-fn arguments(m: &Meaning, values: &[Value]) -> Vec<String> {
+/// The arguments of a symbol: the `ordered` parameters (name, slot) by
+/// position while none is left out, by name after; then the `named`
+/// slots by their generic names.
+fn arguments(
+    ordered: impl Iterator<Item = (&'static str, u8)>,
+    named: impl IntoIterator<Item = u8>,
+    values: &[Value],
+) -> Vec<String> {
     let mut args = Vec::new();
     let mut positional = true;
-    for p in m.params {
-        let v = &values[p.slot as usize];
+    for (name, slot) in ordered {
+        let v = &values[slot as usize];
         if *v == Value::Empty {
             positional = false;
             continue;
@@ -447,12 +423,12 @@ fn arguments(m: &Meaning, values: &[Value]) -> Vec<String> {
         args.push(if positional {
             v.text()
         } else {
-            format!("{}: {}", p.name, v.text())
+            format!("{name}: {}", v.text())
         });
     }
-    for slot in 0..7u8 {
+    for slot in named {
         let v = &values[slot as usize];
-        if *v != Value::Empty && m.free(slot) {
+        if *v != Value::Empty {
             args.push(format!("{}: {}", SLOTS[slot as usize], v.text()));
         }
     }

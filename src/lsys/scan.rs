@@ -41,17 +41,21 @@ impl<'a> Scanner<'a> {
 
     /// Skips whitespace and comments; comments do not nest (thesis 6.2).
     pub fn skip_trivia(&mut self) -> Result<(), Diagnostic> {
-        let text = &self.src.text[..self.bytes.len()];
-        match trivia_end(text, self.pos) {
-            Ok(end) => {
-                self.pos = end;
-                Ok(())
-            }
-            Err(open) => Err(self.error(
-                open,
-                "unclosed comment: add `*/` to end it (comments do not nest)",
-            )),
+        self.pos = trivia_end(self.src, self.bytes.len(), self.pos)?;
+        Ok(())
+    }
+
+    /// True at the end of the file or at the next section's name.
+    pub fn at_section(&mut self) -> Result<bool, Diagnostic> {
+        if self.at_end()? {
+            return Ok(true);
         }
+        for k in SECTIONS {
+            if self.at_keyword(k)? {
+                return Ok(true);
+            }
+        }
+        Ok(false)
     }
 
     pub fn at_end(&mut self) -> Result<bool, Diagnostic> {
@@ -342,9 +346,11 @@ pub fn is_symbol_char(c: u8) -> bool {
     c.is_ascii_alphanumeric() || b"[]{}/^&$+-?.".contains(&c)
 }
 
-/// Where the whitespace and `/* */` comments from `from` end; the offset
-/// of a comment that is not closed as the error.
-pub fn trivia_end(text: &str, from: usize) -> Result<usize, usize> {
+/// Where the whitespace and `/* */` comments of `src` from `from` end,
+/// looking no further than `end`; comments do not nest (thesis 6.2), and
+/// one that is not closed is an error where it opens.
+pub fn trivia_end(src: &Source, end: usize, from: usize) -> Result<usize, Diagnostic> {
+    let text = &src.text[..end];
     let mut pos = from;
     loop {
         let rest = &text[pos..];
@@ -354,8 +360,13 @@ pub fn trivia_end(text: &str, from: usize) -> Result<usize, usize> {
             return Ok(pos);
         }
         match trimmed[2..].find("*/") {
-            Some(end) => pos += 2 + end + 2,
-            None => return Err(pos),
+            Some(close) => pos += 2 + close + 2,
+            None => {
+                return Err(src.error(
+                    pos,
+                    "unclosed comment: add `*/` to end it (comments do not nest)",
+                ))
+            }
         }
     }
 }

@@ -41,7 +41,7 @@ use crate::film::names::{
 use crate::film::{Film, Frame};
 use crate::lsys::Limits;
 use crate::render::motion::Motion;
-use crate::render::{self, output, Accel, Integrator};
+use crate::render::{self, output, Accel};
 use crate::scene::snapshot;
 use crate::sound;
 use std::sync::mpsc::{sync_channel, Receiver};
@@ -470,9 +470,7 @@ pub fn render_frames(
         Some(a) => actor_images::inset_sources(dir, &rec, a, frames)?,
         None => BTreeMap::new(),
     };
-    // The path tracer blurs what moves toward the next frame.
-    let st = choice.settings();
-    let blurs = st.integrator == Integrator::Path && st.shutter > 0.0;
+    let blurs = choice.settings().blurs();
     let source = frames.iter().map(|&k| {
         let next = match blurs && k + 1 < rec.frame_count {
             true => Some(snapshot_hash(dir, &rec, k + 1)?),
@@ -524,9 +522,7 @@ pub fn render_announced(
 
 /// Whether frames with these settings can render as they are derived.
 pub fn streams(choice: &RenderChoice) -> bool {
-    let st = choice.settings();
-    let blurs = st.integrator == Integrator::Path && st.shutter > 0.0;
-    choice.inset.is_none() && !blurs
+    choice.inset.is_none() && !choice.settings().blurs()
 }
 
 /// A frame's number, its snapshot's hash and the next frame's (motion

@@ -93,6 +93,12 @@ pub struct Settings {
 }
 
 impl Settings {
+    /// Whether a frame blurs what moves toward the next frame (the path
+    /// tracer with the shutter open), so it needs the next frame's scene.
+    pub fn blurs(&self) -> bool {
+        self.integrator == Integrator::Path && self.shutter > 0.0
+    }
+
     /// The preset's settings at `width` × `height`.
     pub fn of_preset(preset: Preset, width: u32, height: u32) -> Self {
         match preset {
