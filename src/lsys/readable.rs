@@ -186,9 +186,12 @@ impl<'a> Reader<'a> {
                 return Ok(());
             }
             let at = self.pos;
+            // A word ends where trivia begins (ASCII whitespace, as
+            // `trivia` skips it: a vertical tab is part of a word), so
+            // each turn moves on.
             let n = self
                 .rest()
-                .find(|c: char| c.is_whitespace())
+                .find(|c: char| c.is_ascii_whitespace())
                 .unwrap_or(self.rest().len());
             let n = self.rest()[..n].find("/*").unwrap_or(n);
             let word = &self.rest()[..n];

@@ -120,6 +120,11 @@ impl Writer<'_> {
                 .iter()
                 .position(|s| *s == w)
                 .ok_or_else(|| self.error(at, format!("expected a section name, found `{w}`")))?;
+            // The classic form lets a section's name follow a symbol
+            // without a space (`Fproductions` would read as one name).
+            if !self.out.is_empty() && !self.out.ends_with(char::is_whitespace) {
+                self.out.push('\n');
+            }
             self.out.push_str(READABLE_SECTIONS[k]);
             self.copied = self.s.pos;
             match k {

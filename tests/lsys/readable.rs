@@ -245,6 +245,30 @@ fn error(text: &str) -> lmfilm::lsys::Diagnostic {
     }
 }
 
+/// Found by the `readable` fuzz target: the classic form lets a section's
+/// name follow a symbol without a space; its readable spelling keeps them
+/// apart.
+#[test]
+fn a_section_glued_to_a_symbol_is_spelt_apart() {
+    let classic = "Axiom\nF XYZAProductions\nA (1)\n1 B EndProb\nEnd\nEndProductions\n";
+    let readable = to_readable(&Source::new("g.lm", classic)).unwrap();
+    assert!(readable.contains("A\nproductions"), "{readable}");
+    assert_eq!(
+        meaning(parsed("g.lmr", &readable)),
+        meaning(parsed("g.lm", classic))
+    );
+}
+
+/// Found by the `readable` fuzz target: a vertical tab (Unicode
+/// whitespace, not ASCII) in a keyword section made the reader stand
+/// still and grow without bound.
+#[test]
+fn a_vertical_tab_in_a_keyword_line_is_an_error_not_a_hang() {
+    let e = error("camera\npref_pos_x1_x2_y1_y\t\x0b0 180\naxiom\nF\n");
+    assert_eq!((e.line, e.column), (2, 1), "{e}");
+    assert!(e.message.contains("unknown keyword"), "{e}");
+}
+
 #[test]
 fn mistakes_are_located_in_the_readable_file_and_teach() {
     let cases: &[(&str, (usize, usize), &[&str])] = &[
