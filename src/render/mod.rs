@@ -110,11 +110,10 @@ pub fn render_with(
         .with_max_len(1)
         .for_each(|(y, (((rgba, depth), normal), object))| {
             let mut scratch = sample::Scratch::default();
-            for x in 0..w {
-                let p = sample::pixel(&mut scratch, accel, &cam, settings, x, y as u32);
+            sample::row(&mut scratch, accel, &cam, settings, y as u32, |x, p| {
                 let i = x as usize;
                 (rgba[i], depth[i], normal[i], object[i]) = (p.rgba, p.depth, p.normal, p.object);
-            }
+            });
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, h);
         });
     img

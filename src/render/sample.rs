@@ -64,7 +64,10 @@ pub struct Scratch {
     seen: Vec<(usize, bool)>,
     /// Each sample's colour, and whether its ray met a surface.
     colours: Vec<(Vec3, bool)>,
-    /// The lanes of [`batch::pixel`].
+    /// A row's rays for [`batch::row`], and their (colour, hit).
+    row: Vec<batch::Lane>,
+    lit: Vec<(Vec3, Option<Hit>)>,
+    /// The lanes of [`batch::row`].
     lanes: batch::Buffers,
     /// The camera rays of [`path::colours`].
     path: path::Buffers,
@@ -139,7 +142,8 @@ impl Scratch {
     }
 
     /// The samples' colours one at a time (scenes with sphere lights:
-    /// see [`batch::applies`]), after their shadow rays together.
+    /// see [`batch::applies`]; the same bits as [`batch::row`]'s), after
+    /// their shadow rays together.
     fn colours_one_by_one(&mut self, accel: &Accel, st: &Settings, key: u64) {
         self.shadows(accel, st);
         self.colours.clear();
@@ -163,8 +167,66 @@ impl Scratch {
     }
 }
 
-/// Renders pixel (x, y): colour from `spp` samples, the other layers from
-/// the ray through the pixel centre.
+/// Renders row `y`, pixel after pixel into `put(x, pixel)`: each
+/// pixel's colour from `spp` samples, the other layers from the ray
+/// through the pixel centre. Where the samples are cast and shaded
+/// together ([`batch::applies`], Whitted), the whole row's rays go
+/// through [`batch::row`] at once; otherwise pixel by pixel.
+pub fn row(
+    scratch: &mut Scratch,
+    accel: &Accel,
+    cam: &CameraRays,
+    st: &Settings,
+    y: u32,
+    mut put: impl FnMut(u32, PixelOut),
+) {
+    if st.integrator == Integrator::Path || !batch::applies(accel) {
+        for x in 0..st.width {
+            put(x, pixel(scratch, accel, cam, st, x, y));
+        }
+        return;
+    }
+    let sc = scratch;
+    let n = st.spp.max(1) as usize;
+    // A pixel's one sample is its centre ray (`offsets`).
+    let centre_lane = st.layers && n > 1;
+    let per = n + usize::from(centre_lane);
+    sc.row.clear();
+    for x in 0..st.width {
+        let key = sc.offsets(st, x, y);
+        sc.row.extend(
+            sc.offsets
+                .iter()
+                .enumerate()
+                .map(|(s, &offset)| batch::Lane {
+                    x,
+                    offset,
+                    key,
+                    sample: Some(s as u32),
+                }),
+        );
+        if centre_lane {
+            sc.row.push(batch::Lane {
+                x,
+                offset: (0.5, 0.5),
+                key,
+                sample: None,
+            });
+        }
+    }
+    batch::row(accel, cam, st, y, &sc.row, &mut sc.lanes, &mut sc.lit);
+    for ((lanes, lit), x) in sc.row.chunks(per).zip(sc.lit.chunks(per)).zip(0..) {
+        let samples = lanes[..n]
+            .iter()
+            .zip(&lit[..n])
+            .map(|(lane, &(c, hit))| (lane.offset, c, hit.is_some()));
+        let centre = if st.layers { lit[per - 1].1 } else { None };
+        put(x, filtered(st, samples, centre));
+    }
+}
+
+/// Renders pixel (x, y) on its own: colour from `spp` samples, the
+/// other layers from the ray through the pixel centre.
 pub fn pixel(
     scratch: &mut Scratch,
     accel: &Accel,
@@ -175,8 +237,6 @@ pub fn pixel(
 ) -> PixelOut {
     let sc = scratch;
     let key = sc.offsets(st, x, y);
-    // Cast and shaded together, a sample per lane; one at a time where
-    // that does not serve (sphere lights). The same bits either way.
     if st.integrator == Integrator::Path {
         path::colours(
             accel,
@@ -188,25 +248,35 @@ pub fn pixel(
             &mut sc.path,
             &mut sc.colours,
         );
-    } else if batch::applies(accel) {
-        batch::pixel(
-            accel,
-            cam,
-            st,
-            x,
-            y,
-            key,
-            &sc.offsets,
-            &mut sc.lanes,
-            &mut sc.colours,
-        );
     } else {
         sc.cast(accel, cam, x, y);
         sc.colours_one_by_one(accel, st, key);
     }
+    let centre = if st.layers {
+        accel.cast(
+            cam.eye(),
+            cam.dir(x as f32 + 0.5, y as f32 + 0.5),
+            0.0,
+            f32::INFINITY,
+        )
+    } else {
+        None
+    };
+    let samples = sc.offsets.iter().zip(&sc.colours);
+    filtered(st, samples.map(|(&o, &(c, hit))| (o, c, hit)), centre)
+}
+
+/// A pixel from its samples, as (offset in the pixel, colour, whether
+/// the ray met a surface), weighted by the filter, and the centre ray's
+/// hit.
+fn filtered(
+    st: &Settings,
+    samples: impl Iterator<Item = ((f32, f32), Vec3, bool)>,
+    centre: Option<Hit>,
+) -> PixelOut {
     let mut sum = [0.0f32; 4];
     let mut wsum = 0.0f32;
-    for (&(ox, oy), &(c, hit)) in sc.offsets.iter().zip(&sc.colours) {
+    for ((ox, oy), c, hit) in samples {
         let w = match st.filter {
             Filter::Box => 1.0,
             Filter::Gaussian => {
@@ -220,16 +290,6 @@ pub fn pixel(
         sum[3] += w * f32::from(u8::from(hit));
         wsum += w;
     }
-    let centre = if st.layers {
-        accel.cast(
-            cam.eye(),
-            cam.dir(x as f32 + 0.5, y as f32 + 0.5),
-            0.0,
-            f32::INFINITY,
-        )
-    } else {
-        None
-    };
     PixelOut {
         rgba: sum.map(|v| v / wsum),
         depth: centre.map_or(f32::INFINITY, |h| h.t),
@@ -246,12 +306,14 @@ mod tests {
     use crate::scene::{Light, LightKind};
     use crate::turtle::{build_scene, NoWorld, Options, Surfaces};
 
-    /// The samples cast and shaded together ([`batch::pixel`]) get the
-    /// bits of those cast and shaded one at a time, on every SIMD path
-    /// (so the camera rays in lanes are the same rays): the gallery's
-    /// shapes, textures, mirror and glass, with a sun and a second,
-    /// coloured point light added, shadows on and off, the final and the
-    /// preview presets, 20 samples a pixel (two chunks of lanes).
+    /// A row's samples cast and shaded together, several pixels to a
+    /// packet ([`row`]), get the bits of each pixel's cast and shaded one
+    /// at a time, on every SIMD path (so the camera rays in lanes are the
+    /// same rays), and the centre rays' lanes the single cast's layers:
+    /// the gallery's shapes, textures, mirror and glass, with a sun and a
+    /// second, coloured point light added, shadows on and off, the final
+    /// and the preview presets, with and without layers, 1, 3 and 20
+    /// samples a pixel (a pixel in two chunks of lanes, or across two).
     #[test]
     fn batch_shading_gives_the_one_at_a_time_bits() {
         let root = env!("CARGO_MANIFEST_DIR");
@@ -280,53 +342,55 @@ mod tests {
         let (w, h) = (40, 24);
         let cam = CameraRays::new(&scene.camera, w, h);
         let scene = std::sync::Arc::new(scene);
-        let (mut lit, mut textured) = (0, 0);
+        let (mut lit, mut textured, mut covered) = (0, 0, 0);
+        let bits = |p: &PixelOut| {
+            let f = |v: &[f32]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            (f(&p.rgba), f(&[p.depth]), f(&p.normal), p.object)
+        };
         for simd in Simd::available() {
             let accel = Accel::new(scene.clone()).with_simd(simd);
             assert!(batch::applies(&accel));
-            for (shadows, mut st) in [
-                (true, Settings::final_quality(w, h)),
-                (false, Settings::final_quality(w, h)),
-                (true, Settings::preview(w, h)),
+            for (shadows, layers, spp, mut st) in [
+                (true, true, 20, Settings::final_quality(w, h)),
+                (false, false, 3, Settings::final_quality(w, h)),
+                (true, true, 3, Settings::preview(w, h)),
+                (true, true, 1, Settings::final_quality(w, h)),
+                (true, false, 1, Settings::final_quality(w, h)),
             ] {
-                st.shadows = shadows;
-                st.spp = 20;
+                (st.shadows, st.layers, st.spp) = (shadows, layers, spp);
                 let mut sc = Scratch::default();
-                let mut together = Vec::new();
-                for (x, y) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
-                    let key = sc.offsets(&st, x, y);
-                    batch::pixel(
-                        &accel,
-                        &cam,
-                        &st,
-                        x,
-                        y,
-                        key,
-                        &sc.offsets,
-                        &mut sc.lanes,
-                        &mut together,
-                    );
-                    sc.cast(&accel, &cam, x, y);
-                    sc.colours_one_by_one(&accel, &st, key);
-                    let bits = |c: &[(Vec3, bool)]| {
-                        c.iter()
-                            .map(|(c, hit)| (c.to_array().map(f32::to_bits), *hit))
-                            .collect::<Vec<_>>()
-                    };
-                    assert_eq!(bits(&together), bits(&sc.colours), "{simd:?} ({x}, {y})");
-                    lit += sc.seen.iter().filter(|s| !s.1).count();
-                    textured += sc
-                        .points
-                        .iter()
-                        .flatten()
-                        .filter(|p| scene.materials[p.material].texture.is_some())
-                        .count();
+                for y in 0..h {
+                    let mut together = Vec::new();
+                    row(&mut sc, &accel, &cam, &st, y, |x, p| together.push((x, p)));
+                    assert_eq!(together.len(), w as usize);
+                    for (x, p) in together {
+                        let key = sc.offsets(&st, x, y);
+                        sc.cast(&accel, &cam, x, y);
+                        sc.colours_one_by_one(&accel, &st, key);
+                        let centre = layers
+                            .then(|| {
+                                let d = cam.dir(x as f32 + 0.5, y as f32 + 0.5);
+                                accel.cast(cam.eye(), d, 0.0, f32::INFINITY)
+                            })
+                            .flatten();
+                        let samples = sc.offsets.iter().zip(&sc.colours);
+                        let alone = filtered(&st, samples.map(|(&o, &(c, h))| (o, c, h)), centre);
+                        assert_eq!(bits(&p), bits(&alone), "{simd:?} ({x}, {y})");
+                        covered += usize::from(centre.is_some());
+                        lit += sc.seen.iter().filter(|s| !s.1).count();
+                        textured += sc
+                            .points
+                            .iter()
+                            .flatten()
+                            .filter(|p| scene.materials[p.material].texture.is_some())
+                            .count();
+                    }
                 }
             }
         }
         assert!(
-            lit > 10_000 && textured > 1000,
-            "{lit} lit, {textured} textured"
+            lit > 10_000 && textured > 1000 && covered > 1000,
+            "{lit} lit, {textured} textured, {covered} centres on a surface"
         );
     }
 }

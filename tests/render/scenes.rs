@@ -591,7 +591,8 @@ fn packets_find_what_single_rays_find() {
 
 /// `Accel::occluded_all` answers what `occluded` answers, ray by ray,
 /// for bundles of shadow rays (neighbouring points toward one light),
-/// scattered ones, rays that cannot hit and rays left unbounded, under
+/// scattered ones, rays that cannot hit and rays left unbounded, whole
+/// bundles toward a sun (unbounded, some from outside the scene), under
 /// instances with transforms, in every SIMD path.
 #[test]
 fn bundles_find_what_single_shadow_rays_find() {
@@ -607,10 +608,13 @@ fn bundles_find_what_single_shadow_rays_find() {
         let at = Vec3A::from(rng.vec(8.0));
         let spread = if bundle % 3 == 0 { 3.0 } else { 0.05 };
         let lanes = 1 + bundle % 16;
+        let sun = (bundle % 5 == 4).then(|| light.normalize());
+        let at = if bundle % 10 == 9 { at * 4.0 } else { at };
         for lane in 0..lanes {
             let o = at + Vec3A::from(rng.vec(spread));
             let to = light - o;
             let (dir, tmax) = match lane {
+                _ if sun.is_some() => (sun.unwrap(), f32::INFINITY),
                 5 if bundle % 7 == 0 => (Vec3A::ZERO, 1.0),
                 6 if bundle % 11 == 0 => (Vec3A::NAN, 1.0),
                 7 if bundle % 13 == 0 => (to, f32::INFINITY),

@@ -170,19 +170,39 @@ fn blocks_together<W: Wide>(
 const MIN_BUNDLE: u32 = 4;
 
 /// The region around the segments (tmin, tmax) of the rays of `lanes`,
-/// along their mean direction; None where a segment is unbounded.
-fn bundle(rays: &Rays, lanes: u32, tmax: &Lanes, scale: f32) -> Option<Hull> {
+/// along their mean direction, for a walk of `tree`; None where a segment
+/// is unbounded. A segment ends where its ray leaves the tree's box at
+/// the latest (nothing beyond it is hit): the shadow rays toward a sun,
+/// unbounded, went one by one, a quarter of a film frame's render.
+fn bundle(rays: &Rays, lanes: u32, tmax: &Lanes, tree: &Bvh4) -> Option<Hull> {
+    let bounds = tree.bounds();
     let mut ends = [Vec3A::ZERO; 2 * LANES];
     let mut n = 0;
     let mut along = Vec3A::ZERO;
     for i in Bits(lanes) {
         let (origin, direction, tmin) = rays.segment(i);
+        let end = tmax[i].min(leaves(origin, direction, &bounds)).max(tmin);
         ends[n] = origin + tmin * direction;
-        ends[n + 1] = origin + tmax[i] * direction;
+        ends[n + 1] = origin + end * direction;
         n += 2;
         along += direction.normalize_or_zero();
     }
-    Hull::around(&ends[..n], along, scale)
+    Hull::around(&ends[..n], along, tree.scale())
+}
+
+/// A t at or beyond which the ray from `origin` along `direction` is out
+/// of box `b` for good (infinite where it runs along a slab for ever);
+/// a little beyond the exit, for the rounding of the division (the
+/// hull's padding covers the ends' rounding).
+fn leaves(origin: Vec3A, direction: Vec3A, b: &Aabb) -> f32 {
+    let far = Vec3A::select(direction.cmpge(Vec3A::ZERO), b.max, b.min);
+    let t = Vec3A::select(
+        direction.cmpeq(Vec3A::ZERO),
+        Vec3A::INFINITY,
+        (far - origin) / direction,
+    );
+    let t = t.min_element();
+    t + t.abs() / 4096.0
 }
 
 /// The ray from `origin` along `direction` from `tmin` in the space that
@@ -719,7 +739,7 @@ impl Accel {
         // `instance_bundle`).
         let hull = match self.single {
             Some(_) => None,
-            None => match bundle(&rays, valid, tmax, tlas.scale()) {
+            None => match bundle(&rays, valid, tmax, tlas) {
                 Some(hull) => Some(hull),
                 None => return self.one_by_one(&rays, valid, tmax),
             },
@@ -802,7 +822,7 @@ impl Accel {
         let local = local_rays(inv, p, lanes);
         let hull = match hull {
             None => None,
-            Some(_) => match bundle(&Rays::Mixed(&local), lanes, tmax, b.tree.scale()) {
+            Some(_) => match bundle(&Rays::Mixed(&local), lanes, tmax, &b.tree) {
                 Some(hull) => Some(hull),
                 None => return one_by_one(),
             },
