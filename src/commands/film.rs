@@ -90,18 +90,11 @@ fn derive_rendering(
         // The derivation's own pool (vision rows, actor images): in the
         // renderer's, its tasks waited behind whole frames' rows, and
         // the derivation is the chain every frame waits on.
-        let derived = match rayon::ThreadPoolBuilder::new()
-            .num_threads(rayon::current_num_threads())
-            .thread_name(|i| format!("lmfilm-derive-{i}"))
-            .build()
-        {
-            Ok(pool) => pool.install(|| {
+        let derived = stages::own_pool("derive").and_then(|pool| {
+            pool.install(|| {
                 stages::derive_announcing(film, inputs, dir, &mut |_, _| {}, timings, &mut announce)
-            }),
-            Err(e) => Err(Error::other(format!(
-                "cannot start the derivation's threads: {e}"
-            ))),
-        };
+            })
+        });
         drop(announce); // the render stage ends with the announcements
         let rendered = render
             .join()

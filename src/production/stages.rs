@@ -521,6 +521,20 @@ pub fn render_announced(
     job.run(source, frames.len() as u64, progress)
 }
 
+/// A pool of as many threads as the current one, named `lmfilm-NAME-i`,
+/// for a stage whose parallel work must not queue behind the renderer's
+/// rows (they share the cores; the system schedules the threads).
+pub fn own_pool(name: &str) -> Result<rayon::ThreadPool, Error> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(rayon::current_num_threads())
+        .thread_name({
+            let name = name.to_string();
+            move |i| format!("lmfilm-{name}-{i}")
+        })
+        .build()
+        .map_err(|e| Error::other(format!("cannot start the {name} stage's threads: {e}")))
+}
+
 /// Whether frames with these settings can render as they are derived.
 pub fn streams(choice: &RenderChoice) -> bool {
     choice.inset.is_none() && !choice.settings().blurs()
@@ -587,10 +601,13 @@ impl FrameJob<'_> {
                 Ok(())
             });
             let renderer = scope.spawn(move || self.render_in_flight(prepared, &to_write));
+            // The writer's own pool for the EXR's blocks: in the
+            // renderer's, they waited behind whole frames' rows.
+            let pool = own_pool("write")?;
             let mut written = 0;
             let mut result = Ok(());
             for p in rendered {
-                match self.write(p) {
+                match pool.install(|| self.write(p)) {
                     Ok((i, made)) => {
                         written += u64::from(made);
                         progress(i as u64 + 1, count);

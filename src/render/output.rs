@@ -18,12 +18,16 @@
 use std::io::{self, Cursor};
 use std::path::Path;
 
+use exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
+use exr::block::writer::ChunksWriter;
+use exr::image::write::layers::{LayersWriter, WritableLayers};
 use exr::prelude::{
     AnyChannel, AnyChannels, Blocks, Compression, Encoding, FlatSamples, Image as ExrImage, Layer,
     LayerAttributes, LineOrder, ReadChannels, ReadLayers, SmallVec, Vec2, WritableImage,
 };
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{ExtendedColorType, ImageEncoder};
+use rayon::prelude::*;
 
 use crate::atomic::write_atomic;
 
@@ -139,16 +143,11 @@ fn exr_read_error(path: &Path, e: exr::error::Error) -> io::Error {
     }
 }
 
-/// Encodes the frame as EXR bytes in memory. Its blocks are compressed in
-/// parallel (issue 45: a quarter of the built-in film's CPU) on the exr
-/// crate's own pool, one thread per core, and written in increasing line
-/// order whatever finishes first, so the same image always gives the
-/// same bytes: those of the sequential writer (tested).
+/// Encodes the frame as EXR bytes in memory. Its 16-line blocks are
+/// compressed in parallel on the current rayon pool and written in
+/// increasing line order whatever finishes first, so the same image
+/// always gives the same bytes (tested against one thread).
 pub fn encode_exr(img: &Image) -> io::Result<Vec<u8>> {
-    encode_exr_with(img, true)
-}
-
-fn encode_exr_with(img: &Image, parallel: bool) -> io::Result<Vec<u8>> {
     validate(img)?;
     let f32_channel = |name: &str, f: &dyn Fn(usize) -> f32| {
         AnyChannel::new(name, FlatSamples::F32((0..img.len()).map(f).collect()))
@@ -176,16 +175,63 @@ fn encode_exr_with(img: &Image, parallel: bool) -> io::Result<Vec<u8>> {
         // The file format requires channels sorted by name.
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
-    let mut buf = Cursor::new(Vec::new());
     let image = ExrImage::from_layer(layer);
-    let write = image.write();
-    let write = if parallel {
-        write
-    } else {
-        write.non_parallel()
-    };
-    write.to_buffered(&mut buf).map_err(exr_encode_error)?;
+    let headers = image.write().infer_meta_data();
+    let layers = image.layer_data.create_writer(&headers);
+    let mut buf = Cursor::new(Vec::new());
+    exr::block::write(&mut buf, headers, true, |meta, chunks| {
+        let blocks: Vec<_> = meta
+            .collect_ordered_block_data(|i| layers.extract_uncompressed_block(&meta.headers, i))
+            .collect();
+        let compressed: Vec<_> = blocks
+            .into_par_iter()
+            .map(|(i, block)| (i, zip_chunk(block)))
+            .collect();
+        for (i, chunk) in compressed {
+            chunks.write_chunk(i, chunk?)?;
+        }
+        Ok(())
+    })
+    .map_err(exr_encode_error)?;
     Ok(buf.into_inner())
+}
+
+/// A block of 16 lines (one layer, every channel 32 bits) as OpenEXR's
+/// ZIP compression stores it: the little-endian bytes split into the even
+/// and the odd ones, each byte as its difference to the one before, and
+/// zlib at miniz's fastest level (issue 45: a third of the time of the
+/// exr crate's level 4, files 6 % larger: a film frame in 15 ms instead of
+/// 46). Kept raw where that is not smaller, as the format allows.
+fn zip_chunk(block: exr::block::UncompressedBlock) -> exr::error::Result<Chunk> {
+    let mut raw = block.data;
+    if cfg!(target_endian = "big") {
+        raw.chunks_exact_mut(4).for_each(<[u8]>::reverse);
+    }
+    let half = raw.len().div_ceil(2);
+    let mut packed = vec![0; raw.len()];
+    for (i, &b) in raw.iter().enumerate() {
+        packed[i / 2 + (i % 2) * half] = b;
+    }
+    let mut previous = packed.first().copied().unwrap_or(0);
+    for b in packed.iter_mut().skip(1) {
+        let current = *b;
+        *b = current.wrapping_sub(previous).wrapping_add(128);
+        previous = current;
+    }
+    let zipped = miniz_oxide::deflate::compress_to_vec_zlib(&packed, 1);
+    let y = i32::try_from(block.index.pixel_position.y())
+        .map_err(|_| exr::error::Error::Invalid("image too tall".into()))?;
+    Ok(Chunk {
+        layer_index: block.index.layer,
+        compressed_block: CompressedBlock::ScanLine(CompressedScanLineBlock {
+            compressed_pixels_le: if zipped.len() < raw.len() {
+                zipped
+            } else {
+                raw
+            },
+            y_coordinate: y,
+        }),
+    })
 }
 
 /// Writes the frame as one multi-layer EXR (see the module docs), atomically.
@@ -346,7 +392,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn parallel_exr_blocks_give_the_sequential_bytes() {
+    fn exr_bytes_do_not_depend_on_the_thread_count() {
         let (w, h) = (97, 211); // 14 blocks of 16 lines, the last short
         let mut img = Image::new(w, h);
         let mut x = 0x9e37_79b9_u32;
@@ -360,8 +406,15 @@ mod tests {
             img.normal[i] = [v.sin(), v.cos(), 0.25];
             img.object[i] = x % 7;
         }
-        let parallel = encode_exr_with(&img, true).unwrap();
-        assert_eq!(parallel, encode_exr_with(&img, false).unwrap());
-        assert_eq!(parallel, encode_exr(&img).unwrap());
+        let on = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| encode_exr(&img).unwrap())
+        };
+        let one = on(1);
+        assert_eq!(one, on(3));
+        assert_eq!(one, encode_exr(&img).unwrap());
     }
 }
