@@ -22,10 +22,10 @@ timed() {
 }
 
 echo "== the built-in film, 351 frames, 480x270, 3 spp (run, a fresh folder each)"
-# RAYON_NUM_THREADS bounds every pool (the EXR compressor's too), --threads
-# the renderer's; each run is held to as many processors as it has
-# threads (the pipeline's reading and writing stages share them), so that
-# T1 is the whole work done on one core.
+# --threads sizes the renderer's pool and the derivation's and the
+# writer's beside it (RAYON_NUM_THREADS any other); each run is held to
+# as many processors as it has threads (the pipeline's stages share
+# them), so that T1 is the whole work done on one core.
 PIN1="taskset -c 0"
 PINN="taskset -c 0-$((HIGH - 1))"
 command -v taskset > /dev/null || { PIN1=""; PINN=""; }

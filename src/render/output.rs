@@ -11,9 +11,10 @@
 //!   more honest than a made-up 1×1 frame.
 //! - EXR channels: `R G B A` (f32), `Z` (f32 depth), `N.X N.Y N.Z` (f32
 //!   normal), `id` (u32 object id); one part, no layer name, scan lines,
-//!   ZIP (16-line blocks, lossless), increasing line order: the blocks are
-//!   compressed in parallel but written in line order, so the bytes never
-//!   depend on thread scheduling.
+//!   ZIP (16-line blocks, lossless, compressed here at zlib's fastest
+//!   level), increasing line order: the blocks are compressed in parallel
+//!   but written in line order, so the bytes never depend on thread
+//!   scheduling.
 
 use std::io::{self, Cursor};
 use std::path::Path;
