@@ -128,6 +128,9 @@ pub struct Living {
     warned: std::collections::BTreeSet<&'static str>,
     /// What the actor saw at the last sense step, and made of it.
     pub window: Option<Window>,
+    /// How long that step took (vision and memory), for `--timings`:
+    /// never part of an output.
+    pub seeing: std::time::Duration,
     pub percepts: Option<Percepts>,
     /// The behaviour stack (5.1): the next command string is the last.
     pub stack: Vec<Behaviour>,
@@ -210,6 +213,7 @@ impl Living {
             notes: Vec::new(),
             warned: Default::default(),
             window: None,
+            seeing: std::time::Duration::ZERO,
             percepts: None,
             stack: Vec::new(),
             progress: Progress::default(),
@@ -415,6 +419,7 @@ impl Living {
     /// Sees into `accel` and remembers what it saw, at `frame`.
     fn sense(&mut self, accel: &Accel, frame: u64) {
         let Some(edge) = self.edge else { return };
+        let start = std::time::Instant::now();
         let view = View::new(self.eye, self.look_at, self.fov, self.near, self.far);
         self.body.seal();
         let window = vision::see(accel, &self.body, &view, edge);
@@ -437,6 +442,7 @@ impl Living {
         };
         self.percepts = Some(window.percepts(&body));
         self.window = Some(window);
+        self.seeing = start.elapsed();
     }
 }
 

@@ -220,6 +220,9 @@ pub fn derive_announcing(
     let mut last = std::time::Instant::now();
     every_frame(film, progress, |frame, living| {
         timings.add(Stage::Derive, last.elapsed());
+        for a in living {
+            timings.add_vision(a.id, a.seeing);
+        }
         let path = dir.join(snapshot_path(frame.number()));
         let hash = timings.time(Stage::Snapshot, || {
             let bytes = snapshot::encode(frame.scene());

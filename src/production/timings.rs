@@ -3,7 +3,9 @@
 //! --timings` and `render --timings`. Never part of a record: times vary,
 //! a record's bytes may not.
 
+use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// A stage of the pipeline.
@@ -59,10 +61,12 @@ impl Stage {
     }
 }
 
-/// Nanoseconds per stage, added from any thread.
+/// Nanoseconds per stage, added from any thread, and each actor's
+/// vision (part of the frame loop).
 #[derive(Debug, Default)]
 pub struct Timings {
     nanos: [AtomicU64; STAGES.len()],
+    vision: Mutex<BTreeMap<usize, Duration>>,
 }
 
 impl Timings {
@@ -78,13 +82,22 @@ impl Timings {
         self.nanos[stage as usize].fetch_add(d.as_nanos() as u64, Ordering::Relaxed);
     }
 
+    /// Adds the time actor `actor`'s vision took in one frame.
+    pub fn add_vision(&self, actor: usize, d: Duration) {
+        if let Ok(mut v) = self.vision.lock() {
+            *v.entry(actor).or_default() += d;
+        }
+    }
+
     /// Seconds spent in `stage`.
     pub fn seconds(&self, stage: Stage) -> f64 {
         self.nanos[stage as usize].load(Ordering::Relaxed) as f64 * 1e-9
     }
 
     /// The breakdown, one line per stage that took any time, with its
-    /// share of the stages' sum; `wall` is the whole command's time.
+    /// share of the stages' sum, and under the frame loop each actor's
+    /// vision (the actors see in parallel: their times may add up to
+    /// more than the loop's); `wall` is the whole command's time.
     pub fn report(&self, wall: Duration) -> String {
         let total: f64 = STAGES.iter().map(|s| self.seconds(*s)).sum();
         let mut out = format!(
@@ -101,6 +114,12 @@ impl Timings {
                     t,
                     100.0 * t / total.max(1e-12)
                 ));
+            }
+            if s == Stage::Derive {
+                for (actor, d) in self.vision.lock().iter().flat_map(|v| v.iter()) {
+                    let name = format!("actor {actor}'s vision");
+                    out.push_str(&format!("    {name:<28} {:>9.3} s\n", d.as_secs_f64()));
+                }
             }
         }
         out
@@ -127,8 +146,15 @@ mod tests {
         });
         assert!((t.seconds(Stage::Render) - 1.0).abs() < 1e-9);
         assert!(t.seconds(Stage::EncodePng) >= 0.005);
+        t.add(Stage::Derive, Duration::from_millis(40));
+        t.add_vision(2, Duration::from_millis(10));
+        t.add_vision(2, Duration::from_millis(20));
         let r = t.report(Duration::from_secs(2));
         assert!(r.contains("render") && r.contains("encode PNG"), "{r}");
+        assert!(
+            r.contains("actor 2's vision                 0.030 s"),
+            "{r}"
+        );
         assert!(!r.contains("encode EXR"), "{r}");
     }
 }
