@@ -176,6 +176,10 @@ enum Command {
         /// holds another film).
         #[arg(long)]
         clean: bool,
+        /// Print where the time went: the frame loop, each actor's
+        /// vision, snapshots, actor images.
+        #[arg(long)]
+        timings: bool,
         #[command(flatten)]
         scene: SceneArgs,
     },
@@ -381,8 +385,9 @@ fn main() -> ExitCode {
             scenes,
             output,
             clean,
+            timings,
             scene,
-        } => commands::film::derive(&FilmArgs::new(&scenes, &scene, clean), &output),
+        } => commands::film::derive(&FilmArgs::new(&scenes, &scene, clean), &output, timings),
         Command::Farm(FarmCommand::Slurm(args)) => commands::farm::slurm(&args),
         Command::Farm(FarmCommand::Status { dir }) => commands::farm::status(&dir),
         Command::Render {

@@ -369,10 +369,15 @@ pub fn run(
 }
 
 /// `lmfilm derive`.
-pub fn derive(film: &FilmArgs, out: &Path) -> Result<()> {
+pub fn derive(film: &FilmArgs, out: &Path, show_timings: bool) -> Result<()> {
+    let start = std::time::Instant::now();
     let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
     let flags = (film.clean, film.allow_commands);
-    let derived = derive_into(&mut loaded, out, flags, &Timings::default())?;
+    let timings = Timings::default();
+    let derived = derive_into(&mut loaded, out, flags, &timings)?;
+    if show_timings {
+        eprint!("{}", timings.report(start.elapsed()));
+    }
     let rec = record::open(out)?;
     println!(
         "{}: {} frames {} (scene/NNNN.snap, {EVENTS_FILE}, {DERIVE_RECORD}, {})",

@@ -92,6 +92,54 @@ fn any_thread_count_and_any_shard_split_give_the_same_film() {
     std::fs::remove_dir_all(&root).unwrap();
 }
 
+/// `--timings` says where the time went (issue 45): each stage of the
+/// pipeline, and under the frame loop each actor's vision; `derive`
+/// gives its own part.
+#[test]
+fn timings_name_every_stage_and_each_actor_s_vision() {
+    let root = temp("timings");
+    let scene = format!(
+        "{}/scenes/actors/flower_room.lm",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let stderr = |out: Output| String::from_utf8_lossy(&out.stderr).to_string();
+    let dir = root.join("film");
+    let run = ok(&[
+        "run",
+        &scene,
+        "-o",
+        s(&dir),
+        "--frames",
+        "0..2",
+        "--timings",
+    ]);
+    let said = stderr(run);
+    for stage in [
+        "derive (frame loop)",
+        "actor 0's vision",
+        "actor images",
+        "render",
+        "encode EXR",
+        "encode PNG",
+        "hash and record",
+    ] {
+        assert!(said.contains(stage), "{stage}: {said}");
+    }
+    let derived = ok(&[
+        "derive",
+        &scene,
+        "-o",
+        s(&root.join("derived")),
+        "--timings",
+    ]);
+    let said = stderr(derived);
+    assert!(
+        said.contains("actor 0's vision") && !said.contains("render"),
+        "{said}"
+    );
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
 #[test]
 fn a_killed_run_resumes_to_the_same_bytes() {
     let root = temp("kill");
