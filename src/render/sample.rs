@@ -170,8 +170,8 @@ impl Scratch {
 /// Renders row `y`, pixel after pixel into `put(x, pixel)`: each
 /// pixel's colour from `spp` samples, the other layers from the ray
 /// through the pixel centre. Where the samples are cast and shaded
-/// together ([`batch::applies`], Whitted), the whole row's rays go
-/// through [`batch::row`] at once; otherwise pixel by pixel.
+/// together ([`batch::applies`], Whitted), the row's rays go through
+/// [`batch::row`] a run of pixels at a time; otherwise pixel by pixel.
 pub fn row(
     scratch: &mut Scratch,
     accel: &Accel,
@@ -191,39 +191,45 @@ pub fn row(
     // A pixel's one sample is its centre ray (`offsets`).
     let centre_lane = st.layers && n > 1;
     let per = n + usize::from(centre_lane);
-    sc.row.clear();
-    for x in 0..st.width {
-        let key = sc.offsets(st, x, y);
-        sc.row.extend(
-            sc.offsets
-                .iter()
-                .enumerate()
-                .map(|(s, &offset)| batch::Lane {
-                    x,
-                    offset,
-                    key,
-                    sample: Some(s as u32),
-                }),
-        );
-        if centre_lane {
-            sc.row.push(batch::Lane {
+    // Runs of pixels of about [`RUN_LANES`] rays: a whole row's at many
+    // samples would hold width × spp lanes (60 MB a thread at 1920 wide
+    // and 1024 samples).
+    let run = (RUN_LANES / per).max(1) as u32;
+    for first in (0..st.width).step_by(run as usize) {
+        sc.row.clear();
+        for x in first..(first + run).min(st.width) {
+            let key = sc.offsets(st, x, y);
+            let samples = sc.offsets.iter().enumerate();
+            sc.row.extend(samples.map(|(s, &offset)| batch::Lane {
                 x,
-                offset: (0.5, 0.5),
+                offset,
                 key,
-                sample: None,
-            });
+                sample: Some(s as u32),
+            }));
+            if centre_lane {
+                sc.row.push(batch::Lane {
+                    x,
+                    offset: (0.5, 0.5),
+                    key,
+                    sample: None,
+                });
+            }
+        }
+        batch::row(accel, cam, st, y, &sc.row, &mut sc.lanes, &mut sc.lit);
+        for ((lanes, lit), x) in sc.row.chunks(per).zip(sc.lit.chunks(per)).zip(first..) {
+            let samples = lanes[..n]
+                .iter()
+                .zip(&lit[..n])
+                .map(|(lane, &(c, hit))| (lane.offset, c, hit.is_some()));
+            let centre = if st.layers { lit[per - 1].1 } else { None };
+            put(x, filtered(st, samples, centre));
         }
     }
-    batch::row(accel, cam, st, y, &sc.row, &mut sc.lanes, &mut sc.lit);
-    for ((lanes, lit), x) in sc.row.chunks(per).zip(sc.lit.chunks(per)).zip(0..) {
-        let samples = lanes[..n]
-            .iter()
-            .zip(&lit[..n])
-            .map(|(lane, &(c, hit))| (lane.offset, c, hit.is_some()));
-        let centre = if st.layers { lit[per - 1].1 } else { None };
-        put(x, filtered(st, samples, centre));
-    }
 }
+
+/// About how many rays [`row`] casts and shades in one call of
+/// [`batch::row`] (a multiple of the 16 lanes).
+const RUN_LANES: usize = 256;
 
 /// Renders pixel (x, y) on its own: colour from `spp` samples, the
 /// other layers from the ray through the pixel centre.
