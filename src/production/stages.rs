@@ -741,32 +741,59 @@ impl FrameJob<'_> {
     }
 
     /// Writes a rendered frame's images and then its record; returns its
-    /// index and whether it was made now.
+    /// index and whether it was made now. The EXR and the PNG are encoded
+    /// at once (the EXR's blocks on the writer's pool beside the PNG) and
+    /// hashed from memory: on many cores this one thread a frame would
+    /// otherwise keep pace with the render.
     fn write(&self, mut p: Prepared) -> Result<(usize, bool), Error> {
         let Some(img) = p.image.take() else {
             return Ok((p.index, false));
         };
         let (dir, name, k) = (self.dir, self.name, p.frame);
         let exts = self.choice.formats.extensions();
-        for ext in ["exr", "png"] {
+        let encode = |ext: &str| -> Option<Result<(String, String), Error>> {
+            if !exts.contains(&ext) {
+                return None;
+            }
             let path = dir.join(frame_path(name, k, ext));
-            if exts.contains(&ext) {
-                let stage = if ext == "exr" {
-                    Stage::EncodeExr
-                } else {
-                    Stage::EncodePng
-                };
-                self.timings
-                    .time(stage, || output::write(&img, &path))
-                    .map_err(|e| Error::io(&path, e))?;
-                let hash = self
-                    .timings
-                    .time(Stage::Record, || sha256_file(&path))
-                    .map_err(|e| Error::io(&path, e))?;
-                p.want.outputs.insert(key(&frame_path(name, k, ext)), hash);
-            } else if path.exists() {
-                // Another format's image of an earlier render.
-                std::fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
+            let (stage, bytes) = if ext == "exr" {
+                (
+                    Stage::EncodeExr,
+                    self.timings
+                        .time(Stage::EncodeExr, || output::encode_exr(&img)),
+                )
+            } else {
+                (
+                    Stage::EncodePng,
+                    self.timings
+                        .time(Stage::EncodePng, || output::encode_png(&img)),
+                )
+            };
+            let written = bytes.and_then(|bytes| {
+                let hash = self.timings.time(Stage::Record, || sha256_bytes(&bytes));
+                self.timings.time(stage, || write_atomic(&path, &bytes))?;
+                Ok(hash)
+            });
+            Some(
+                written
+                    .map(|hash| (key(&frame_path(name, k, ext)), hash))
+                    .map_err(|e| Error::io(&path, e)),
+            )
+        };
+        let (exr, png) = rayon::join(|| encode("exr"), || encode("png"));
+        for (ext, made) in [("exr", exr), ("png", png)] {
+            match made {
+                Some(made) => {
+                    let (key, hash) = made?;
+                    p.want.outputs.insert(key, hash);
+                }
+                None => {
+                    // Another format's image of an earlier render.
+                    let path = dir.join(frame_path(name, k, ext));
+                    if path.exists() {
+                        std::fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
+                    }
+                }
             }
         }
         let rp = dir.join(frame_record_path(name, k));
