@@ -3,7 +3,6 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use super::args::{RenderArgs, SceneArgs, SoundArgs, WorkArgs};
 use super::scenes::{self, Loaded};
@@ -272,8 +271,7 @@ pub fn run(
     sound_args: &SoundArgs,
 ) -> Result<()> {
     work.threads();
-    let start = Instant::now();
-    let timings = Timings::default();
+    let timings = Timings::start();
     let request = args.request();
     if let (Some(w), Some(h)) = (request.width, request.height) {
         Limits::check_pixels(w, h, film.limits.pixels).map_err(Error::input)?;
@@ -358,7 +356,7 @@ pub fn run(
         );
     }
     if work.timings {
-        eprint!("{}", timings.report(start.elapsed()));
+        eprint!("{}", timings.report());
     }
     match mp4 {
         Some((path, made)) => println!("film: {} ({})", path.display(), now(made)),
@@ -370,13 +368,12 @@ pub fn run(
 
 /// `lmfilm derive`.
 pub fn derive(film: &FilmArgs, out: &Path, show_timings: bool) -> Result<()> {
-    let start = std::time::Instant::now();
+    let timings = Timings::start();
     let mut loaded = scenes::load(film.scenes, film.allow_commands, film.limits)?;
     let flags = (film.clean, film.allow_commands);
-    let timings = Timings::default();
     let derived = derive_into(&mut loaded, out, flags, &timings)?;
     if show_timings {
-        eprint!("{}", timings.report(start.elapsed()));
+        eprint!("{}", timings.report());
     }
     let rec = record::open(out)?;
     println!(
@@ -437,12 +434,11 @@ pub fn render(
         partial(work.frames, shard),
         max_pixels,
     )?;
-    let start = Instant::now();
-    let timings = Timings::default();
+    let timings = Timings::start();
     let selection = (work.frames, shard.unwrap_or(Shard::all()));
     let (n, selected) = render_into(dir, &choice, selection, max_pixels, &timings)?;
     if work.timings {
-        eprint!("{}", timings.report(start.elapsed()));
+        eprint!("{}", timings.report());
     }
     println!(
         "{}: {n} of {selected} frames rendered now (the others up to date) in {}; settings: {}",

@@ -153,7 +153,7 @@ pub fn stills(args: &StillArgs, frames: Option<&FrameRange>) -> Result<Vec<PathB
         segment_width: args.segment_width,
         limits,
     };
-    let (start, timings) = (std::time::Instant::now(), Timings::default());
+    let timings = Timings::start();
     let mut film = timings.time(Stage::Derive, || derive_to(&at, opts))?;
     let read = at
         .scenes
@@ -215,7 +215,7 @@ pub fn stills(args: &StillArgs, frames: Option<&FrameRange>) -> Result<Vec<PathB
         println!("{} ({w}×{h}, {} spp)", path.display(), settings.spp);
         if number + 1 >= end {
             if args.timings {
-                eprint!("{}", timings.report(start.elapsed()));
+                eprint!("{}", timings.report());
             }
             return Ok(read);
         }

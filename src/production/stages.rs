@@ -220,7 +220,7 @@ pub fn derive_announcing(
     let mut last = std::time::Instant::now();
     every_frame(film, progress, |frame, living| {
         timings.add(Stage::Derive, last.elapsed());
-        for a in living {
+        for a in living.iter().filter(|a| a.edge.is_some()) {
             timings.add_vision(a.id, a.seeing);
         }
         let path = dir.join(snapshot_path(frame.number()));
@@ -755,28 +755,24 @@ impl FrameJob<'_> {
             if !exts.contains(&ext) {
                 return None;
             }
-            let path = dir.join(frame_path(name, k, ext));
-            let (stage, bytes) = if ext == "exr" {
-                (
-                    Stage::EncodeExr,
-                    self.timings
-                        .time(Stage::EncodeExr, || output::encode_exr(&img)),
-                )
-            } else {
-                (
-                    Stage::EncodePng,
-                    self.timings
-                        .time(Stage::EncodePng, || output::encode_png(&img)),
-                )
+            let rel = frame_path(name, k, ext);
+            let path = dir.join(&rel);
+            type Encoder = fn(&output::Image) -> std::io::Result<Vec<u8>>;
+            let (stage, encoder): (Stage, Encoder) = match ext {
+                "exr" => (Stage::EncodeExr, output::encode_exr),
+                _ => (Stage::EncodePng, output::encode_png),
             };
-            let written = bytes.and_then(|bytes| {
-                let hash = self.timings.time(Stage::Record, || sha256_bytes(&bytes));
-                self.timings.time(stage, || write_atomic(&path, &bytes))?;
-                Ok(hash)
-            });
+            let written = self
+                .timings
+                .time(stage, || encoder(&img))
+                .and_then(|bytes| {
+                    let hash = self.timings.time(Stage::Record, || sha256_bytes(&bytes));
+                    self.timings.time(stage, || write_atomic(&path, &bytes))?;
+                    Ok(hash)
+                });
             Some(
                 written
-                    .map(|hash| (key(&frame_path(name, k, ext)), hash))
+                    .map(|hash| (key(&rel), hash))
                     .map_err(|e| Error::io(&path, e)),
             )
         };

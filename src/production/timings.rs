@@ -62,14 +62,24 @@ impl Stage {
 }
 
 /// Nanoseconds per stage, added from any thread, and each actor's
-/// vision (part of the frame loop).
-#[derive(Debug, Default)]
+/// vision (part of the frame loop), since the command started.
+#[derive(Debug)]
 pub struct Timings {
+    started: Instant,
     nanos: [AtomicU64; STAGES.len()],
     vision: Mutex<BTreeMap<usize, Duration>>,
 }
 
 impl Timings {
+    /// No time spent yet; the command's wall clock starts now.
+    pub fn start() -> Self {
+        Timings {
+            started: Instant::now(),
+            nanos: Default::default(),
+            vision: Default::default(),
+        }
+    }
+
     /// Runs `f`, adding its time to `stage`.
     pub fn time<T>(&self, stage: Stage, f: impl FnOnce() -> T) -> T {
         let start = Instant::now();
@@ -97,8 +107,9 @@ impl Timings {
     /// The breakdown, one line per stage that took any time, with its
     /// share of the stages' sum, and under the frame loop each actor's
     /// vision (the actors see in parallel: their times may add up to
-    /// more than the loop's); `wall` is the whole command's time.
-    pub fn report(&self, wall: Duration) -> String {
+    /// more than the loop's), and the wall time since [`Timings::start`].
+    pub fn report(&self) -> String {
+        let wall = self.started.elapsed();
         let total: f64 = STAGES.iter().map(|s| self.seconds(*s)).sum();
         let mut out = format!(
             "timings: {:.2} s wall, {:.2} s in the stages (summed over threads)\n",
@@ -135,7 +146,7 @@ mod tests {
         for (k, s) in STAGES.iter().enumerate() {
             assert_eq!(*s as usize, k, "{s:?}");
         }
-        let t = Timings::default();
+        let t = Timings::start();
         std::thread::scope(|s| {
             for _ in 0..4 {
                 s.spawn(|| t.add(Stage::Render, Duration::from_millis(250)));
@@ -149,7 +160,7 @@ mod tests {
         t.add(Stage::Derive, Duration::from_millis(40));
         t.add_vision(2, Duration::from_millis(10));
         t.add_vision(2, Duration::from_millis(20));
-        let r = t.report(Duration::from_secs(2));
+        let r = t.report();
         assert!(r.contains("render") && r.contains("encode PNG"), "{r}");
         assert!(
             r.contains("actor 2's vision                 0.030 s"),
