@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Starts a single-node Slurm on this machine for the farm tests
+# Starts a two-node Slurm on this machine for the farm tests
 # (docs/farm.md): Debian's slurm-wlm and munge, a munge key, munged, a
-# slurm.conf for this host with its CPUs and memory, slurmctld and slurmd.
-# Exits 0 once `sinfo` shows the node idle; 1 (saying why) when Slurm
-# cannot start here. Needs root; installs the packages if missing.
+# slurm.conf naming two nodes, node1 and node2, on this host (each its
+# own slurmd on its own port, `slurmd -N`, sharing the CPUs, half the
+# memory each; a partition `debug` without a time limit and one
+# `short` of 10 minutes), slurmctld and the two slurmd. Exits 0 once `sinfo` shows
+# both nodes idle; 1 (saying why) when Slurm cannot start here. Needs
+# root; installs the packages if missing.
 set -euo pipefail
 say() { echo "slurm_up: $*" >&2; }
 if ! command -v slurmctld >/dev/null 2>&1 || ! command -v munged >/dev/null 2>&1; then
@@ -12,9 +15,10 @@ if ! command -v slurmctld >/dev/null 2>&1 || ! command -v munged >/dev/null 2>&1
 fi
 host=$(hostname -s)
 cpus=$(nproc)
-mem=$(( $(awk '/MemTotal/ {print $2}' /proc/meminfo) / 1024 - 512 ))
+mem=$(( ($(awk '/MemTotal/ {print $2}' /proc/meminfo) / 1024 - 512) / 2 ))
+nodes=(node1 node2)
 conf=/etc/slurm/slurm.conf
-mkdir -p /etc/slurm /var/spool/slurmctld /var/spool/slurmd /var/log/slurm /run/munge /var/lib/munge /var/log/munge /etc/munge
+mkdir -p /etc/slurm /var/spool/slurmctld /var/spool/slurmd/node1 /var/spool/slurmd/node2 /var/log/slurm /run/munge /var/lib/munge /var/log/munge /etc/munge
 if [ ! -s /etc/munge/munge.key ]; then
   dd if=/dev/urandom of=/etc/munge/munge.key bs=1024 count=1 2>/dev/null
 fi
@@ -31,11 +35,11 @@ AuthType=auth/munge
 SlurmUser=root
 SlurmdUser=root
 StateSaveLocation=/var/spool/slurmctld
-SlurmdSpoolDir=/var/spool/slurmd
+SlurmdSpoolDir=/var/spool/slurmd/%n
 SlurmctldPidFile=/run/slurmctld.pid
-SlurmdPidFile=/run/slurmd.pid
+SlurmdPidFile=/run/slurmd-%n.pid
 SlurmctldLogFile=/var/log/slurm/slurmctld.log
-SlurmdLogFile=/var/log/slurm/slurmd.log
+SlurmdLogFile=/var/log/slurm/slurmd-%n.log
 ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
 SchedulerType=sched/backfill
@@ -46,17 +50,23 @@ JobAcctGatherType=jobacct_gather/none
 AccountingStorageType=accounting_storage/none
 JobCompType=jobcomp/none
 MpiDefault=none
-NodeName=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
-PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
+NodeName=node1 NodeHostname=$host Port=17001 CPUs=$cpus RealMemory=$mem State=UNKNOWN
+NodeName=node2 NodeHostname=$host Port=17002 CPUs=$cpus RealMemory=$mem State=UNKNOWN
+PartitionName=debug Nodes=node1,node2 Default=YES MaxTime=INFINITE State=UP
+PartitionName=short Nodes=node1,node2 MaxTime=00:10:00 State=UP
 CONF
 pgrep -x slurmctld >/dev/null || slurmctld || { say "slurmctld does not start"; exit 1; }
-pgrep -x slurmd >/dev/null || slurmd || { say "slurmd does not start"; exit 1; }
+for n in "${nodes[@]}"; do
+  pgrep -f "slurmd -N $n\$" >/dev/null || slurmd -N "$n" || { say "slurmd of $n does not start"; exit 1; }
+done
 for _ in $(seq 1 30); do
-  if sinfo -h -o '%T' 2>/dev/null | grep -qx idle; then
-    say "node $host idle ($cpus CPUs, $mem MB)"
+  if [ "$(sinfo -h -N -o '%T' 2>/dev/null | grep -cx idle)" -eq ${#nodes[@]} ]; then
+    say "nodes ${nodes[*]} idle on $host ($cpus CPUs, $mem MB each)"
     exit 0
   fi
-  scontrol update nodename="$host" state=resume >/dev/null 2>&1 || true
+  for n in "${nodes[@]}"; do
+    scontrol update nodename="$n" state=resume >/dev/null 2>&1 || true
+  done
   sleep 1
 done
 say "the node does not come up: $(sinfo 2>&1 | tail -1)"

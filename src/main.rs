@@ -317,9 +317,12 @@ enum FarmCommand {
     /// Write the film's Slurm job chain into DIR/farm/ and submit it.
     ///
     /// One derive job, an array of N render tasks (task i renders shard
-    /// i/N, retried on failure), one finishing job (soundtrack, manifest,
-    /// MP4 when ffmpeg exists, verify), each after the one before
-    /// succeeded. The film's settings (render, sound, limits, consent to
+    /// i/N), one finishing job (the frames a shard left, soundtrack,
+    /// manifest, MP4 when ffmpeg exists, verify). A job that fails goes
+    /// again to another node (3 attempts; a node that failed 2 jobs is
+    /// left behind). Every value a script holds is checked first: Slurm
+    /// names, times and sizes in their forms, paths in UTF-8 without
+    /// control characters. The film's settings (render, sound, limits, consent to
     /// scripts) are resolved here, recorded in DIR/settings.json and
     /// passed to every job. DIR must be a folder every node shares; the
     /// jobs run this lmfilm by its absolute path. Submitting again
@@ -327,15 +330,13 @@ enum FarmCommand {
     ///
     ///     lmfilm farm slurm scenes/tennis/match.lm -o /shared/match --shards 8 --preset preview --width 480 --dry-run
     Slurm(Box<commands::farm::SlurmArgs>),
-    /// Frames done of the total with a bar, the time left, failed tasks
-    /// with their logs, and the chain's jobs as Slurm accounts for them.
+    /// Frames done of the total with a bar, the time left, the last
+    /// frame rendered (the image where the terminal shows images, else a
+    /// text preview), the chain's jobs as Slurm accounts for them, and
+    /// the nodes that failed with their logs' last words.
     ///
-    ///     lmfilm farm status /shared/match
-    Status {
-        /// A film folder a chain was submitted into.
-        #[arg(value_name = "DIR")]
-        dir: PathBuf,
-    },
+    ///     lmfilm farm status /shared/match --watch
+    Status(commands::farm::StatusArgs),
 }
 
 fn main() -> ExitCode {
@@ -389,7 +390,7 @@ fn main() -> ExitCode {
             scene,
         } => commands::film::derive(&FilmArgs::new(&scenes, &scene, clean), &output, timings),
         Command::Farm(FarmCommand::Slurm(args)) => commands::farm::slurm(&args),
-        Command::Farm(FarmCommand::Status { dir }) => commands::farm::status(&dir),
+        Command::Farm(FarmCommand::Status(args)) => commands::farm::status(&args),
         Command::Render {
             dir,
             work,

@@ -175,32 +175,159 @@ impl fmt::Display for Diagnostic {
 
 impl std::error::Error for Diagnostic {}
 
-/// Reads a file the user named: only a regular file (not a folder, nor a
-/// device such as `/dev/zero` that never ends, nor a pipe), and at most
-/// `limit` bytes, checked before reading and while reading (a file may
-/// grow). The errors say which of these failed.
+/// Why a file was not read: what it is instead of a regular file of at
+/// most its limit. It travels inside the [`io::Error`] (kind
+/// `InvalidInput`) that [`open_file`] and [`read_file`] return; [`refused`]
+/// takes it out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refused {
+    /// A folder.
+    Folder,
+    /// A device, such as `/dev/zero`, whose reading may never end.
+    Device,
+    /// A named pipe (FIFO): reading waits for a writer, then for its end.
+    Pipe,
+    /// A socket.
+    Socket,
+    /// A regular file over the limit when opened.
+    TooLarge { size: u64, limit: u64 },
+    /// A regular file that grew past the limit while it was read.
+    Grew { limit: u64 },
+}
+
+impl Refused {
+    /// Whether the file is something else than a regular file (a folder,
+    /// a device, a pipe, a socket), not merely too large.
+    pub fn not_a_file(self) -> bool {
+        !matches!(self, Refused::TooLarge { .. } | Refused::Grew { .. })
+    }
+}
+
+impl fmt::Display for Refused {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Refused::Folder => f.write_str("is a folder, not a file"),
+            Refused::Device => {
+                f.write_str("is a device, not a regular file (reading it might never end)")
+            }
+            Refused::Pipe => f.write_str(
+                "is a named pipe (FIFO), not a regular file (reading it waits for whatever writes to it)",
+            ),
+            Refused::Socket => f.write_str("is a socket, not a regular file"),
+            Refused::TooLarge { size, limit } => write!(
+                f,
+                "is too large: {size} bytes, {} over the limit of {limit}",
+                size - limit
+            ),
+            Refused::Grew { limit } => write!(
+                f,
+                "grew past the limit of {limit} bytes while it was read (is it still being written?)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for Refused {}
+
+impl From<Refused> for io::Error {
+    fn from(r: Refused) -> io::Error {
+        io::Error::new(io::ErrorKind::InvalidInput, r)
+    }
+}
+
+/// Why [`open_file`] or [`read_file`] refused a file, when that is what
+/// the error says (not a missing file, nor a permission).
+pub fn refused(e: &io::Error) -> Option<Refused> {
+    e.get_ref()?.downcast_ref::<Refused>().copied()
+}
+
+/// A file opened by [`open_file`]: reads at most its limit, and fails
+/// (with [`Refused::Grew`]) rather than read past it.
+#[derive(Debug)]
+pub struct Bounded {
+    file: io::Take<std::fs::File>,
+    limit: u64,
+    read: u64,
+    size: u64,
+}
+
+impl Bounded {
+    /// The file's size when it was opened.
+    pub fn size(&self) -> u64 {
+        self.size
+    }
+}
+
+impl Read for Bounded {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = self.file.read(buf)?;
+        self.read += n as u64;
+        if self.read > self.limit {
+            return Err(Refused::Grew { limit: self.limit }.into());
+        }
+        Ok(n)
+    }
+}
+
+/// Opens a file lmfilm reads, as what it must be: a regular file (not a
+/// folder, nor a device such as `/dev/zero` that never ends, nor a pipe
+/// that waits for a writer) of at most `limit` bytes. The file is opened
+/// without waiting (`O_NONBLOCK`: opening a pipe never blocks) and its
+/// kind and size are those of the opened handle (`fstat`), so a file
+/// swapped between a check and the opening is refused too. The reader
+/// fails rather than read past `limit` (a file still being written).
+/// The errors say which of these failed ([`refused`]).
+pub fn open_file(path: &Path, limit: u64) -> io::Result<Bounded> {
+    use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+    let file = match std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY)
+        .open(path)
+    {
+        Ok(f) => f,
+        // Opening a socket fails with "no such device or address".
+        Err(e) if e.raw_os_error() == Some(libc::ENXIO) => {
+            let socket = std::fs::metadata(path).is_ok_and(|m| m.file_type().is_socket());
+            return Err(if socket { Refused::Socket.into() } else { e });
+        }
+        Err(e) => return Err(e),
+    };
+    let meta = file.metadata()?;
+    let kind = meta.file_type();
+    let refused = if kind.is_dir() {
+        Some(Refused::Folder)
+    } else if kind.is_fifo() {
+        Some(Refused::Pipe)
+    } else if kind.is_socket() {
+        Some(Refused::Socket)
+    } else if !kind.is_file() {
+        Some(Refused::Device)
+    } else if meta.len() > limit {
+        Some(Refused::TooLarge {
+            size: meta.len(),
+            limit,
+        })
+    } else {
+        None
+    };
+    if let Some(r) = refused {
+        return Err(r.into());
+    }
+    Ok(Bounded {
+        file: file.take(limit.saturating_add(1)),
+        limit,
+        read: 0,
+        size: meta.len(),
+    })
+}
+
+/// Reads a file the user named or lmfilm wrote, through [`open_file`]:
+/// only a regular file, and at most `limit` bytes, checked when opened
+/// and while reading (a file may grow).
 pub fn read_file(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
-    let invalid = |m: String| io::Error::new(io::ErrorKind::InvalidInput, m);
-    let meta = std::fs::metadata(path)?;
-    if meta.is_dir() {
-        return Err(invalid("is a folder, not a file".into()));
-    }
-    if !meta.is_file() {
-        return Err(invalid(
-            "is not a regular file (a device, a pipe or a socket)".into(),
-        ));
-    }
-    let too_big = || invalid(format!("is larger than the limit of {limit} bytes"));
-    if meta.len() > limit {
-        return Err(too_big());
-    }
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    std::fs::File::open(path)?
-        .take(limit.saturating_add(1))
-        .read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > limit {
-        return Err(too_big());
-    }
+    let mut file = open_file(path, limit)?;
+    let mut bytes = Vec::with_capacity(file.size() as usize);
+    file.read_to_end(&mut bytes)?;
     Ok(bytes)
 }
 
@@ -224,5 +351,78 @@ mod tests {
             d.to_string(),
             "a.lm:2:5: stack underflow\n    F (x+\n      ^"
         );
+    }
+
+    /// A fresh folder for one test of the opener.
+    fn folder(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("lmfilm-source-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn refusal(path: &Path, limit: u64) -> Refused {
+        let e = open_file(path, limit).expect_err("refused");
+        refused(&e).unwrap_or_else(|| panic!("{}: not a refusal: {e}", path.display()))
+    }
+
+    #[test]
+    fn a_pipe_is_refused_without_waiting_for_a_writer() {
+        let dir = folder("fifo");
+        let fifo = dir.join("pipe");
+        let name = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        // SAFETY: a valid NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+        // Blocking here would hang the test: nothing ever writes to it.
+        assert_eq!(refusal(&fifo, 1 << 20), Refused::Pipe);
+        let e = read_file(&fifo, 1 << 20).unwrap_err();
+        assert!(e.to_string().contains("named pipe"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_device_is_refused_even_behind_a_link() {
+        assert_eq!(refusal(Path::new("/dev/zero"), 1 << 20), Refused::Device);
+        let dir = folder("device");
+        let link = dir.join("frame.png");
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        assert_eq!(refusal(&link, 1 << 20), Refused::Device);
+        assert!(refusal(&link, 1).not_a_file());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_folder_is_refused() {
+        let dir = folder("folder");
+        assert_eq!(refusal(&dir, 1 << 20), Refused::Folder);
+        let e = read_file(&dir, 1 << 20).unwrap_err();
+        assert_eq!(e.to_string(), "is a folder, not a file");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_file_over_the_limit_is_refused_and_one_within_is_read() {
+        let dir = folder("limit");
+        let file = dir.join("record.json");
+        std::fs::write(&file, b"0123456789").unwrap();
+        let r = refusal(&file, 4);
+        assert_eq!(r, Refused::TooLarge { size: 10, limit: 4 });
+        assert!(!r.not_a_file());
+        assert_eq!(
+            r.to_string(),
+            "is too large: 10 bytes, 6 over the limit of 4"
+        );
+        assert_eq!(read_file(&file, 10).unwrap(), b"0123456789");
+        // A file that grows past the limit after it was opened.
+        let mut opened = open_file(&file, 12).unwrap();
+        std::fs::write(&file, b"0123456789abcdef").unwrap();
+        let mut bytes = Vec::new();
+        let e = opened.read_to_end(&mut bytes).unwrap_err();
+        assert_eq!(refused(&e), Some(Refused::Grew { limit: 12 }));
+        // A missing file is no refusal: its error says so.
+        let e = open_file(&dir.join("missing"), 4).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::NotFound);
+        assert_eq!(refused(&e), None);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

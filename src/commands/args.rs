@@ -423,6 +423,10 @@ pub struct WorkArgs {
     /// (derive, snapshots, BVH builds, render, EXR, PNG, records).
     #[arg(long)]
     pub timings: bool,
+    /// A line a frame as it is done (its number, rendered or up to date,
+    /// seconds, node), for a log: a farm's render tasks write them.
+    #[arg(long)]
+    pub log_frames: bool,
 }
 
 impl WorkArgs {

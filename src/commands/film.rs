@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::args::{RenderArgs, SceneArgs, SoundArgs, WorkArgs};
 use super::scenes::{self, Loaded};
-use super::Progress;
+use super::{FrameLog, Progress};
 use crate::error::{Error, Result};
 use crate::film::names::{
     self, ACTORS_DIR, DERIVE_RECORD, EVENTS_FILE, FRAMES_DIR, SOUNDTRACK_FILE,
@@ -62,14 +62,14 @@ fn derive_rendering(
     inputs: record::Inputs,
     dir: &Path,
     (choice, frames, max_pixels): (&RenderChoice, &[u64], u64),
-    timings: &Timings,
+    (timings, log_frames): (&Timings, bool),
 ) -> Result<(bool, Option<u64>)> {
     let name = inputs.name.clone();
     let (tx, rx) = std::sync::mpsc::channel::<(u64, String)>();
     std::thread::scope(|scope| {
         let render = scope.spawn(|| {
-            let mut p = Progress::new("rendering frame");
-            let tick = &mut |k, n| p.tick(k, n);
+            let mut p = FrameLog::new(log_frames);
+            let tick = &mut |d| p.frame(d);
             let n = stages::render_announced(
                 dir,
                 &name,
@@ -177,7 +177,7 @@ fn render_into(
     choice: &RenderChoice,
     (frames, shard): (Option<FrameRange>, Shard),
     max_pixels: u64,
-    timings: &Timings,
+    (timings, log_frames): (&Timings, bool),
 ) -> Result<(u64, u64)> {
     let rec = record::open(dir)?;
     let selection = match frames {
@@ -190,8 +190,8 @@ fn render_into(
         })?,
     };
     let frames = selection.frames(rec.frame_count, shard);
-    let mut p = Progress::new("rendering frame");
-    let tick = &mut |k, n| p.tick(k, n);
+    let mut p = FrameLog::new(log_frames);
+    let tick = &mut |d| p.frame(d);
     let n = stages::render_frames(dir, &frames, choice, max_pixels, tick, timings)?;
     p.done();
     Ok((n, frames.len() as u64))
@@ -308,7 +308,13 @@ pub fn run(
     let frames = selection.frames(f.frame_count(), Shard::all());
     let max_pixels = film.limits.pixels;
     let (derived, streamed) = if stages::streams(&choice) {
-        derive_rendering(f, inputs, &dir, (&choice, &frames, max_pixels), &timings)?
+        derive_rendering(
+            f,
+            inputs,
+            &dir,
+            (&choice, &frames, max_pixels),
+            (&timings, work.log_frames),
+        )?
     } else {
         let mut p = Progress::new("deriving frame");
         let tick = &mut |k, n| p.tick(k, n);
@@ -325,7 +331,7 @@ pub fn run(
             &choice,
             (work.frames, Shard::all()),
             max_pixels,
-            &timings,
+            (&timings, work.log_frames),
         )?,
     };
     let sounded = soundtrack(&dir, &sound_settings)?;
@@ -425,6 +431,10 @@ pub fn render(
         Limits::check_pixels(w, h, max_pixels).map_err(Error::input)?;
     }
     let camera = stages::camera_size(dir)?;
+    if shard.is_none() {
+        // It finishes the film: refused before a frame is rendered.
+        stages::check_finishing(dir)?;
+    }
     let first = dir.join(crate::film::names::snapshot_path(0));
     let choice = resolve_render(
         dir,
@@ -436,7 +446,13 @@ pub fn render(
     )?;
     let timings = Timings::start();
     let selection = (work.frames, shard.unwrap_or(Shard::all()));
-    let (n, selected) = render_into(dir, &choice, selection, max_pixels, &timings)?;
+    let (n, selected) = render_into(
+        dir,
+        &choice,
+        selection,
+        max_pixels,
+        (&timings, work.log_frames),
+    )?;
     if work.timings {
         eprint!("{}", timings.report());
     }
@@ -465,6 +481,7 @@ pub fn render(
 
 /// `lmfilm mux DIR`.
 pub fn mux(dir: &Path) -> Result<()> {
+    stages::check_finishing(dir)?;
     let (mp4, made) = stages::mux(dir)?;
     assemble::finish(dir)?;
     println!(
@@ -515,7 +532,7 @@ fn soundtrack(dir: &Path, settings: &sound::SoundSettings) -> Result<bool> {
 /// recorded settings and the options given over them, then the manifest
 /// (the stage that finishes a film rendered in shards).
 pub fn sound_dir(dir: &Path, request: &SoundRequest) -> Result<()> {
-    record::open(dir)?;
+    stages::check_finishing(dir)?;
     let settings = resolve_sound(dir, request)?;
     let made = soundtrack(dir, &settings)?;
     assemble::finish(dir)?;

@@ -4,60 +4,109 @@
 //! protocol is `lsp-server`'s; what is answered is `lsys::assist`'s.
 
 use std::collections::HashMap;
+use std::io::{self, BufRead, Write};
 
-use lsp_server::{Connection, Message, Notification, Request, Response};
+use lsp_server::{ErrorCode, Message, Notification, Request, Response};
 use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
 use crate::lsys::assist;
 
-/// Serves one editor until it asks to exit.
+/// Serves one editor until `exit` or the end of its input.
+///
+/// One thread reads a message and answers it, flushed, before it reads
+/// the next (issue 53). lsp-server's threaded `Connection::stdio` with
+/// its `initialize` and `handle_shutdown` took input that closed early
+/// (an editor restarting the server, `printf … | lmfilm lsp`) for an
+/// error, "disconnected channel" with exit 2, and the process could end
+/// before its writer thread had written the last answers. The end of
+/// input is a normal end; a malformed message is still an error.
 pub fn lsp() -> Result<()> {
-    let (connection, io) = Connection::stdio();
-    let capabilities = json!({
-        "textDocumentSync": 1,
-        "hoverProvider": true,
-        "completionProvider": { "triggerCharacters": ["_"] },
-        "definitionProvider": true,
-    });
-    let failed = |e: String| Error::input(format!("lsp: {e}"));
-    connection
-        .initialize(capabilities)
-        .map_err(|e| failed(e.to_string()))?;
-    serve(&connection).map_err(|e| failed(e.to_string()))?;
-    drop(connection);
-    io.join().map_err(|e| failed(e.to_string()))?;
-    Ok(())
+    match serve(&mut io::stdin().lock(), &mut io::stdout().lock()) {
+        Ok(End::Done) => Ok(()),
+        Ok(End::Abrupt) => Err(Error::other(
+            "lsp: `exit` without `shutdown` first (exit code 1, as LSP asks)",
+        )),
+        // The editor closed our stdout: nobody is left to answer.
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(Error::input(format!("lsp: {e}"))),
+    }
 }
 
-type Sent = std::result::Result<(), Box<dyn std::error::Error + Send + Sync>>;
+/// How serving ended.
+enum End {
+    /// The end of input, or `exit` after `shutdown`: exit code 0.
+    Done,
+    /// `exit` without `shutdown` first: exit code 1.
+    Abrupt,
+}
 
-fn serve(connection: &Connection) -> Sent {
+/// Where the editor is in the protocol's life cycle.
+#[derive(Clone, Copy, PartialEq)]
+enum Stage {
+    /// Before `initialize`.
+    Starting,
+    Serving,
+    /// After `shutdown`.
+    Shut,
+}
+
+/// Answers every request and notification read until `exit` or the end
+/// of input.
+fn serve(input: &mut impl BufRead, output: &mut impl Write) -> io::Result<End> {
     let mut documents: HashMap<String, String> = HashMap::new();
-    for message in &connection.receiver {
+    let mut stage = Stage::Starting;
+    while let Some(message) = Message::read(input)? {
         match message {
             Message::Request(req) => {
-                if connection.handle_shutdown(&req)? {
-                    return Ok(());
-                }
-                let result = answer(&documents, &req);
-                connection
-                    .sender
-                    .send(Response::new_ok(req.id.clone(), result).into())?;
+                Message::from(respond(&mut stage, &documents, &req)).write(output)?;
             }
-            Message::Notification(n) => {
+            Message::Notification(n) if n.method == "exit" => {
+                return Ok(match stage {
+                    Stage::Shut => End::Done,
+                    _ => End::Abrupt,
+                });
+            }
+            // Notifications before `initialize` and after `shutdown` are dropped.
+            Message::Notification(n) if stage == Stage::Serving => {
                 if let Some(uri) = update(&mut documents, &n) {
                     let diagnostics = diagnose(&uri, &documents[&uri]);
                     let params = json!({ "uri": uri, "diagnostics": diagnostics });
-                    connection.sender.send(
-                        Notification::new("textDocument/publishDiagnostics".into(), params).into(),
-                    )?;
+                    let method = "textDocument/publishDiagnostics".to_string();
+                    Message::from(Notification::new(method, params)).write(output)?;
                 }
             }
-            Message::Response(_) => {}
+            Message::Notification(_) | Message::Response(_) => {}
         }
     }
-    Ok(())
+    Ok(End::Done)
+}
+
+/// The response to one request, moving the life cycle on at `initialize`
+/// and `shutdown`.
+fn respond(stage: &mut Stage, documents: &HashMap<String, String>, req: &Request) -> Response {
+    let id = req.id.clone();
+    let refuse =
+        |code: ErrorCode, why: &str| Response::new_err(id.clone(), code as i32, why.into());
+    match (*stage, req.method.as_str()) {
+        (Stage::Starting, "initialize") => {
+            *stage = Stage::Serving;
+            let capabilities = json!({
+                "textDocumentSync": 1,
+                "hoverProvider": true,
+                "completionProvider": { "triggerCharacters": ["_"] },
+                "definitionProvider": true,
+            });
+            Response::new_ok(id, json!({ "capabilities": capabilities }))
+        }
+        (Stage::Starting, _) => refuse(ErrorCode::ServerNotInitialized, "not initialized yet"),
+        (Stage::Serving, "shutdown") => {
+            *stage = Stage::Shut;
+            Response::new_ok(id, ())
+        }
+        (Stage::Serving, _) => Response::new_ok(id, answer(documents, req)),
+        (Stage::Shut, _) => refuse(ErrorCode::InvalidRequest, "shut down"),
+    }
 }
 
 /// Keeps the text of open documents; the uri of one that changed.

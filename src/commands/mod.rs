@@ -70,6 +70,45 @@ impl Progress {
     }
 }
 
+/// A render's frames as they are done: the progress line, and with
+/// `--log-frames` one line a frame — its number, whether it was rendered
+/// or up to date, its seconds and the node — for a farm task's log.
+pub struct FrameLog {
+    progress: Progress,
+    /// The node the lines name (Slurm's name for it, else the host's).
+    node: Option<String>,
+}
+
+impl FrameLog {
+    pub fn new(log_frames: bool) -> FrameLog {
+        let node = log_frames.then(|| {
+            std::env::var("SLURMD_NODENAME")
+                .ok()
+                .filter(|n| !n.is_empty())
+                .unwrap_or_else(|| crate::atomic::host_name().to_string())
+        });
+        FrameLog {
+            progress: Progress::new("rendering frame"),
+            node,
+        }
+    }
+
+    pub fn frame(&mut self, d: crate::production::stages::FrameDone) {
+        self.progress.tick(d.done, d.total);
+        if let Some(node) = &self.node {
+            let what = if d.made { "rendered" } else { "up to date" };
+            eprintln!(
+                "frame {} ({}/{}): {what} in {:.2} s on {node}",
+                d.frame, d.done, d.total, d.seconds
+            );
+        }
+    }
+
+    pub fn done(&self) {
+        self.progress.done();
+    }
+}
+
 /// A percentage on one rewritten line of a terminal, every 5 % of the
 /// work (rows of an image, tasks of a soundtrack); silent elsewhere.
 pub struct Percent {

@@ -87,8 +87,8 @@ pub fn load(scenes: &[PathBuf], allow_commands: bool, limits: Limits) -> Result<
         let film = load_film(scenes, allow_commands, opts)?;
         let mut texts = Vec::new();
         for p in scenes {
-            let bytes =
-                std::fs::read(p).map_err(|e| Error::input(format!("{}: {e}", p.display())))?;
+            let bytes = crate::source::read_file(p, crate::lsys::animation::MAX_SCENE_BYTES)
+                .map_err(|e| Error::input(format!("{}: {e}", p.display())))?;
             texts.push(SceneText {
                 name: p.display().to_string(),
                 bytes,

@@ -24,7 +24,7 @@ type Stamp = Option<(u64, Option<SystemTime>, Option<String>)>;
 fn stamp(path: &Path) -> Stamp {
     let meta = std::fs::metadata(path).ok()?;
     let hash = (meta.len() <= HASHED)
-        .then(|| std::fs::read(path).ok())
+        .then(|| crate::source::read_file(path, HASHED).ok())
         .flatten()
         .map(|bytes| crate::production::digest::sha256_bytes(&bytes));
     Some((meta.len(), meta.modified().ok(), hash))

@@ -80,7 +80,8 @@ fn scene_library(anim: &Animation, search: &[PathBuf]) -> Result<Library> {
     let mut lib = Library::default();
     for o in anim.systems.iter().flat_map(|s| &s.def.options) {
         if let OptionItem::SoundFile { number, file } = o {
-            if library::resolve(&file.name, search).is_none() {
+            let found = library::resolve(&file.name, search);
+            if found.is_none_or(|f| matches!(f, library::Found::File(p) if !p.is_file())) {
                 let dirs: Vec<String> = search.iter().map(|d| d.display().to_string()).collect();
                 let message = format!(
                     "sound file {:?} not found (or not a file); looked in {}",

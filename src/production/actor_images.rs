@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::digest::{sha256_bytes, sha256_file};
+use super::folder::unreadable;
 use super::record::{DeriveRecord, FileHash};
 use crate::actors::live::Living;
 use crate::actors::perception::display;
@@ -21,6 +22,7 @@ use crate::film::names::frame_number;
 use crate::film::names::key;
 use crate::film::names::DERIVE_RECORD;
 use crate::render::output::{self, linear8, Image};
+use crate::source::{read_file, refused};
 
 /// `actors/N/vision.NNNN.png`, relative to the output folder.
 pub fn vision_path(actor: usize, frame: u64) -> PathBuf {
@@ -67,7 +69,7 @@ pub fn write(
         let path = dir.join(&rel);
         let bytes = bytes.map_err(|e| Error::io(&path, e))?;
         let hash = sha256_bytes(&bytes);
-        if !sha256_file(&path).is_ok_and(|h| h == hash) {
+        if !sha256_file(&path, max_bytes()).is_ok_and(|h| h == hash) {
             if let Some(parent) = path.parent() {
                 std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
             }
@@ -162,15 +164,24 @@ pub fn inset_sources(
     Ok(sources)
 }
 
-/// Reads the inset's PNG, checked against its hash.
+/// The most bytes of an actor's image read: an image of the default
+/// `--max-pixels` (a vision window is at most 1024² pixels, scaled near
+/// 256 a side; a memory display is smaller).
+fn max_bytes() -> u64 {
+    output::max_file_bytes(crate::lsys::Limits::default().pixels)
+}
+
+/// Reads the inset's PNG (a regular file of at most its bound), checked
+/// against its hash.
 pub fn read_inset(dir: &Path, source: &FileHash) -> Result<image::RgbImage, Error> {
     let path = dir.join(&source.file);
-    let bytes = std::fs::read(&path).map_err(|e| {
-        Error::input(format!(
+    let bytes = read_file(&path, max_bytes()).map_err(|e| match refused(&e) {
+        Some(_) => unreadable(dir, &source.file, &e),
+        None => Error::input(format!(
             "{}: {e}; derive again: lmfilm derive SCENE.lm -o {}",
             path.display(),
             dir.display()
-        ))
+        )),
     })?;
     if sha256_bytes(&bytes) != source.sha256 {
         return Err(Error::input(format!(

@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::digest::{sha256_bytes, sha256_file};
+use super::folder::{unreadable, MAX_RECORD};
 use super::manifest::Manifest;
 use super::record::open;
 use super::record::{self, DeriveRecord, FrameRecord, MuxRecord, SoundRecord};
@@ -14,6 +15,7 @@ use crate::error::Error;
 use crate::film::names::{self, key, EVENTS_FILE, SOUNDTRACK_FILE};
 use crate::film::names::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
 use crate::film::names::{frame_record_path, mp4_paths, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD};
+use crate::source::refused;
 
 /// Assembles `manifest.json` from the records and writes it: the stage
 /// that finishes the film (and any single-process stage) calls it.
@@ -31,11 +33,12 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     let rec = open(dir)?;
     let name = rec.inputs.name.clone();
     let mut m = Manifest::new(&rec);
-    let derive_hash = sha256_file(&dir.join(DERIVE_RECORD)).map_err(|e| Error::io(dir, e))?;
-    m.files.insert(DERIVE_RECORD.into(), derive_hash);
-    let settings = dir.join(names::SETTINGS_FILE);
-    if settings.is_file() {
-        let hash = sha256_file(&settings).map_err(|e| Error::io(&settings, e))?;
+    m.files.insert(
+        DERIVE_RECORD.into(),
+        hash_record(dir, Path::new(DERIVE_RECORD))?,
+    );
+    if dir.join(names::SETTINGS_FILE).exists() {
+        let hash = hash_record(dir, Path::new(names::SETTINGS_FILE))?;
         m.files.insert(names::SETTINGS_FILE.into(), hash);
     }
     m.files.insert(EVENTS_FILE.into(), rec.events.clone());
@@ -45,12 +48,11 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
     for (k, h) in rec.snapshots.iter().enumerate() {
         m.files.insert(key(&snapshot_path(k as u64)), h.clone());
     }
-    let frames = valid_frames(dir, &rec);
+    let frames = valid_frames(dir, &rec)?;
     let mut settings: BTreeMap<&BTreeMap<String, String>, Vec<u64>> = BTreeMap::new();
     for (k, f) in &frames {
         let rel = frame_record_path(&name, *k);
-        let hash = sha256_file(&dir.join(&rel)).map_err(|e| Error::io(&dir.join(&rel), e))?;
-        m.files.insert(key(&rel), hash);
+        m.files.insert(key(&rel), hash_record(dir, &rel)?);
         for (file, h) in &f.outputs {
             m.files.insert(file.clone(), h.clone());
         }
@@ -76,10 +78,12 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
             m.options.insert(format!("render.{k}"), v.clone());
         }
     }
-    if let Ok(Some(s)) = record::read::<SoundRecord>(&dir.join(SOUND_RECORD)) {
+    if let Some(s) = record::read_made::<SoundRecord>(dir, Path::new(SOUND_RECORD))? {
         if s.events == rec.events {
-            let hash = sha256_file(&dir.join(SOUND_RECORD)).map_err(|e| Error::io(dir, e))?;
-            m.files.insert(SOUND_RECORD.into(), hash);
+            m.files.insert(
+                SOUND_RECORD.into(),
+                hash_record(dir, Path::new(SOUND_RECORD))?,
+            );
             m.files.insert(SOUNDTRACK_FILE.into(), s.soundtrack.clone());
             for (k, v) in s.sound {
                 m.options.insert(format!("sound.{k}"), v);
@@ -87,15 +91,26 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
         }
     }
     let (mp4, mp4_record) = mp4_paths(&name);
-    if let Ok(Some(x)) = record::read::<MuxRecord>(&dir.join(&mp4_record)) {
+    if let Some(x) = record::read_made::<MuxRecord>(dir, &mp4_record)? {
         let track = m.files.get(SOUNDTRACK_FILE).cloned();
         if x.frames == digest(&name, &frames) && x.soundtrack == track {
-            let hash = sha256_file(&dir.join(&mp4_record)).map_err(|e| Error::io(dir, e))?;
-            m.files.insert(key(&mp4_record), hash);
+            m.files
+                .insert(key(&mp4_record), hash_record(dir, &mp4_record)?);
             m.files.insert(key(&mp4), x.mp4.clone());
         }
     }
     Ok(m)
+}
+
+/// The sha256 of the folder's record `rel`, read as a regular file of at
+/// most [`MAX_RECORD`] bytes; what cannot be read is named, with the way
+/// out.
+fn hash_record(dir: &Path, rel: &Path) -> Result<String, Error> {
+    let path = dir.join(rel);
+    sha256_file(&path, MAX_RECORD).map_err(|e| match refused(&e) {
+        Some(_) => unreadable(dir, &key(rel), &e),
+        None => Error::io(&path, e),
+    })
 }
 
 /// Frame numbers as short ranges: `0-3, 7, 9-12`.
@@ -140,30 +155,37 @@ pub fn extra_files(dir: &Path, m: &Manifest) -> Vec<String> {
 
 /// The frames whose record says they were rendered from the derivation's
 /// snapshot (and, blurred toward it, the next one), with their records,
-/// in frame order.
-fn valid_frames(dir: &Path, rec: &DeriveRecord) -> Vec<(u64, FrameRecord)> {
-    (0..rec.frame_count)
-        .zip(&rec.snapshots)
-        .filter_map(|(k, snap)| {
-            let rp = dir.join(frame_record_path(&rec.inputs.name, k));
-            let f = record::read::<FrameRecord>(&rp).ok()??;
-            // An inset must show the derivation's own actor image.
-            let inset_ok = f
-                .inset
-                .as_ref()
-                .is_none_or(|i| rec.actors.get(&i.file) == Some(&i.sha256));
-            let next_ok = f
-                .next_snapshot
-                .as_ref()
-                .is_none_or(|n| rec.snapshots.get(k as usize + 1) == Some(n));
-            (f.snapshot == *snap && f.frame == k && inset_ok && next_ok).then_some((k, f))
-        })
-        .collect()
+/// in frame order; an error names a record that is not a regular file
+/// (a folder, a device, a pipe).
+pub(super) fn valid_frames(
+    dir: &Path,
+    rec: &DeriveRecord,
+) -> Result<Vec<(u64, FrameRecord)>, Error> {
+    let mut valid = Vec::new();
+    for (k, snap) in (0..rec.frame_count).zip(&rec.snapshots) {
+        let rel = frame_record_path(&rec.inputs.name, k);
+        let Some(f) = record::read_made::<FrameRecord>(dir, &rel)? else {
+            continue;
+        };
+        // An inset must show the derivation's own actor image.
+        let inset_ok = f
+            .inset
+            .as_ref()
+            .is_none_or(|i| rec.actors.get(&i.file) == Some(&i.sha256));
+        let next_ok = f
+            .next_snapshot
+            .as_ref()
+            .is_none_or(|n| rec.snapshots.get(k as usize + 1) == Some(n));
+        if f.snapshot == *snap && f.frame == k && inset_ok && next_ok {
+            valid.push((k, f));
+        }
+    }
+    Ok(valid)
 }
 
 /// The PNG frames an MP4 is made of, as one hash over their names and
 /// hashes, in frame order.
-fn digest(name: &str, frames: &[(u64, FrameRecord)]) -> String {
+pub(super) fn digest(name: &str, frames: &[(u64, FrameRecord)]) -> String {
     let mut list = String::new();
     for (k, f) in frames {
         let png = key(&frame_path(name, *k, "png"));
@@ -172,9 +194,4 @@ fn digest(name: &str, frames: &[(u64, FrameRecord)]) -> String {
         }
     }
     sha256_bytes(list.as_bytes())
-}
-
-/// The digest of the PNG frames of the folder's valid frame records.
-pub(super) fn png_digest(dir: &Path, rec: &DeriveRecord) -> String {
-    digest(&rec.inputs.name, &valid_frames(dir, rec))
 }

@@ -1,11 +1,12 @@
 //! The sha256 digests that bind every output to its inputs (DESIGN §4):
 //! records and manifests name each file by its hash.
 
-use std::fs::File;
 use std::io::{self, Read};
 use std::path::Path;
 
 use sha2::{Digest, Sha256};
+
+use crate::source::open_file;
 
 /// Lowercase hex sha256 of `bytes`.
 pub fn sha256_bytes(bytes: &[u8]) -> String {
@@ -13,9 +14,11 @@ pub fn sha256_bytes(bytes: &[u8]) -> String {
 }
 
 /// Lowercase hex sha256 of a file, read in blocks so that large EXRs are
-/// never held in memory whole.
-pub fn sha256_file(path: &Path) -> io::Result<String> {
-    let mut file = File::open(path)?;
+/// never held in memory whole: a regular file of at most `limit` bytes
+/// only ([`open_file`]: a pipe, a device or a folder is refused, never
+/// waited on).
+pub fn sha256_file(path: &Path, limit: u64) -> io::Result<String> {
+    let mut file = open_file(path, limit)?;
     let mut hasher = Sha256::new();
     let mut buf = vec![0u8; 1 << 16];
     loop {

@@ -15,8 +15,10 @@ use std::path::{Component, Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::folder::{way_out, MAX_MANIFEST};
 use super::record::{DeriveRecord, FileHash};
 use crate::atomic::write_atomic;
+use crate::source::{read_file, refused};
 
 /// The contents of `manifest.json`: assembled from the folder's records
 /// (see [`super::record`]) by the stage that finishes the film. Fields are
@@ -134,14 +136,30 @@ impl Manifest {
         write_atomic(&path, self.to_json().as_bytes()).map_err(|source| Error::Io { path, source })
     }
 
-    /// Reads `dir/manifest.json`, refusing paths outside the folder, a
-    /// film name that is not one plain file name and a Δt that is not a
-    /// positive number.
+    /// Reads `dir/manifest.json` (a regular file of at most
+    /// [`MAX_MANIFEST`] bytes: a pipe, a device or a folder is refused,
+    /// never waited on), refusing paths outside the folder, a film name
+    /// that is not one plain file name and a Δt that is not a positive
+    /// number.
     pub fn read(dir: &Path) -> Result<Manifest, Error> {
         let path = dir.join(MANIFEST_FILE);
-        let text = std::fs::read_to_string(&path).map_err(|source| Error::Io {
+        let bytes = read_file(&path, MAX_MANIFEST).map_err(|source| match refused(&source) {
+            // A pipe, a device, a folder or too large: the way out too.
+            Some(_) => Error::Io {
+                source: io::Error::new(
+                    source.kind(),
+                    format!("{source}; {}", way_out(dir, MANIFEST_FILE)),
+                ),
+                path: path.clone(),
+            },
+            None => Error::Io {
+                path: path.clone(),
+                source,
+            },
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| Error::Io {
             path: path.clone(),
-            source,
+            source: io::Error::new(io::ErrorKind::InvalidData, e),
         })?;
         Manifest::parse(&text).map_err(|e| match e {
             Error::Json { source, .. } => Error::Json { path, source },

@@ -27,12 +27,11 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use super::digest::{sha256_bytes, sha256_file};
+use super::folder::{not_a_file, unreadable, Bounds, MAX_RECORD};
 use crate::atomic::write_atomic;
 use crate::error::Error;
-
-/// Largest record read (a derive record of a long film is the biggest:
-/// ~70 bytes a frame).
-const MAX_RECORD: u64 = 256 << 20;
+use crate::film::names::key;
+use crate::source::read_file;
 
 /// A file and the sha256 of its bytes.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -43,11 +42,12 @@ pub struct FileHash {
 }
 
 impl FileHash {
-    /// Hashes the file at `path`, recorded under `file`.
-    pub fn of(file: &str, path: &Path) -> io::Result<FileHash> {
+    /// Hashes the file at `path` (a regular file of at most `limit`
+    /// bytes), recorded under `file`.
+    pub fn of(file: &str, path: &Path, limit: u64) -> io::Result<FileHash> {
         Ok(FileHash {
             file: file.to_string(),
-            sha256: sha256_file(path)?,
+            sha256: sha256_file(path, limit)?,
         })
     }
 }
@@ -226,29 +226,47 @@ pub fn write<T: Serialize>(path: &Path, value: &T) -> io::Result<()> {
 }
 
 /// Reads a record: `Ok(None)` when the file does not exist, `Err` with
-/// the reason when it is not a valid record (too large, not UTF-8 JSON,
-/// NaN or missing fields).
+/// the reason when it is not a valid record (not a regular file — a
+/// folder, a device, a pipe, never waited on —, over [`MAX_RECORD`]
+/// bytes, not UTF-8 JSON, NaN or missing fields).
 pub fn read<T: DeserializeOwned>(path: &Path) -> Result<Option<T>, String> {
-    let meta = match std::fs::metadata(path) {
-        Ok(m) => m,
-        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(format!("{}: {e}", path.display())),
-    };
-    if !meta.is_file() || meta.len() > MAX_RECORD {
-        return Err(format!(
-            "{}: not a record (a folder, or over {MAX_RECORD} bytes)",
-            path.display()
-        ));
+    match read_file(path, MAX_RECORD) {
+        Ok(bytes) => parse(path, &bytes).map(Some),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(format!("{}: {e}", path.display())),
     }
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    serde_json::from_slice(&bytes)
-        .map(Some)
+}
+
+fn parse<T: DeserializeOwned>(path: &Path, bytes: &[u8]) -> Result<T, String> {
+    serde_json::from_slice(bytes)
         .map_err(|e| format!("{}: not a valid lmfilm record ({e})", path.display()))
 }
 
-/// Whether `dir/rel` exists and its bytes hash to `sha256`.
-pub fn intact(dir: &Path, rel: &Path, sha256: &str) -> bool {
-    sha256_file(&dir.join(rel)).is_ok_and(|h| h == sha256)
+/// [`read`], where a record that is not a regular file (a folder, a
+/// device, a pipe) is an input error naming it and the way out, and any
+/// other fault (missing, damaged, too large) is `Ok(None)`: a stage
+/// makes such a record again, but never replaces what it did not write.
+pub fn read_made<T: DeserializeOwned>(dir: &Path, rel: &Path) -> Result<Option<T>, Error> {
+    let path = dir.join(rel);
+    match read_file(&path, MAX_RECORD) {
+        Ok(bytes) => Ok(parse(&path, &bytes).ok()),
+        Err(e) if not_a_file(&e) => Err(unreadable(dir, &key(rel), &e)),
+        Err(_) => Ok(None),
+    }
+}
+
+/// Whether `dir/rel` exists and its bytes hash to `sha256` (read at most
+/// to its bound); `Err` when something else than a regular file stands
+/// there (a folder, a device, a pipe): the input error names it and the
+/// way out. A stage makes a file that is not intact again, but never
+/// replaces what it did not write.
+pub fn intact(dir: &Path, rel: &Path, sha256: &str, bounds: &Bounds) -> Result<bool, Error> {
+    let k = key(rel);
+    match sha256_file(&dir.join(rel), bounds.limit(&k)) {
+        Ok(h) => Ok(h == sha256),
+        Err(e) if not_a_file(&e) => Err(unreadable(dir, &k, &e)),
+        Err(_) => Ok(false),
+    }
 }
 
 /// The derive record of a folder (what `render`, `sound` and `mux` start
@@ -260,15 +278,21 @@ pub fn open(dir: &Path) -> Result<DeriveRecord, Error> {
         "derive the film first: lmfilm derive SCENE.lm -o {}",
         dir.display()
     );
-    match read::<DeriveRecord>(&path) {
-        Ok(Some(r)) => match r.validate() {
-            Ok(()) => Ok(r),
-            Err(why) => Err(Error::input(format!("{}: {why}; {again}", path.display()))),
-        },
-        Ok(None) => Err(Error::input(format!(
-            "{}: no {DERIVE_RECORD} — {again}",
-            dir.display()
-        ))),
-        Err(e) => Err(Error::input(format!("{e}; {again}"))),
+    let bytes = match read_file(&path, MAX_RECORD) {
+        Ok(bytes) => bytes,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            return Err(Error::input(format!(
+                "{}: no {DERIVE_RECORD} — {again}",
+                dir.display()
+            )))
+        }
+        Err(e) if not_a_file(&e) => return Err(unreadable(dir, DERIVE_RECORD, &e)),
+        Err(e) => return Err(Error::input(format!("{}: {e}; {again}", path.display()))),
+    };
+    let r: DeriveRecord =
+        parse(&path, &bytes).map_err(|e| Error::input(format!("{e}; {again}")))?;
+    match r.validate() {
+        Ok(()) => Ok(r),
+        Err(why) => Err(Error::input(format!("{}: {why}; {again}", path.display()))),
     }
 }

@@ -23,6 +23,7 @@ use std::path::{Path, PathBuf};
 use super::actor_images;
 
 use super::digest::{sha256_bytes, sha256_file};
+use super::folder::{self, unreadable, Bounds};
 use super::frames::FrameSelection;
 use super::record::{
     self, intact, DeriveRecord, FileHash, FrameRecord, Inputs, MuxRecord, SoundRecord,
@@ -44,6 +45,8 @@ use crate::render::motion::Motion;
 use crate::render::{self, output, Accel};
 use crate::scene::snapshot;
 use crate::sound;
+use crate::sound::wav::MAX_WAV_BYTES;
+use crate::source::{read_file, refused};
 use std::collections::VecDeque;
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 
@@ -56,6 +59,21 @@ pub struct SceneText {
 /// Progress of a stage: `(done, total)` after each frame.
 pub type Progress<'a> = &'a mut dyn FnMut(u64, u64);
 
+/// One frame of a render done: the `done`th of `total`, frame `frame`,
+/// rendered now (`made`) or found up to date, `seconds` from its reading
+/// to its record.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameDone {
+    pub done: u64,
+    pub total: u64,
+    pub frame: u64,
+    pub made: bool,
+    pub seconds: f64,
+}
+
+/// What a render says as each frame is done.
+pub type FrameProgress<'a> = &'a mut dyn FnMut(FrameDone);
+
 /// What a derivation is made from: the scene texts, the files they
 /// reference (hashed now), the film's name and the options that change
 /// the derivation.
@@ -67,7 +85,7 @@ pub fn inputs(
 ) -> Result<Inputs, Error> {
     let mut files = Vec::new();
     for (file, path) in film.referenced_files() {
-        let hash = FileHash::of(&file, &path)
+        let hash = FileHash::of(&file, &path, MAX_REFERENCED)
             .map_err(|e| Error::input(format!("{}: cannot read: {e}", path.display())))?;
         files.push(hash);
     }
@@ -85,6 +103,11 @@ pub fn inputs(
             .collect(),
     })
 }
+
+/// The most bytes hashed of a file a scene references: the largest its
+/// readers take (an OBJ's; a sound's, a data channel's, a motion's are
+/// smaller).
+const MAX_REFERENCED: u64 = crate::scene::obj::MAX_MESH_BYTES;
 
 /// The outputs of lmfilm in a folder: what `--clean` removes.
 fn clear(dir: &Path) -> Result<(), Error> {
@@ -126,7 +149,7 @@ fn film_in(dir: &Path) -> Option<Vec<String>> {
     if let Ok(Some(r)) = record::read::<DeriveRecord>(&dir.join(DERIVE_RECORD)) {
         return Some(r.inputs.film());
     }
-    let text = std::fs::read(dir.join(names::MANIFEST_FILE)).ok()?;
+    let text = read_file(&dir.join(names::MANIFEST_FILE), folder::MAX_MANIFEST).ok()?;
     let json: serde_json::Value = serde_json::from_slice(&text).ok()?;
     let scenes = json.get("scenes")?.as_array()?;
     Some(record::film_of(
@@ -228,7 +251,7 @@ pub fn derive_announcing(
             let bytes = snapshot::encode(frame.scene());
             let hash = sha256_bytes(&bytes);
             // Derivation is deterministic: an identical snapshot stays.
-            if !sha256_file(&path).is_ok_and(|h| h == hash) {
+            if !sha256_file(&path, snapshot::MAX_SNAPSHOT_BYTES).is_ok_and(|h| h == hash) {
                 write_atomic(&path, &bytes).map_err(|e| Error::io(&path, e))?;
             }
             Ok::<_, Error>(hash)
@@ -277,11 +300,11 @@ fn copy_sounds(film: &Film, dir: &Path) -> Result<BTreeMap<String, String>, Erro
         if !plain {
             continue;
         }
-        let bytes = std::fs::read(path)
+        let bytes = read_file(path, MAX_WAV_BYTES)
             .map_err(|e| Error::input(format!("{}: cannot read: {e}", path.display())))?;
         let to = dir.join(SOUNDS_DIR).join(rel);
         let hash = sha256_bytes(&bytes);
-        if !sha256_file(&to).is_ok_and(|h| h == hash) {
+        if !sha256_file(&to, MAX_WAV_BYTES).is_ok_and(|h| h == hash) {
             if let Some(parent) = to.parent() {
                 std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
             }
@@ -335,17 +358,20 @@ fn remove_tracks(dir: &Path, tracks: &BTreeMap<String, String>) -> Result<(), Er
 }
 
 /// Whether every snapshot, actor image, the event log, the sound copies
-/// and the trace files still hash to the record.
+/// and the trace files still hash to the record (one that is not a
+/// regular file is not: the derivation writes it again).
 fn derived_intact(dir: &Path, rec: &DeriveRecord) -> bool {
-    intact(dir, Path::new(EVENTS_FILE), &rec.events)
-        && rec.actors.iter().all(|(f, h)| intact(dir, Path::new(f), h))
-        && rec.sounds.iter().all(|(f, h)| intact(dir, Path::new(f), h))
-        && rec.tracks.iter().all(|(f, h)| intact(dir, Path::new(f), h))
+    let bounds = Bounds::new(0, rec.frame_count);
+    let ok = |f: &Path, h: &str| intact(dir, f, h, &bounds).unwrap_or(false);
+    ok(Path::new(EVENTS_FILE), &rec.events)
+        && rec.actors.iter().all(|(f, h)| ok(Path::new(f), h))
+        && rec.sounds.iter().all(|(f, h)| ok(Path::new(f), h))
+        && rec.tracks.iter().all(|(f, h)| ok(Path::new(f), h))
         && rec
             .snapshots
             .iter()
             .enumerate()
-            .all(|(k, h)| intact(dir, &snapshot_path(k as u64), h))
+            .all(|(k, h)| ok(&snapshot_path(k as u64), h))
 }
 
 /// Removes snapshots past the film's end (an earlier, longer film's).
@@ -421,7 +447,7 @@ pub fn camera_size(dir: &Path) -> Result<(u32, u32), Error> {
 fn snapshot_hash(dir: &Path, rec: &DeriveRecord, k: u64) -> Result<String, Error> {
     let rel = snapshot_path(k);
     let expected = &rec.snapshots[k as usize];
-    match sha256_file(&dir.join(&rel)) {
+    match sha256_file(&dir.join(&rel), snapshot::MAX_SNAPSHOT_BYTES) {
         Ok(h) if h == *expected => Ok(h),
         Ok(_) => Err(Error::input(format!(
             "{}: {} does not match {DERIVE_RECORD} (damaged or from another derivation); \
@@ -430,6 +456,7 @@ fn snapshot_hash(dir: &Path, rec: &DeriveRecord, k: u64) -> Result<String, Error
             rel.display(),
             dir.display()
         ))),
+        Err(e) if refused(&e).is_some() => Err(unreadable(dir, &key(&rel), &e)),
         Err(e) => Err(Error::input(format!(
             "{}: {e}; derive again: lmfilm derive SCENE.lm -o {}",
             dir.join(&rel).display(),
@@ -439,18 +466,51 @@ fn snapshot_hash(dir: &Path, rec: &DeriveRecord, k: u64) -> Result<String, Error
 }
 
 /// Whether frame `k`'s record says it was made from `snapshot` with
-/// `render`, and its images are intact.
-fn frame_done(dir: &Path, name: &str, k: u64, snapshot: &str, want: &FrameRecord) -> bool {
-    let Ok(Some(r)) = record::read::<FrameRecord>(&dir.join(frame_record_path(name, k))) else {
-        return false;
+/// `render`, and its images are intact (read at most to `bounds`); an
+/// error when its record or an image is not a regular file (a folder, a
+/// device, a pipe), which a render never replaces.
+fn frame_done(
+    dir: &Path,
+    (name, k): (&str, u64),
+    snapshot: &str,
+    want: &FrameRecord,
+    bounds: &Bounds,
+) -> Result<bool, Error> {
+    let Some(r) = record::read_made::<FrameRecord>(dir, &frame_record_path(name, k))? else {
+        return Ok(false);
     };
-    r.snapshot == snapshot
+    let same = r.snapshot == snapshot
         && r.next_snapshot == want.next_snapshot
         && r.render == want.render
         && r.inset == want.inset
         && r.lmfilm_version == want.lmfilm_version
-        && r.outputs.keys().eq(want.outputs.keys())
-        && r.outputs.iter().all(|(f, h)| intact(dir, Path::new(f), h))
+        && r.outputs.keys().eq(want.outputs.keys());
+    if !same {
+        return Ok(false);
+    }
+    for (f, h) in &r.outputs {
+        if !intact(dir, Path::new(f), h, bounds)? {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// Refuses, before a stage writes anything, each of the folder's files
+/// `rels` that it reads or writes where something else than a regular
+/// file stands (a folder, a device, a pipe): named, with the way out.
+/// Only metadata is read: a pipe is never opened.
+pub fn refuse_odd_files(dir: &Path, rels: impl IntoIterator<Item = String>) -> Result<(), Error> {
+    rels.into_iter()
+        .try_for_each(|rel| folder::check_kind(dir, &rel))
+}
+
+/// [`refuse_odd_files`] for what finishing the film reads and writes
+/// (`assemble::finish`: the records and the manifest), for the stages
+/// that finish it (`render` of every frame, `sound DIR`, `mux`).
+pub fn check_finishing(dir: &Path) -> Result<(), Error> {
+    let rec = open(dir)?;
+    refuse_odd_files(dir, folder::finishing(&rec.inputs.name, rec.frame_count))
 }
 
 /// Renders the listed frames of a derived folder with the resolved
@@ -466,7 +526,7 @@ pub fn render_frames(
     frames: &[u64],
     choice: &RenderChoice,
     max_pixels: u64,
-    progress: Progress,
+    progress: FrameProgress,
     timings: &Timings,
 ) -> Result<u64, Error> {
     let rec = open(dir)?;
@@ -475,6 +535,20 @@ pub fn render_frames(
         None => BTreeMap::new(),
     };
     let blurs = choice.settings().blurs();
+    // What the frames read and write, before any is rendered.
+    let name = &rec.inputs.name;
+    refuse_odd_files(
+        dir,
+        frames.iter().flat_map(|&k| {
+            let mut rels = vec![key(&snapshot_path(k))];
+            if blurs && k + 1 < rec.frame_count {
+                rels.push(key(&snapshot_path(k + 1)));
+            }
+            rels.extend(["exr", "png", "json"].map(|e| key(&frame_path(name, k, e))));
+            rels.extend(insets.get(&k).map(|i| i.file.clone()));
+            rels
+        }),
+    )?;
     let source = frames.iter().map(|&k| {
         let next = match blurs && k + 1 < rec.frame_count {
             true => Some(snapshot_hash(dir, &rec, k + 1)?),
@@ -504,7 +578,7 @@ pub fn render_announced(
     (frames, announced): (&[u64], Receiver<(u64, String)>),
     choice: &RenderChoice,
     max_pixels: u64,
-    progress: Progress,
+    progress: FrameProgress,
     timings: &Timings,
 ) -> Result<u64, Error> {
     let wanted: std::collections::BTreeSet<u64> = frames.iter().copied().collect();
@@ -556,6 +630,8 @@ const IN_FLIGHT: usize = 2;
 struct Prepared {
     index: usize,
     frame: u64,
+    /// When its reading began, for the frame's line in a log.
+    started: std::time::Instant,
     want: FrameRecord,
     accel: Option<Accel>,
     image: Option<output::Image>,
@@ -585,7 +661,7 @@ impl FrameJob<'_> {
         self,
         source: impl Iterator<Item = Announced> + Send,
         count: u64,
-        progress: Progress,
+        progress: FrameProgress,
     ) -> Result<u64, Error> {
         let frames_dir = self.dir.join(FRAMES_DIR);
         std::fs::create_dir_all(&frames_dir).map_err(|e| Error::io(&frames_dir, e))?;
@@ -610,10 +686,17 @@ impl FrameJob<'_> {
             let mut written = 0;
             let mut result = Ok(());
             for p in rendered {
+                let (frame, started) = (p.frame, p.started);
                 match pool.install(|| self.write(p)) {
                     Ok((i, made)) => {
                         written += u64::from(made);
-                        progress(i as u64 + 1, count);
+                        progress(FrameDone {
+                            done: i as u64 + 1,
+                            total: count,
+                            frame,
+                            made,
+                            seconds: started.elapsed().as_secs_f64(),
+                        });
                     }
                     Err(e) => {
                         result = Err(e);
@@ -695,11 +778,13 @@ impl FrameJob<'_> {
         let mut p = Prepared {
             index,
             frame: k,
+            started: std::time::Instant::now(),
             want,
             accel: None,
             image: None,
         };
-        if frame_done(dir, name, k, &snap, &p.want) {
+        let bounds = Bounds::new(self.max_pixels, 0);
+        if frame_done(dir, (name, k), &snap, &p.want, &bounds)? {
             return Ok(p);
         }
         let read = |k: u64| {
@@ -827,7 +912,16 @@ pub fn soundtrack(
     settings: &sound::SoundSettings,
 ) -> Result<Option<sound::Report>, Error> {
     let rec = open(dir)?;
-    if !intact(dir, Path::new(EVENTS_FILE), &rec.events) {
+    let bounds = Bounds::new(0, rec.frame_count);
+    // What the soundtrack reads and writes, before it is rendered.
+    refuse_odd_files(
+        dir,
+        [EVENTS_FILE, SOUNDTRACK_FILE, SOUND_RECORD]
+            .map(String::from)
+            .into_iter()
+            .chain(rec.sounds.keys().cloned()),
+    )?;
+    if !intact(dir, Path::new(EVENTS_FILE), &rec.events, &bounds)? {
         return Err(Error::input(format!(
             "{}: {EVENTS_FILE} does not match {DERIVE_RECORD} (damaged or missing); derive again: lmfilm derive SCENE.lm -o {}",
             dir.display(),
@@ -842,19 +936,20 @@ pub fn soundtrack(
         sound: sound_record(settings),
         soundtrack: String::new(),
     };
-    if let Ok(Some(old)) = record::read::<SoundRecord>(&record_path) {
+    if let Some(old) = record::read_made::<SoundRecord>(dir, Path::new(SOUND_RECORD))? {
         let same = SoundRecord {
             soundtrack: old.soundtrack.clone(),
             ..want.clone()
         };
-        if old == same && intact(dir, Path::new(SOUNDTRACK_FILE), &old.soundtrack) {
+        if old == same && intact(dir, Path::new(SOUNDTRACK_FILE), &old.soundtrack, &bounds)? {
             return Ok(None);
         }
     }
     let sounds = dir.join(SOUNDS_DIR);
     let library = sounds.is_dir().then_some(sounds.as_path());
     let report = sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, library, &|_, _| {})?;
-    want.soundtrack = sha256_file(&wav).map_err(|e| Error::io(&wav, e))?;
+    want.soundtrack =
+        sha256_file(&wav, bounds.limit(SOUNDTRACK_FILE)).map_err(|e| Error::io(&wav, e))?;
     record::write(&record_path, &want).map_err(|e| Error::io(&record_path, e))?;
     Ok(Some(report))
 }
@@ -865,6 +960,20 @@ pub fn soundtrack(
 pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
     let rec = open(dir)?;
     let name = &rec.inputs.name;
+    let (mp4, record_path) = mp4_paths(name);
+    // What the MP4 reads and writes (ffmpeg reads the PNGs and the
+    // soundtrack: a pipe would keep it waiting), before it is made.
+    refuse_odd_files(
+        dir,
+        [SOUNDTRACK_FILE, SOUND_RECORD]
+            .map(String::from)
+            .into_iter()
+            .chain([key(&mp4), key(&record_path)])
+            .chain(
+                (0..rec.frame_count)
+                    .flat_map(|k| ["png", "json"].map(|e| key(&frame_path(name, k, e)))),
+            ),
+    )?;
     if let Some(k) = first_unrendered(dir, &rec) {
         return Err(Error::input(format!(
             "{}: frame {k} has no image yet, and the MP4 needs every frame; `lmfilm render {}` renders the rest",
@@ -873,26 +982,47 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
         )));
     }
     let rate = ffmpeg::FrameRate::from_dt(rec.dt).map_err(|e| Error::input(e.to_string()))?;
-    let sound = record::read::<SoundRecord>(&dir.join(SOUND_RECORD))
-        .ok()
-        .flatten()
-        .filter(|s| {
-            s.events == rec.events && intact(dir, Path::new(SOUNDTRACK_FILE), &s.soundtrack)
-        });
-    let (mp4, record_path) = mp4_paths(name);
+    let frames = assemble::valid_frames(dir, &rec)?;
+    // Each PNG as its record says: ffmpeg reads them.
+    for (k, f) in &frames {
+        let render = f.render.iter().map(|(k, v)| (k.as_str(), v.as_str()));
+        let bounds = Bounds::of_settings(render, 0);
+        let png = frame_path(name, *k, "png");
+        let Some(h) = f.outputs.get(&key(&png)) else {
+            continue;
+        };
+        if !intact(dir, &png, h, &bounds)? {
+            return Err(Error::input(format!(
+                "{}: does not match its record {} (damaged since it was rendered); `lmfilm render {}` renders it again",
+                dir.join(&png).display(),
+                frame_record_path(name, *k).display(),
+                dir.display()
+            )));
+        }
+    }
+    let bounds = Bounds::new(0, rec.frame_count);
+    let sound = match record::read_made::<SoundRecord>(dir, Path::new(SOUND_RECORD))? {
+        Some(s)
+            if s.events == rec.events
+                && intact(dir, Path::new(SOUNDTRACK_FILE), &s.soundtrack, &bounds)? =>
+        {
+            Some(s)
+        }
+        _ => None,
+    };
     let mut want = MuxRecord {
-        frames: assemble::png_digest(dir, &rec),
+        frames: assemble::digest(name, &frames),
         lmfilm_version: record::version(),
         mp4: String::new(),
         rate: rate.to_string(),
         soundtrack: sound.map(|s| s.soundtrack),
     };
-    if let Ok(Some(old)) = record::read::<MuxRecord>(&dir.join(&record_path)) {
+    if let Some(old) = record::read_made::<MuxRecord>(dir, &record_path)? {
         let same = MuxRecord {
             mp4: old.mp4.clone(),
             ..want.clone()
         };
-        if old == same && intact(dir, &mp4, &old.mp4) {
+        if old == same && intact(dir, &mp4, &old.mp4, &bounds)? {
             return Ok((dir.join(mp4), false));
         }
     }
@@ -902,7 +1032,7 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
         .then_some(Path::new(SOUNDTRACK_FILE));
     let out = ffmpeg::mux(dir, name, rate, &frame_pattern(name, "png"), track)
         .map_err(|e| Error::other(e.to_string()))?;
-    want.mp4 = sha256_file(&out).map_err(|e| Error::io(&out, e))?;
+    want.mp4 = sha256_file(&out, bounds.limit(&key(&mp4))).map_err(|e| Error::io(&out, e))?;
     let rp = dir.join(&record_path);
     record::write(&rp, &want).map_err(|e| Error::io(&rp, e))?;
     Ok((out, true))

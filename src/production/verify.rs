@@ -11,11 +11,13 @@ use std::path::Path;
 
 use super::assemble;
 use super::digest::sha256_file;
+use super::folder::{way_out, Bounds};
 use super::frames::FrameSelection;
 use super::manifest::{self, Manifest};
 use super::record::{self, DeriveRecord};
 use crate::film::names::{self, EVENTS_FILE, SOUNDTRACK_FILE};
 use crate::film::names::{frame_record_path, mp4_paths, SOUND_RECORD};
+use crate::source::refused;
 
 /// One thing wrong with a folder.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -123,11 +125,17 @@ pub fn verify(dir: &Path) -> Result<Report, manifest::Error> {
             what: e.to_string(),
         }),
     }
+    // Images read at most to the size the film's frames were rendered at.
+    let render = stored
+        .options
+        .iter()
+        .filter_map(|(k, v)| Some((k.strip_prefix("render.")?, v.as_str())));
+    let bounds = Bounds::of_settings(render, stored.frame_count);
     problems.extend(
         stored
             .files
             .iter()
-            .filter_map(|(file, expected)| check(dir, file, expected)),
+            .filter_map(|(file, expected)| check(dir, file, expected, &bounds)),
     );
     Ok(Report {
         checked: stored.files.len(),
@@ -233,10 +241,12 @@ fn chain(dir: &Path, rec: &DeriveRecord, assembled: &Manifest) -> Vec<Problem> {
     out
 }
 
-/// The problem with one listed file, if any.
-fn check(dir: &Path, file: &str, expected: &str) -> Option<Problem> {
+/// The problem with one listed file, if any. It is read as a regular
+/// file of at most its bound: a folder, a device or a pipe is a problem
+/// named with the way out, never waited on.
+fn check(dir: &Path, file: &str, expected: &str, bounds: &Bounds) -> Option<Problem> {
     let file = file.to_string();
-    match sha256_file(&dir.join(&file)) {
+    match sha256_file(&dir.join(&file), bounds.limit(&file)) {
         Ok(found) if found == expected => None,
         Ok(found) => Some(Problem::Mismatch {
             file,
@@ -244,6 +254,10 @@ fn check(dir: &Path, file: &str, expected: &str) -> Option<Problem> {
             found,
         }),
         Err(e) if e.kind() == io::ErrorKind::NotFound => Some(Problem::Missing { file }),
+        Err(e) if refused(&e).is_some() => Some(Problem::Unreadable {
+            error: format!("{e}; {}", way_out(dir, &file)),
+            file,
+        }),
         Err(e) => Some(Problem::Unreadable {
             file,
             error: e.to_string(),

@@ -335,9 +335,22 @@ pub fn linear8(s: u8) -> f32 {
     }
 }
 
+/// The most bytes an EXR or PNG of `pixels` pixels that lmfilm writes
+/// can take: the EXR's 36 bytes a pixel (RGBA, Z, N.X/N.Y/N.Z as f32,
+/// `id` as u32), stored raw where ZIP does not shrink a block, its block
+/// tables (16 bytes a block of 16 lines: at most 1 a pixel) and 64 KiB of
+/// headers; a PNG (3 bytes a pixel and a filter byte a row, deflated) is
+/// smaller. The bound every reader of a frame's files reads at most.
+pub fn max_file_bytes(pixels: u64) -> u64 {
+    pixels.saturating_mul(37).saturating_add(1 << 16)
+}
+
 /// Reads a frame written by `write_exr` back: R, G, B required; A (default
 /// 1), Z (∞), N.X/N.Y/N.Z (0) and `id` (u32::MAX) optional. The first layer
 /// is used; RGB/Z/N may be stored as f16, f32 or u32, `id` must be u32.
+/// Only a regular file is read, of at most [`max_file_bytes`] of the
+/// default `--max-pixels` (`source::read_file`: a pipe or a device is
+/// refused, never waited on).
 pub fn read_exr_layers(path: &Path) -> io::Result<Image> {
     let bad = |msg: String| {
         io::Error::new(
@@ -345,13 +358,16 @@ pub fn read_exr_layers(path: &Path) -> io::Result<Image> {
             format!("cannot read {}: {msg}", path.display()),
         )
     };
+    let limit = max_file_bytes(crate::lsys::Limits::default().pixels);
+    let bytes = crate::source::read_file(path, limit)
+        .map_err(|e| io::Error::new(e.kind(), format!("cannot read {}: {e}", path.display())))?;
     let exr = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
         .all_channels()
         .first_valid_layer()
         .all_attributes()
-        .from_file(path)
+        .from_buffered(Cursor::new(bytes))
         .map_err(|e| exr_read_error(path, e))?;
     let layer = exr.layer_data;
     let (w, h) = (layer.size.width(), layer.size.height());

@@ -319,7 +319,7 @@ fn vec3(v: Vec3) -> String {
 /// without parsing its geometry: the film records their hashes as inputs.
 /// An unreadable file names none (reading it for real reports the error).
 pub fn mtl_libraries(path: &Path) -> Vec<String> {
-    let Ok(bytes) = std::fs::read(path) else {
+    let Ok(bytes) = read_file(path, MAX_MESH_BYTES) else {
         return Vec::new();
     };
     bytes

@@ -211,8 +211,8 @@ impl Found {
     /// The file's length in seconds, from its header.
     pub fn duration(&self) -> Result<f64, String> {
         match self {
-            Found::File(path) => std::fs::File::open(path)
-                .map_err(|e| e.to_string())
+            Found::File(path) => crate::source::open_file(path, wav::MAX_WAV_BYTES)
+                .map_err(|e| format!("{}: cannot read: {e}", path.display()))
                 .and_then(|f| wav::duration(std::io::BufReader::new(f))),
             Found::Embedded(_, bytes) => wav::duration(*bytes),
         }
@@ -220,16 +220,18 @@ impl Found {
 }
 
 /// The first `dir/file` of `search` that exists, else the built-in sound
-/// named `file` (an absolute `file` is taken as is).
+/// named `file` (an absolute `file` is taken as is). What exists is found
+/// even when it is not a regular file (a folder, a device, a pipe):
+/// reading it then says so, rather than play another sound of that name.
 pub fn resolve(file: &str, search: &[PathBuf]) -> Option<Found> {
     let path = Path::new(file);
     if path.is_absolute() {
-        return path.is_file().then(|| Found::File(path.to_path_buf()));
+        return path.exists().then(|| Found::File(path.to_path_buf()));
     }
     search
         .iter()
         .map(|d| d.join(path))
-        .find(|p| p.is_file())
+        .find(|p| p.exists())
         .map(Found::File)
         .or_else(|| {
             EMBEDDED

@@ -51,6 +51,10 @@ impl Signal {
 /// Largest WAV file read: a bound on what a wrong path costs.
 pub const MAX_WAV_BYTES: u64 = 1 << 30;
 
+/// Largest soundtrack read back (to hash it): the most a WAV file can
+/// hold, its sizes being 32-bit.
+pub const MAX_SOUNDTRACK_BYTES: u64 = 4 << 30;
+
 /// Most channels a library sound may have.
 pub const MAX_CHANNELS: u16 = 64;
 

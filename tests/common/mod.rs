@@ -88,9 +88,10 @@ pub fn agree_with_snapshot(dir: &std::path::Path) {
     let snap = dir.join("scene/0000.snap");
     let mut json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&rec).unwrap()).unwrap();
-    json["snapshots"][0] = lmfilm::production::digest::sha256_file(&snap)
-        .unwrap()
-        .into();
+    json["snapshots"][0] =
+        lmfilm::production::digest::sha256_file(&snap, lmfilm::scene::snapshot::MAX_SNAPSHOT_BYTES)
+            .unwrap()
+            .into();
     std::fs::write(&rec, json.to_string()).unwrap();
 }
 

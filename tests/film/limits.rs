@@ -17,7 +17,7 @@ use lmfilm::render::{self, Accel, Settings};
 
 /// Runs `lmfilm args`; fails the test if it runs longer than `secs`.
 /// Returns the exit code and stderr.
-fn lmfilm(args: &[&str], secs: u64) -> (i32, String) {
+pub(crate) fn lmfilm(args: &[&str], secs: u64) -> (i32, String) {
     let dir = fresh_dir("limits-run", &args.join("_").replace(['/', ' ', '.'], "-"));
     let err_path = dir.join("stderr");
     let err = std::fs::File::create(&err_path).unwrap();

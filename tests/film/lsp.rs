@@ -1,9 +1,10 @@
 //! `lmfilm lsp` over stdio (issue 40): an editor opens a readable file
 //! with a mistake and gets its diagnostic, mends it and gets none, and
-//! asks hover, completion and go-to-definition.
+//! asks hover, completion and go-to-definition. Input that closes early
+//! (issue 53) still has every request answered and ends normally.
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::process::{ChildStdout, Command, Stdio};
+use std::io::{BufRead, BufReader, Write};
+use std::process::{ChildStdout, Command, Output, Stdio};
 
 use serde_json::{json, Value};
 
@@ -13,7 +14,7 @@ fn send(to: &mut impl Write, message: Value) {
     to.flush().unwrap();
 }
 
-fn receive(from: &mut BufReader<ChildStdout>) -> Value {
+fn receive(from: &mut impl BufRead) -> Value {
     let mut length = 0;
     loop {
         let mut line = String::new();
@@ -143,4 +144,192 @@ fn the_language_server_answers_over_stdio() {
     send(&mut to, json!({"jsonrpc": "2.0", "method": "exit"}));
     drop(to);
     assert!(child.wait().unwrap().success());
+}
+
+fn frame(message: &Value) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    send(&mut bytes, message.clone());
+    bytes
+}
+
+/// Runs `lmfilm lsp` on `input` with its stdin closed right after, as
+/// `printf … | lmfilm lsp` does.
+fn run_on(input: &[u8]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+        .arg("lsp")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(input).unwrap();
+    child.wait_with_output().unwrap()
+}
+
+/// Every message in what the server wrote.
+fn messages(mut out: &[u8]) -> Vec<Value> {
+    let mut all = Vec::new();
+    while !out.is_empty() {
+        all.push(receive(&mut out));
+    }
+    all
+}
+
+const URI: &str = "file:///tmp/closing.lmr";
+
+fn initialize() -> Value {
+    json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}})
+}
+fn initialized() -> Value {
+    json!({"jsonrpc": "2.0", "method": "initialized", "params": {}})
+}
+fn open() -> Value {
+    json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument":
+        {"uri": URI, "languageId": "lmfilm", "version": 1, "text": "axiom\nsphere(diameter: 1) A\n"}}})
+}
+fn hover(id: u64) -> Value {
+    json!({"jsonrpc": "2.0", "id": id, "method": "textDocument/hover", "params": {
+        "textDocument": {"uri": URI}, "position": {"line": 1, "character": 2}}})
+}
+fn shutdown(id: u64) -> Value {
+    json!({"jsonrpc": "2.0", "id": id, "method": "shutdown"})
+}
+fn exit() -> Value {
+    json!({"jsonrpc": "2.0", "method": "exit"})
+}
+
+/// The race was between the input closing and the last answers being
+/// written: each case runs this many times.
+const TRIES: usize = 20;
+
+/// The ids of requests sent before `initialize` and after `shutdown`, and
+/// the error codes LSP answers them with.
+const EARLY: u64 = 8;
+const LATE: u64 = 9;
+fn refusal(id: &Value) -> Value {
+    match id.as_u64() {
+        Some(EARLY) => json!(-32002),
+        Some(LATE) => json!(-32600),
+        _ => Value::Null,
+    }
+}
+
+/// Input that ends right after each case's messages: every request is
+/// answered once, with the error code given or a result, and the server
+/// exits with the code LSP asks (1 only for `exit` without `shutdown`).
+#[test]
+fn input_closing_early_still_answers_every_request() {
+    let cases: Vec<(&str, Vec<Value>, i32)> = vec![
+        ("nothing", vec![], 0),
+        ("initialize", vec![initialize()], 0),
+        ("initialize and a request", vec![initialize(), hover(2)], 0),
+        ("a request before initialize", vec![hover(EARLY)], 0),
+        (
+            "a request",
+            vec![initialize(), initialized(), open(), hover(2)],
+            0,
+        ),
+        (
+            "shutdown",
+            vec![initialize(), initialized(), hover(2), shutdown(3)],
+            0,
+        ),
+        (
+            "shutdown and exit",
+            vec![initialize(), initialized(), hover(2), shutdown(3), exit()],
+            0,
+        ),
+        (
+            "a request after shutdown",
+            vec![
+                initialize(),
+                initialized(),
+                shutdown(3),
+                hover(LATE),
+                exit(),
+            ],
+            0,
+        ),
+        (
+            "exit without shutdown",
+            vec![initialize(), initialized(), hover(2), exit()],
+            1,
+        ),
+    ];
+    for (case, sent, code) in cases {
+        let input: Vec<u8> = sent.iter().flat_map(frame).collect();
+        let mut asked: Vec<&Value> = sent
+            .iter()
+            .map(|m| &m["id"])
+            .filter(|id| !id.is_null())
+            .collect();
+        asked.sort_by_key(|id| id.as_u64());
+        for _ in 0..TRIES {
+            let out = run_on(&input);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(code), "{case}: {stderr}");
+            assert_eq!(stderr.is_empty(), code == 0, "{case}: {stderr}");
+            let got = messages(&out.stdout);
+            let mut answered: Vec<&Value> = got
+                .iter()
+                .filter(|m| m.get("method").is_none())
+                .map(|m| &m["id"])
+                .collect();
+            answered.sort_by_key(|id| id.as_u64());
+            assert_eq!(answered, asked, "{case}: {got:?}");
+            for m in got.iter().filter(|m| m.get("method").is_none()) {
+                let error = refusal(&m["id"]);
+                assert_eq!(m["error"]["code"], error, "{case}: {m}");
+                assert_eq!(m.get("result").is_some(), error.is_null(), "{case}: {m}");
+            }
+        }
+    }
+}
+
+/// A stream that is not LSP is still an error, after what came before it
+/// was answered.
+#[test]
+fn a_malformed_header_is_an_error_after_the_answers_before_it() {
+    let mut input = frame(&initialize());
+    input.extend_from_slice(b"Content-Length 2\r\n\r\n{}");
+    for _ in 0..TRIES {
+        let out = run_on(&input);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains("malformed header"), "{stderr}");
+        let got = messages(&out.stdout);
+        assert_eq!(got.len(), 1, "{got:?}");
+        assert_eq!(got[0]["id"], 1, "{got:?}");
+    }
+}
+
+/// An editor that stops reading has gone: nobody is left to answer, and
+/// that is no error.
+#[test]
+fn stdout_closed_ends_quietly() {
+    let sent = [
+        initialize(),
+        initialized(),
+        open(),
+        hover(2),
+        shutdown(3),
+        exit(),
+    ];
+    let input: Vec<u8> = sent.iter().flat_map(frame).collect();
+    for _ in 0..TRIES {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+            .arg("lsp")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        // The server may be gone before all of it is written.
+        let _ = child.stdin.take().unwrap().write_all(&input);
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(stderr.is_empty(), "{stderr}");
+    }
 }

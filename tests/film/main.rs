@@ -13,6 +13,7 @@ mod determinism;
 mod farm;
 mod film;
 mod frame_loop;
+mod hostile_folders;
 mod limits;
 mod lsp;
 mod path;

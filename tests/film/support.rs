@@ -223,7 +223,13 @@ fn sha256_of_bytes_and_streamed_files() {
     let dir = temp_dir("sha");
     let big: Vec<u8> = (0..300_001u32).map(|i| (i * 31 % 251) as u8).collect();
     fs::write(dir.join("big"), &big).unwrap();
-    assert_eq!(sha256_file(&dir.join("big")).unwrap(), sha256_bytes(&big));
+    assert_eq!(
+        sha256_file(&dir.join("big"), 300_001).unwrap(),
+        sha256_bytes(&big)
+    );
+    // Never past its bound, never a device that has no end.
+    assert!(sha256_file(&dir.join("big"), 300_000).is_err());
+    assert!(sha256_file(Path::new("/dev/zero"), 1 << 20).is_err());
     fs::remove_dir_all(&dir).unwrap();
 }
 
