@@ -1,7 +1,7 @@
 # lmfilm — the main job and the checks. `make help` lists the targets.
 CARGO ?= cargo
 
-.PHONY: film test test-worlds check lint bench bench-render bench-path bench-film readable clean help
+.PHONY: film test test-worlds check lint bench bench-render bench-path bench-film bench-farm readable clean help
 
 help:
 	@echo "make film   the built-in film (14 s of the tennis match on its set): frames, soundtrack and manifest in renders/lmfilm/ (an MP4 too with ffmpeg)"
@@ -12,6 +12,7 @@ help:
 	@echo "make bench-render  the forest against Embree and Mitsuba 3 (../shared/anchors)"
 	@echo "make bench-path  the path tracer against Mitsuba 3's path integrator: agreement, equal samples, equal error"
 	@echo "make bench-film  the film pipeline: the built-in film at 1 and 2 threads, serial fraction, CPU busy, stage breakdown, a 1080p frame per sample against the forest still"
+	@echo "make bench-farm  the Slurm chain on the two-node test cluster (scripts/slurm_up.sh), healthy and with one node broken"
 	@echo "make readable  spell every scene in the readable form again (scenes/**/*.lmr, after a scene's .lm changed)"
 	@echo "make clean  remove build products and renders (but renders/README.md)"
 
@@ -44,6 +45,9 @@ bench-path:
 
 bench-film:
 	sh scripts/bench_film.sh
+
+bench-farm:
+	bash scripts/bench_farm.sh
 
 readable:
 	$(CARGO) build --release
