@@ -162,13 +162,38 @@ pub struct Tracks {
     pub wanted: bool,
 }
 
+/// The longest name of one folder or file in a trace file's path (most
+/// file systems' own limit) and of the whole path.
+const MAX_COMPONENT: usize = 255;
+const MAX_PATH: usize = 1024;
+
 /// Why `name` cannot be written into the output folder, if it cannot:
-/// it must be a relative path inside it, and not one of lmfilm's own.
+/// it must be a relative path inside it naming a file (no `/` at the
+/// end), of names the file system takes, and not one of lmfilm's own.
 pub fn output_name(name: &str) -> std::result::Result<(), String> {
     let path = Path::new(name);
     if name.is_empty() || !path.components().all(|c| matches!(c, Component::Normal(_))) {
         return Err(format!(
             "the trace file `{name}` is not a relative path inside the output folder (no `..`, no leading `/`); nothing is written outside it"
+        ));
+    }
+    if name.ends_with('/') || name.ends_with("/.") {
+        return Err(format!(
+            "the trace file `{name}` names a folder; name a file in it, e.g. `{}/actor.trace`",
+            name.trim_end_matches(['/', '.'])
+        ));
+    }
+    if let Some(long) = path.iter().find(|c| c.len() > MAX_COMPONENT) {
+        return Err(format!(
+            "the trace file `{name}` has a name of {} bytes (`{}…`); a file system takes at most {MAX_COMPONENT}",
+            long.len(),
+            long.to_string_lossy().chars().take(16).collect::<String>()
+        ));
+    }
+    if name.len() > MAX_PATH {
+        return Err(format!(
+            "the trace file's path is {} bytes long; at most {MAX_PATH}",
+            name.len()
         ));
     }
     let first = path
@@ -180,6 +205,39 @@ pub fn output_name(name: &str) -> std::result::Result<(), String> {
         return Err(format!(
             "the trace file `{name}` would overwrite lmfilm's own outputs; name it otherwise, e.g. `actor.trace`"
         ));
+    }
+    Ok(())
+}
+
+/// Whether the trace file `file` can be written in the output folder
+/// `dir` as it is now: no folder or file on its way is a link (lmfilm
+/// never writes through one: it could lead out of the folder), a file,
+/// where the way goes on, or a folder, where the trace goes. The error
+/// points at the scene's line, and is said before the film derives.
+pub fn check_target(dir: &Path, file: &FileRef) -> Result<()> {
+    let parts: Vec<_> = Path::new(&file.name).iter().collect();
+    let mut at = dir.to_path_buf();
+    for (k, part) in parts.iter().enumerate() {
+        at.push(part);
+        let Ok(meta) = std::fs::symlink_metadata(&at) else {
+            return Ok(()); // nothing there yet: lmfilm makes it
+        };
+        let last = k + 1 == parts.len();
+        let problem = if meta.file_type().is_symlink() {
+            "is a link; lmfilm never writes through a link (it could lead out of the output folder)"
+        } else if !last && !meta.is_dir() {
+            "is a file, where the trace's path needs a folder"
+        } else if last && !meta.is_file() {
+            "is a folder or a special file, not a file lmfilm can write"
+        } else {
+            continue;
+        };
+        let msg = format!(
+            "the trace file `{}`: {} {problem}; remove it or name the trace otherwise",
+            file.name,
+            at.display()
+        );
+        return Err(file.error(msg).into());
     }
     Ok(())
 }
@@ -213,6 +271,17 @@ impl Tracks {
                         output_name(&file.name).map_err(|m| Error::from(file.error(m)))?;
                         if t.exports.iter().any(|e| e.file.name == file.name) {
                             let msg = format!("`{}` is already a trace file", file.name);
+                            return Err(file.error(msg).into());
+                        }
+                        // A trace cannot be a file and a folder of another.
+                        let inside = |a: &str, b: &str| Path::new(b).starts_with(a) && a != b;
+                        if let Some(e) = t.exports.iter().find(|e| {
+                            inside(&e.file.name, &file.name) || inside(&file.name, &e.file.name)
+                        }) {
+                            let msg = format!(
+                                "`{}` and the trace file `{}` cannot both be written: one would be a folder of the other",
+                                file.name, e.file.name
+                            );
                             return Err(file.error(msg).into());
                         }
                         t.exports.push(Export {

@@ -213,6 +213,10 @@ pub fn derive_announcing(
     timings: &Timings,
     announce: &mut dyn FnMut(u64, &str) -> Result<(), Error>,
 ) -> Result<(DeriveRecord, bool), Error> {
+    // Said before deriving, not after the last frame.
+    for (file, _) in film.exported_traces() {
+        crate::film::tracks::check_target(dir, file)?;
+    }
     let scene_dir = dir.join(SCENE_DIR);
     std::fs::create_dir_all(&scene_dir).map_err(|e| Error::io(&scene_dir, e))?;
     remove_stale_temps(&scene_dir);
@@ -327,6 +331,7 @@ fn write_tracks(
     let mut written = BTreeMap::new();
     for (file, text) in film.exported_traces() {
         crate::film::tracks::output_name(&file.name).map_err(|m| Error::from(file.error(m)))?;
+        crate::film::tracks::check_target(dir, file)?;
         let to = dir.join(&file.name);
         if let Some(parent) = to.parent() {
             std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;

@@ -24,6 +24,12 @@ pub const MAX_JOINTS: usize = 1024;
 /// centimetres, as the file's author chose).
 pub const MAX_LENGTH: f32 = 1e6;
 
+/// The most frames a file may announce: a day at 100 frames a second.
+/// With no channel at all a frame holds no value, so the count alone
+/// would set how long the reading loops (issue 54: 10¹⁸ frames of
+/// nothing looped for ever).
+pub const MAX_FRAMES: usize = 8_640_000;
+
 /// One channel of a joint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Channel {
@@ -138,21 +144,31 @@ impl Mocap {
         w.expect("MOTION")?;
         w.expect("Frames:")?;
         let (count, at) = w.word("the number of frames")?;
-        let frames: usize = count.parse().map_err(|_| {
-            w.error(
-                at,
-                format!("the number of frames must be a whole number, found `{count}`"),
-            )
-        })?;
+        let frames: usize = match count.parse() {
+            Ok(n) if n <= MAX_FRAMES => n,
+            Ok(_) => {
+                return Err(w.error(
+                    at,
+                    format!("{count} frames: a file holds at most {MAX_FRAMES} (a day at 100 a second)"),
+                ))
+            }
+            Err(_) => {
+                return Err(w.error(
+                    at,
+                    format!("the number of frames must be a whole number, found `{count}`"),
+                ))
+            }
+        };
         w.expect("Frame")?;
         w.expect("Time:")?;
         let frame_time = f64::from(w.number("the frame time", 1e6)?);
         if frame_time <= 0.0 {
             return Err(w.error(w.at, "the frame time must be > 0 seconds"));
         }
-        // Grown as values come, so a false frame count costs nothing.
+        // Grown as values come, so a false frame count costs nothing;
+        // without channels a frame holds nothing to read.
         let mut values = Vec::new();
-        for f in 0..frames {
+        for f in (0..frames).take_while(|_| stride > 0) {
             for j in &joints {
                 for (c, ch) in j.channels.iter().enumerate() {
                     let what = format!("frame {f}'s value {} ({}, {ch:?})", j.first + c, j.name);

@@ -254,3 +254,40 @@ fn a_trace_file_outside_the_folder_is_refused() {
     assert!(!root.join("x").exists());
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// Trace names that failed only once the film had derived, without a
+/// location, or were written through a link out of the folder (issue
+/// 54): each is now refused before deriving, at the scene's line, and
+/// nothing is written outside the folder.
+#[test]
+fn a_trace_file_that_cannot_be_written_is_refused_before_deriving() {
+    let root = temp("unwritable");
+    let dir = root.join("dir");
+    let outside = root.join("outside");
+    std::fs::create_dir_all(dir.join("made")).unwrap();
+    std::fs::create_dir_all(&outside).unwrap();
+    std::os::unix::fs::symlink(&outside, dir.join("out")).unwrap();
+    std::os::unix::fs::symlink(outside.join("t.trace"), dir.join("linked.trace")).unwrap();
+    std::fs::write(dir.join("plain"), "a file").unwrap();
+    let long = "x".repeat(300);
+    for (options, why) in [
+        ("trace_actor 0 out/a.trace".to_string(), "is a link"),
+        ("trace_actor 0 linked.trace".to_string(), "is a link"),
+        ("trace_actor 0 plain/a.trace".to_string(), "is a file, where the trace's path needs a folder"),
+        ("trace_actor 0 made".to_string(), "is a folder or a special file"),
+        ("trace_actor 0 sub/".to_string(), "names a folder"),
+        (format!("trace_actor 0 {long}"), "a file system takes at most 255"),
+        (
+            "trace_actor 0 a\ntrace_actor 0 a/b.trace".to_string(),
+            "one would be a folder of the other",
+        ),
+    ] {
+        let film = write(&root, "film.lm", &scene(&format!("NBR_actors 1\n{options}"), "I"));
+        let err = fails(&["derive", &film, "-o", s(&dir)], 2);
+        assert!(err.contains("film.lm:") && err.contains(":15:"), "{options}: {err}");
+        assert!(err.contains(why), "{options}: {err}");
+        assert!(!dir.join("derive.json").exists(), "{options}: derived before refusing");
+    }
+    assert!(std::fs::read_dir(&outside).unwrap().next().is_none(), "written outside the folder");
+    std::fs::remove_dir_all(&root).unwrap();
+}

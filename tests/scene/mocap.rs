@@ -118,3 +118,24 @@ fn hostile_files_are_refused_where_they_go_wrong() {
         let _ = parse(&WAVE[..cut]);
     }
 }
+
+/// A skeleton without a single channel holds no value in a frame, so
+/// only the announced count said how long reading looped: 10¹⁸ frames
+/// looped for ever (issue 54). A count beyond a day at 100 frames a
+/// second is refused where it stands; a smaller one of empty frames
+/// reads at once.
+#[test]
+fn frames_without_channels_never_loop() {
+    let file = |frames: &str| {
+        format!(
+            "HIERARCHY\nROOT hips\n{{\nOFFSET 0 0 0\nCHANNELS 0\nEnd Site\n{{\nOFFSET 0 1 0\n}}\n}}\nMOTION\nFrames: {frames}\nFrame Time: 0.01\n"
+        )
+    };
+    let start = std::time::Instant::now();
+    let e = parse(&file("1000000000000000000")).unwrap_err();
+    assert_eq!((e.line, e.column), (12, 9), "{e}");
+    assert!(e.message.contains("at most 8640000"), "{e}");
+    let m = parse(&file("8640000")).unwrap();
+    assert_eq!(m.frame_count(), 0);
+    assert!(start.elapsed().as_secs() < 5, "reading took {:?}", start.elapsed());
+}
