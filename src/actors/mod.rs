@@ -434,7 +434,12 @@ fn check(c: &CommandAt) -> Result<(), Diagnostic> {
         }
         C::EpsArrived { index: i, distance } => {
             ck.index(1, *i)?;
-            ck.at_least(0, *distance, 0.0, "the distance")
+            // Arrived is closer than the distance: at 0 none ever is.
+            ck.positive(
+                0,
+                *distance,
+                "the arrival distance (arrived is closer than it: at 0 no actor ever arrives)",
+            )
         }
         C::EpsLookAtGoal {
             index: i,

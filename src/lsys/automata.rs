@@ -892,6 +892,22 @@ pub fn parse_actor_automata(s: &mut Scanner, at: usize) -> Result<ActorAutomata,
         }
     };
     let (actor, actor_at) = ids[0];
+    // The BNF's repeated actor number (three numbers, or two before a
+    // name) says the actor again: one that differs names no actor the
+    // line configures (issue 54: it was read over in silence).
+    let repeated = match by_name {
+        Some(_) => ids.get(1),
+        None => ids.get(1).filter(|_| ids.len() == 3),
+    };
+    if let Some(&(again, again_at)) = repeated.filter(|(n, _)| *n != actor) {
+        return Err(s.error(
+            again_at,
+            format!(
+                "the actor number is repeated as {again}, but the line's actor is {actor}; \
+                 the repeated number (the BNF's form `actor actor automata`) must be the same, or left out"
+            ),
+        ));
+    }
     Ok(ActorAutomata {
         actor: Located {
             value: actor,
@@ -1032,6 +1048,18 @@ mod tests {
             "{shown}"
         );
         d
+    }
+
+    /// The repeated actor number of the BNF's form says the same actor,
+    /// or the line is refused there (issue 54).
+    #[test]
+    fn a_repeated_actor_number_is_the_same_actor() {
+        assert_eq!(parse("3 3 9").unwrap().actor.value, 3);
+        assert_eq!(parse("3 3 watch").unwrap().actor.value, 3);
+        let d = refused("0 7 9", "7");
+        assert!(d.message.contains("repeated as 7"), "{d}");
+        let d = refused("2 5 watch obs 0 0 1", "5");
+        assert!(d.message.contains("the line's actor is 2"), "{d}");
     }
 
     #[test]
