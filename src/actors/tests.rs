@@ -146,9 +146,17 @@ fn refuses_what_no_actor_can_run() {
     refused("NBR_actors 1\nactorNbr_automata 0 9 fov 0", 2, "fov |0");
     // Issue 54: arrival is closer than the distance, so 0 lets none
     // arrive; a repeated actor number names the line's actor.
-    let d = refused("NBR_actors 1\nactorNbr_automata 0 9 eps_arrived 0", 2, "eps_arrived |0");
+    let d = refused(
+        "NBR_actors 1\nactorNbr_automata 0 9 eps_arrived 0",
+        2,
+        "eps_arrived |0",
+    );
     assert!(d.message.contains("no actor ever arrives"), "{d}");
-    refused("NBR_actors 1\nactorNbr_automata 0 9 eps_arrived 2 0", 2, "2 |0");
+    refused(
+        "NBR_actors 1\nactorNbr_automata 0 9 eps_arrived 2 0",
+        2,
+        "2 |0",
+    );
     refused("NBR_actors 2\nactorNbr_automata 0 5 9", 2, "5 9");
     refused("NBR_actors 1\nactorNbr_automata 0 9 fov 1800", 2, "1800");
     refused("NBR_actors 1\nactorNbr_automata 0 9 fov 45.5", 2, "45.5");

@@ -454,3 +454,68 @@ fn a_memory_too_coarse_to_plan_in_says_so() {
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].contains("into 2 per edge"), "{}", warnings[0]);
 }
+
+/// The room's middle wall (x −6…6, z −0.2…0.2, up to y = 3) holds `e`.
+fn in_middle_wall(e: glam::Vec3) -> bool {
+    e.x > -6.0 && e.x < 6.0 && e.z > -0.2 && e.z < 0.2 && e.y < 3.0
+}
+
+/// `scenes/actors/navigate.lm`'s navigator with `setting` changed, in
+/// the room: whether its eye entered the middle wall or crossed it
+/// between two frames, whether it reached its goal (0 1 6), and the
+/// warnings.
+fn navigate_with(window: u32, setting: &str) -> (bool, bool, Vec<String>) {
+    let text = format!(
+        "Camera_AnimationParameters\nt_final_interval 16.0 0.04\nOptions\nNBR_actors 1\n\
+         iVisionWinSize 0 {window} 8\n\
+         actorNbr_automata 0 walk_continuously init 5 -12 12 0.25 obs 0 1 -6 lat 0 1 0 fov 900 \
+         vision_range 0.5 30 30 goal 0 1 6 speed 2 heuristic 1 coll_test_func 3 ahead 4 \
+         rel_search_level 1 optim_rate 5 optim_ahead 8 size_actor 0.8 {setting}\n\
+         Axiom\n{ROOM}Productions\nEndProductions\n"
+    );
+    let mut f = film(&text);
+    let goal = glam::Vec3::new(0.0, 1.0, 6.0);
+    let mut last = f.living()[0].eye;
+    let mut entered = false;
+    let warnings = warnings_until(&mut f, "", |f| {
+        let e = f.living()[0].eye;
+        let crossed = (last.z < -0.2) != (e.z < -0.2) && (last.z > 0.2) != (e.z > 0.2);
+        entered |= in_middle_wall(e) || (crossed && e.x.abs() < 6.0 && last.x.abs() < 6.0);
+        last = e;
+        e.distance(goal) < 0.2
+    });
+    let arrived = f.living()[0].eye.distance(goal) < 0.2;
+    (entered, arrived, warnings)
+}
+
+/// Issue 54: at the edges of their ranges, `speed` (10³⁰ m/s jumped
+/// the wall it saw in one step), the vision window (one pixel) and the
+/// view angle (0.1°) took a navigator through the wall in silence. A
+/// step now ends before what it sees or remembers, so the fast walker
+/// goes round and arrives; a window or view that cannot see its way is
+/// said, naming the setting and the value that works, and the values it
+/// names keep the actor out of the wall.
+#[test]
+fn a_navigator_at_the_edges_of_its_settings_never_walks_through_a_wall() {
+    let (entered, arrived, _) = navigate_with(32, "speed 1e30");
+    assert!(
+        !entered && arrived,
+        "speed 1e30: entered {entered}, arrived {arrived}"
+    );
+    let (_, _, said) = navigate_with(32, "fov 1");
+    assert!(
+        said.iter()
+            .any(|w| w.contains("fov 1 = 0.1°") && w.contains("fov 281 or more")),
+        "{said:?}"
+    );
+    let (entered, arrived, said) = navigate_with(32, "fov 281");
+    assert!(!entered && arrived && said.is_empty(), "fov 281: {said:?}");
+    let (_, _, said) = navigate_with(1, "");
+    assert!(
+        said.iter()
+            .any(|w| w.contains("window of 1×1 pixels") && w.contains("iVisionWinSize 4 or more")),
+        "{said:?}"
+    );
+    let (entered, _, said) = navigate_with(4, "");
+    assert!(!entered && said.is_empty(), "window 4: {said:?}");
+}

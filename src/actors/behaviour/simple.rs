@@ -130,8 +130,11 @@ impl Living {
         let flat = Vec3::new(to_goal.x, 0.0, to_goal.z).length();
         let step = (self.speed * dt).min(flat);
         let h = self.heading();
-        self.eye += h * step;
-        self.look_at += h * step;
+        // Never into what it sees or remembers (a fast walk jumped walls).
+        let at = self.eye + h * step;
+        let stop = self.step_stop(at).unwrap_or(at);
+        self.look_at += stop - self.eye;
+        self.eye = stop;
     }
 
     /// `auto_align` (19): turns to the `align` point, then ends.

@@ -24,6 +24,7 @@ use crate::actors::planning::path::{self, Band, Explorer, NoPlan, SearchGrid, St
 use crate::actors::planning::spline::{self, Piece};
 use crate::lsys::automata::Automata;
 
+mod guard;
 mod walk_continuously;
 
 /// What a navigating actor keeps between frames.

@@ -26,6 +26,7 @@ impl Living {
                 "navigates without a vision window (`iVisionWinSize`): its memory stays empty, so it plans through everything it cannot see",
             );
         }
+        self.check_view();
         if self.stuck(dt) {
             return self.unstick();
         }
@@ -479,6 +480,14 @@ impl Living {
         };
         nav.travelled += (self.speed * dt).max(1e-4);
         let (at, heading) = piece.along(nav.travelled);
+        if let Some(stop) = self.step_stop(at) {
+            // The way runs into what it sees or remembers: it stops
+            // short and plans again on what it now knows.
+            self.eye = stop;
+            self.path.clear();
+            return self.search_new_path();
+        }
+        let nav = &mut self.navigation;
         self.eye = at;
         nav.heading = heading;
         if nav.travelled < piece.length() {
@@ -554,12 +563,19 @@ impl Living {
         let to = next - self.eye;
         let reach = (self.speed * dt).max(1e-4);
         if to.length() <= reach {
+            if let Some(stop) = self.step_stop(next) {
+                self.eye = stop;
+                return false;
+            }
             self.eye = next;
             return true;
         }
         let heading = to.normalize();
         self.navigation.heading = heading;
-        self.eye += heading * reach;
+        let at = self.eye + heading * reach;
+        // Never into what it sees or remembers: the target is then seen
+        // occupied, and the explorer turns back.
+        self.eye = self.step_stop(at).unwrap_or(at);
         self.face(heading);
         false
     }

@@ -1,0 +1,122 @@
+//! The step guard (issue 54): a step of a walking actor ends before
+//! anything its senses hold on the way — a surface its vision window
+//! sees now in front of a point of the step, a voxel its memory holds —
+//! so the eye never enters what it could have seen, whatever the speed
+//! (a step of 10³⁰ m jumped through the wall it saw), the window (one
+//! pixel) or the view angle (0.1°). It reads only what the actor
+//! perceived: the window's depths and the memory.
+
+use glam::Vec3;
+
+use crate::actors::live::Living;
+
+/// Most points of a step tested: a step longer than this many samples
+/// of its spacing is tested at this many, spread over what the senses
+/// can know of (the memory's cube, the vision's far distance).
+const MAX_SAMPLES: usize = 4096;
+
+impl Living {
+    /// Says once what a navigator's vision cannot see of its own way
+    /// (issue 54): a view narrower than the actor where it must see a
+    /// wall beside its way (`fov`), or pixels so far apart there that a
+    /// wall between two of them goes unseen (`iVisionWinSize`). The step
+    /// guard keeps it out of what it saw; what such a window never sees
+    /// it may walk into, so the film says which setting and by how much.
+    pub(in crate::actors) fn check_view(&mut self) {
+        let Some(edge) = self.edge else {
+            return; // said as "navigates without a vision window"
+        };
+        // Its size, or a memory voxel's where that is larger: nothing
+        // smaller is remembered anyway.
+        let voxel = self
+            .memory
+            .as_ref()
+            .map_or(0.0, |m| m.octree().cube().voxel_edge as f32);
+        let size = self.size_actor.max(voxel).max(1e-3);
+        // Where it must see beside its way: past its near clip, and
+        // two of its own sizes ahead.
+        let ahead = self.near.max(2.0 * size);
+        let angle = (self.fov as f32 / 10.0).to_radians();
+        let wide = 2.0 * ahead * (angle * 0.5).tan();
+        let gap = ahead * angle / edge as f32;
+        if wide < size {
+            let fov = (2.0 * (size / (2.0 * ahead)).atan()).to_degrees() * 10.0;
+            self.note_once(
+                "narrow view",
+                &format!(
+                    "sees a view {wide:.3} wide {ahead} ahead (fov {} = {:.1}°, vision_range near {}): narrower than itself ({size}: size_actor {} or the memory's voxel), it cannot see a wall beside its way before it walks into it; fov {} or more keeps it out",
+                    self.fov,
+                    self.fov as f32 / 10.0,
+                    self.near,
+                    self.size_actor,
+                    fov.ceil()
+                ),
+            );
+        } else if gap > size {
+            let pixels = (ahead * angle / size).ceil();
+            self.note_once(
+                "sparse view",
+                &format!(
+                    "sees through a window of {edge}×{edge} pixels whose rays are {gap:.2} apart {ahead} ahead (fov {} = {:.1}°): farther apart than its own size ({size}: size_actor {} or the memory's voxel), it can walk into a wall between two of them; iVisionWinSize {pixels} or more keeps it out",
+                    self.fov,
+                    self.fov as f32 / 10.0,
+                    self.size_actor
+                ),
+            );
+        }
+    }
+
+    /// Where a step from the eye to `to` must stop, when it must: at the
+    /// last tested point before the first that lies behind a surface the
+    /// window sees (farther along that pixel's line than what it shows)
+    /// or in a voxel the memory holds (unless the eye stands in one
+    /// already, as in a coarse voxel of the ground), backed off by the
+    /// spacing of the points. None when the whole step is free.
+    pub(in crate::actors) fn step_stop(&self, to: Vec3) -> Option<Vec3> {
+        let from = self.eye;
+        let way = to - from;
+        let length = way.length();
+        if !(length.is_finite() && length > 0.0) {
+            return None;
+        }
+        let octree = self.memory.as_ref().map(|m| m.octree());
+        let edge = octree.map_or(0.1, |o| o.cube().voxel_edge as f32);
+        let spacing = (edge * 0.5).clamp(1e-3, 0.1);
+        // What the senses can know of lies within the memory's cube and
+        // the vision's far distance.
+        let known = octree
+            .map(|o| {
+                let c = o.cube();
+                (c.max - c.min) as f32 * 3f32.sqrt()
+            })
+            .unwrap_or(0.0)
+            .max(self.window.as_ref().map_or(0.0, |w| w.depth_view().far));
+        let tested = length.min(known + spacing);
+        let n = ((tested / spacing).ceil() as usize).clamp(1, MAX_SAMPLES);
+        let dir = way / length;
+        let view = self.window.as_ref().map(|w| (w, w.depth_view()));
+        let voxel_of = |p: Vec3| octree.and_then(|o| o.voxel(p.as_dvec3().to_array()));
+        let held = |p: Vec3| {
+            let o = octree?;
+            o.get(voxel_of(p)?)
+        };
+        let eye_held = held(from).is_some();
+        let tolerance = self.size_actor * 0.5 + spacing;
+        let behind_seen = |p: Vec3| {
+            view.as_ref().is_some_and(|(w, v)| {
+                v.project(p)
+                    .is_some_and(|((x, y), d)| w.pixel(x, y).distance + tolerance < d)
+            })
+        };
+        let mut last = 0.0;
+        for i in 1..=n {
+            let t = tested * i as f32 / n as f32;
+            let p = from + dir * t;
+            if behind_seen(p) || (!eye_held && held(p).is_some()) {
+                return Some(from + dir * (last - spacing).max(0.0));
+            }
+            last = t;
+        }
+        None
+    }
+}
