@@ -273,21 +273,43 @@ fn a_trace_file_that_cannot_be_written_is_refused_before_deriving() {
     for (options, why) in [
         ("trace_actor 0 out/a.trace".to_string(), "is a link"),
         ("trace_actor 0 linked.trace".to_string(), "is a link"),
-        ("trace_actor 0 plain/a.trace".to_string(), "is a file, where the trace's path needs a folder"),
-        ("trace_actor 0 made".to_string(), "is a folder or a special file"),
+        (
+            "trace_actor 0 plain/a.trace".to_string(),
+            "is a file, where the trace's path needs a folder",
+        ),
+        (
+            "trace_actor 0 made".to_string(),
+            "is a folder or a special file",
+        ),
         ("trace_actor 0 sub/".to_string(), "names a folder"),
-        (format!("trace_actor 0 {long}"), "a file system takes at most 255"),
+        (
+            format!("trace_actor 0 {long}"),
+            "a file system takes at most 255",
+        ),
         (
             "trace_actor 0 a\ntrace_actor 0 a/b.trace".to_string(),
             "one would be a folder of the other",
         ),
     ] {
-        let film = write(&root, "film.lm", &scene(&format!("NBR_actors 1\n{options}"), "I"));
+        let film = write(
+            &root,
+            "film.lm",
+            &scene(&format!("NBR_actors 1\n{options}"), "I"),
+        );
         let err = fails(&["derive", &film, "-o", s(&dir)], 2);
-        assert!(err.contains("film.lm:") && err.contains(":15:"), "{options}: {err}");
+        assert!(
+            err.contains("film.lm:") && err.contains(":15:"),
+            "{options}: {err}"
+        );
         assert!(err.contains(why), "{options}: {err}");
-        assert!(!dir.join("derive.json").exists(), "{options}: derived before refusing");
+        assert!(
+            !dir.join("derive.json").exists(),
+            "{options}: derived before refusing"
+        );
     }
-    assert!(std::fs::read_dir(&outside).unwrap().next().is_none(), "written outside the folder");
+    assert!(
+        std::fs::read_dir(&outside).unwrap().next().is_none(),
+        "written outside the folder"
+    );
     std::fs::remove_dir_all(&root).unwrap();
 }

@@ -137,5 +137,9 @@ fn frames_without_channels_never_loop() {
     assert!(e.message.contains("at most 8640000"), "{e}");
     let m = parse(&file("8640000")).unwrap();
     assert_eq!(m.frame_count(), 0);
-    assert!(start.elapsed().as_secs() < 5, "reading took {:?}", start.elapsed());
+    assert!(
+        start.elapsed().as_secs() < 5,
+        "reading took {:?}",
+        start.elapsed()
+    );
 }
