@@ -103,9 +103,15 @@ fn hostile_files_are_refused_where_they_go_wrong() {
     assert!(e.message.contains("frame time must be > 0"), "{e:?}");
     let e = refused(&WAVE.replacen("CHANNELS 1 Zrotation", "CHANNELS 9 Zrotation", 1));
     assert!(e.message.contains("0 to 6 channels"), "{e:?}");
-    // A frame count far beyond the file allocates nothing for it.
+    // A frame count far beyond the file allocates nothing for it: one
+    // over a day at 100 a second is refused where it stands, a smaller
+    // one where the file ends.
     let e = refused(&format!(
         "{hierarchy}MOTION\nFrames: 18446744073709551615\nFrame Time: 0.1\n1 2 3\n"
+    ));
+    assert!(e.message.contains("at most 8640000"), "{e:?}");
+    let e = refused(&format!(
+        "{hierarchy}MOTION\nFrames: 8640000\nFrame Time: 0.1\n1 2 3\n"
     ));
     assert!(e.message.contains("the file ends where"), "{e:?}");
     // Deep nesting: bounded, not a stack overflow.

@@ -19,7 +19,10 @@ impl Living {
     /// Says once what a navigator's vision cannot see of its own way
     /// (issue 54): a view narrower than the actor where it must see a
     /// wall beside its way (`fov`), or pixels so far apart there that a
-    /// wall between two of them goes unseen (`iVisionWinSize`). The step
+    /// wall between two of them goes unseen (`iVisionWinSize`). Asked
+    /// when it meets an obstacle (a blocked way, a cut step, the explore
+    /// mode): on open ground a narrow view is no fault (the tennis
+    /// players look at the ball through 9°). The step
     /// guard keeps it out of what it saw; what such a window never sees
     /// it may walk into, so the film says which setting and by how much.
     pub(in crate::actors) fn check_view(&mut self) {

@@ -26,7 +26,6 @@ impl Living {
                 "navigates without a vision window (`iVisionWinSize`): its memory stays empty, so it plans through everything it cannot see",
             );
         }
-        self.check_view();
         if self.stuck(dt) {
             return self.unstick();
         }
@@ -220,6 +219,9 @@ impl Living {
     /// The explore mode (5.2.2) from where it stands toward `dest`, on
     /// the grid of its last search.
     fn start_exploring(&mut self, dest: Vec3) {
+        // Met with what it cannot plan round: if its view cannot see
+        // its way, the film says so now.
+        self.check_view();
         let (Some(memory), Some(h)) = (
             self.memory.as_ref(),
             heuristics::heuristic(self.heuristic as u32),
@@ -462,6 +464,7 @@ impl Living {
     /// Algorithm 5 dropped some).
     fn move_along(&mut self, dt: f32) {
         if self.path_blocked() {
+            self.check_view();
             self.path.clear();
             self.search_new_path();
             return self.blocked_at_once();
@@ -483,6 +486,7 @@ impl Living {
         if let Some(stop) = self.step_stop(at) {
             // The way runs into what it sees or remembers: it stops
             // short and plans again on what it now knows.
+            self.check_view();
             self.eye = stop;
             self.path.clear();
             return self.search_new_path();
