@@ -25,7 +25,7 @@ impl Living {
     /// players look at the ball through 9°). The step
     /// guard keeps it out of what it saw; what such a window never sees
     /// it may walk into, so the film says which setting and by how much.
-    pub(in crate::actors) fn check_view(&mut self) {
+    pub(in crate::actors) fn check_view(&mut self, dt: f32) {
         let Some(edge) = self.edge else {
             return; // said as "navigates without a vision window"
         };
@@ -41,8 +41,30 @@ impl Living {
         let ahead = self.near.max(2.0 * size);
         let angle = (self.fov as f32 / 10.0).to_radians();
         let wide = 2.0 * ahead * (angle * 0.5).tan();
-        let gap = ahead * angle / edge as f32;
-        if wide < size {
+        // A window's rays are evenly spread on its image plane.
+        let gap = wide / edge as f32;
+        let step = self.speed * dt;
+        if step > size {
+            self.note_once(
+                "fast walk",
+                &format!(
+                    "walks {step:.3} a frame (speed {} at Δt {dt}): farther than its own size ({size}: size_actor {} or the memory's voxel), it passes what its window has not yet looked at; it stops before what it sees or remembers, but a wall within its near clip ({}) it never sees; speed {:.3} or less keeps it out",
+                    self.speed,
+                    self.size_actor,
+                    self.near,
+                    size / dt
+                ),
+            );
+        }
+        if self.far < ahead {
+            self.note_once(
+                "short view",
+                &format!(
+                    "sees no farther than {} (vision_range far): nearer than the {ahead} ahead it must see beside its way (past its near clip {}, two of its sizes of {size}: size_actor {} or the memory's voxel), it walks into walls it cannot see; vision_range far {ahead} or more keeps it out",
+                    self.far, self.near, self.size_actor
+                ),
+            );
+        } else if wide < size {
             let fov = (2.0 * (size / (2.0 * ahead)).atan()).to_degrees() * 10.0;
             self.note_once(
                 "narrow view",
@@ -56,11 +78,11 @@ impl Living {
                 ),
             );
         } else if gap > size {
-            let pixels = (ahead * angle / size).ceil();
+            let pixels = (wide / size).ceil();
             self.note_once(
                 "sparse view",
                 &format!(
-                    "sees through a window of {edge}×{edge} pixels whose rays are {gap:.2} apart {ahead} ahead (fov {} = {:.1}°): farther apart than its own size ({size}: size_actor {} or the memory's voxel), it can walk into a wall between two of them; iVisionWinSize {pixels} or more keeps it out",
+                    "sees through a window of {edge}×{edge} pixels whose rays are {gap:.2} apart {ahead} ahead (fov {} = {:.1}°): farther apart than its own size ({size}: size_actor {} or the memory's voxel), it can walk into a wall between two of them; iVisionWinSize {pixels} or more (or a narrower fov) keeps it out",
                     self.fov,
                     self.fov as f32 / 10.0,
                     self.size_actor

@@ -219,9 +219,6 @@ impl Living {
     /// The explore mode (5.2.2) from where it stands toward `dest`, on
     /// the grid of its last search.
     fn start_exploring(&mut self, dest: Vec3) {
-        // Met with what it cannot plan round: if its view cannot see
-        // its way, the film says so now.
-        self.check_view();
         let (Some(memory), Some(h)) = (
             self.memory.as_ref(),
             heuristics::heuristic(self.heuristic as u32),
@@ -385,6 +382,9 @@ impl Living {
     /// it for the next one with the memory as it is now.
     fn explore(&mut self, dt: f32) {
         self.state = EXPLORE;
+        // Met with what it cannot plan round: if its senses cannot keep
+        // up with its way, the film says so now.
+        self.check_view(dt);
         if let Some(target) = self.navigation.target {
             if self.target_seen_occupied(target) {
                 // What it walks to turned out occupied as it came near:
@@ -464,7 +464,7 @@ impl Living {
     /// Algorithm 5 dropped some).
     fn move_along(&mut self, dt: f32) {
         if self.path_blocked() {
-            self.check_view();
+            self.check_view(dt);
             self.path.clear();
             self.search_new_path();
             return self.blocked_at_once();
@@ -486,7 +486,7 @@ impl Living {
         if let Some(stop) = self.step_stop(at) {
             // The way runs into what it sees or remembers: it stops
             // short and plans again on what it now knows.
-            self.check_view();
+            self.check_view(dt);
             self.eye = stop;
             self.path.clear();
             return self.search_new_path();
