@@ -26,6 +26,11 @@ impl Living {
                 "navigates without a vision window (`iVisionWinSize`): its memory stays empty, so it plans through everything it cannot see",
             );
         }
+        // A tennis player looks at the ball through a narrow view and
+        // runs on an open court by design.
+        if self.player.is_none() {
+            self.check_view(dt);
+        }
         if self.stuck(dt) {
             return self.unstick();
         }
@@ -382,9 +387,6 @@ impl Living {
     /// it for the next one with the memory as it is now.
     fn explore(&mut self, dt: f32) {
         self.state = EXPLORE;
-        // Met with what it cannot plan round: if its senses cannot keep
-        // up with its way, the film says so now.
-        self.check_view(dt);
         if let Some(target) = self.navigation.target {
             if self.target_seen_occupied(target) {
                 // What it walks to turned out occupied as it came near:
@@ -464,7 +466,6 @@ impl Living {
     /// Algorithm 5 dropped some).
     fn move_along(&mut self, dt: f32) {
         if self.path_blocked() {
-            self.check_view(dt);
             self.path.clear();
             self.search_new_path();
             return self.blocked_at_once();
@@ -486,7 +487,6 @@ impl Living {
         if let Some(stop) = self.step_stop(at) {
             // The way runs into what it sees or remembers: it stops
             // short and plans again on what it now knows.
-            self.check_view(dt);
             self.eye = stop;
             self.path.clear();
             return self.search_new_path();
