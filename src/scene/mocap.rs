@@ -144,22 +144,23 @@ impl Mocap {
         w.expect("MOTION")?;
         w.expect("Frames:")?;
         let (count, at) = w.word("the number of frames")?;
-        let frames: usize =
-            match count.parse() {
-                Ok(n) if n <= MAX_FRAMES => n,
-                Ok(_) => return Err(w.error(
+        let frames: usize = match count.parse() {
+            Ok(n) if n <= MAX_FRAMES => n,
+            Ok(_) => {
+                return Err(w.error(
                     at,
                     format!(
                         "{count} frames: a file holds at most {MAX_FRAMES} (a day at 100 a second)"
                     ),
-                )),
-                Err(_) => {
-                    return Err(w.error(
-                        at,
-                        format!("the number of frames must be a whole number, found `{count}`"),
-                    ))
-                }
-            };
+                ))
+            }
+            Err(_) => {
+                return Err(w.error(
+                    at,
+                    format!("the number of frames must be a whole number, found `{count}`"),
+                ))
+            }
+        };
         w.expect("Frame")?;
         w.expect("Time:")?;
         let frame_time = f64::from(w.number("the frame time", 1e6)?);
