@@ -1162,6 +1162,9 @@ fn navigates(a: Option<Automata>) -> bool {
 #[derive(Debug, Clone)]
 struct Seen {
     automata: Option<Automata>,
+    /// The navigator it runs, or the one that waits on its stack while
+    /// it looks around (`observe`, pushed by a navigator without a way).
+    walking: Option<Automata>,
     state: i64,
     stack: usize,
     eye: Vec3,
@@ -1172,8 +1175,17 @@ struct Seen {
 
 impl Seen {
     fn of(a: &Living) -> Seen {
+        let waiting = a.stack.last().map(|b| b.automata);
+        let walking = if navigates(a.automata) {
+            a.automata
+        } else if a.automata == Some(Automata::Observe) && navigates(waiting) {
+            waiting
+        } else {
+            None
+        };
         Seen {
             automata: a.automata,
+            walking,
             state: a.state,
             stack: a.stack.len(),
             eye: a.eye,
@@ -1298,11 +1310,12 @@ fn livelock(id: usize, seen: &[Seen], warned: &[bool], dt: f64) -> Option<Found>
     let mut start = 0;
     while start < seen.len() {
         let s0 = &seen[start];
+        // A navigator with a goal, or looking around before it goes on.
         let ok = |s: &Seen| {
-            navigates(s.automata)
-                && s.automata == s0.automata
-                && s.goal.is_some()
-                && s.goal == s0.goal
+            navigates(s0.automata)
+                && s.walking == s0.automata
+                && s0.goal.is_some()
+                && (s.goal == s0.goal || s.automata == Some(Automata::Observe))
                 && !s.gave_up
         };
         if !ok(s0) || warned[start] {
@@ -1319,10 +1332,17 @@ fn livelock(id: usize, seen: &[Seen], warned: &[bool], dt: f64) -> Option<Found>
             let places: BTreeSet<_> = w.iter().map(|s| key(s.eye)).collect();
             let changes = w
                 .windows(2)
-                .filter(|p| p[0].state != p[1].state || key(p[0].eye) != key(p[1].eye))
+                .filter(|p| {
+                    p[0].state != p[1].state
+                        || p[0].automata != p[1].automata
+                        || key(p[0].eye) != key(p[1].eye)
+                })
                 .count();
             if places.len() <= 4 && changes * 3 >= LIVELOCK {
-                let states: BTreeSet<i64> = w.iter().map(|s| s.state).collect();
+                let states: BTreeSet<(&str, i64)> = w
+                    .iter()
+                    .map(|s| (s.automata.map_or("", |a| a.name()), s.state))
+                    .collect();
                 let first = start + j;
                 let goal = s0.goal.unwrap();
                 let places: Vec<String> = places
@@ -1848,6 +1868,7 @@ fn the_mutation_checks_see_what_they_check() {
     // A livelock: two states at one place beside the goal.
     let at = |state, x: f32| Seen {
         automata: Some(Automata::WalkContinuously),
+        walking: Some(Automata::WalkContinuously),
         state,
         stack: 1,
         eye: Vec3::new(x, 0.0, 0.0),
@@ -1860,6 +1881,20 @@ fn the_mutation_checks_see_what_they_check() {
     assert!(livelock(0, &flips, &[true; 40], 0.04).is_none());
     let walks: Vec<Seen> = (0..40).map(|k| at(10, k as f32 * 0.08)).collect();
     assert!(livelock(0, &walks, &[false; 40], 0.04).is_none());
+    // A navigator that looks around (`observe`) every other frame, where
+    // it stands, for ever: a livelock too.
+    let looks: Vec<Seen> = (0..40)
+        .map(|k| {
+            let mut s = at(7, 0.0);
+            if k % 2 == 1 {
+                s.automata = Some(Automata::Observe);
+                s.goal = None;
+                s.look_at = Vec3::new(k as f32, 0.0, 1.0);
+            }
+            s
+        })
+        .collect();
+    assert!(livelock(0, &looks, &[false; 40], 0.04).is_some());
 }
 
 /// Runs the checks on one scene, e.g. a mutant `LMFILM_ACTOR_DUMP` wrote:

@@ -519,3 +519,25 @@ fn a_navigator_at_the_edges_of_its_settings_never_walks_through_a_wall() {
     let (entered, _, said) = navigate_with(4, "");
     assert!(!entered && said.is_empty(), "window 4: {said:?}");
 }
+
+/// Issue 54: a `walk_local` actor right over its goal (0.7 above it,
+/// nearer than `eps_arrived` on the level) walked on the level, came no
+/// nearer and stood there for the rest of the film in silence. It now
+/// gives the goal up, saying why, and its next behaviour runs.
+#[test]
+fn a_walker_right_over_its_goal_gives_it_up_saying_why() {
+    let text = "Camera_AnimationParameters\nt_final_interval 2.0 0.04\nOptions\nNBR_actors 1\n\
+        iVisionWinSize 0 8 8\n\
+        actorNbr_automata 0 walk_local obs 0 0.7 0 lat 1 0.7 0 goal 0 0 0 speed 1\n\
+        actorNbr_automata 0 watch\n\
+        Axiom\n[ f () () () (2) (0) (0.5_) (0) c () () () () (8) (1) (8) ]\nProductions\nEndProductions\n";
+    let mut f = film(text);
+    let said = warnings_until(&mut f, "walk_local", |f| f.living()[0].gave_up.is_some());
+    let a = &f.living()[0];
+    assert!(a.gave_up.is_some(), "{said:?}");
+    assert!(
+        said.iter()
+            .any(|w| w.contains("0.700 below its eye") && w.contains("goal given up")),
+        "{said:?}"
+    );
+}

@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::actors::live::state::{ALIGN, LISTEN_WORDS, LOOK_AROUND, STOP, TALK, WALK};
-use crate::actors::live::Living;
+use crate::actors::live::{show, Living};
 
 impl Living {
     /// Pushes a command string on the behaviour stack.
@@ -126,8 +126,23 @@ impl Living {
             return;
         }
         let to_goal = goal - self.eye;
-        self.turn_toward(to_goal, max);
         let flat = Vec3::new(to_goal.x, 0.0, to_goal.z).length();
+        let eps = self.eps_arrived_at(0);
+        if flat < eps {
+            // Right over or under its goal, yet not there: walking on the
+            // level brings it no nearer (issue 54: it stood for ever).
+            let why = format!(
+                "its goal ({}) lies {:.3} {} its eye, right {} it (within eps_arrived {eps} on the level): walk_local walks on the level and cannot reach it: goal given up",
+                show(goal),
+                to_goal.y.abs(),
+                if to_goal.y < 0.0 { "below" } else { "above" },
+                if to_goal.y < 0.0 { "under" } else { "over" },
+            );
+            self.give_up_goal(why);
+            self.state = STOP;
+            return self.pop();
+        }
+        self.turn_toward(to_goal, max);
         let step = (self.speed * dt).min(flat);
         let h = self.heading();
         // Never into what it sees or remembers (a fast walk jumped walls).
