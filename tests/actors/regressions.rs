@@ -518,6 +518,15 @@ fn a_navigator_at_the_edges_of_its_settings_never_walks_through_a_wall() {
     );
     let (entered, _, said) = navigate_with(4, "");
     assert!(!entered && said.is_empty(), "window 4: {said:?}");
+    // Its visual memory off, only its window keeps it out: a wall that
+    // came within its near clip (0.5) was no longer seen and it walked in.
+    let (entered, arrived, said) = navigate_with(32, "vis_mem_off");
+    assert!(!entered && !arrived, "vis_mem_off: entered {entered}");
+    assert!(
+        said.iter()
+            .any(|w| w.contains("visual memory off (vis_mem_off)") && w.contains("vis_mem_on")),
+        "{said:?}"
+    );
 }
 
 /// Issue 54: a `walk_local` actor right over its goal (0.7 above it,

@@ -91,9 +91,25 @@ impl Living {
         }
     }
 
+    /// Says once, when a step was cut short, that a navigator whose
+    /// visual memory is off cannot remember what stopped it: it plans
+    /// through it again, and only its stuck timer moves it on.
+    pub(in crate::actors) fn forgets_what_stops_it(&mut self) {
+        if !self.memory_on {
+            self.note_once(
+                "forgets",
+                &format!(
+                    "stopped at ({:.2}, {:.2}, {:.2}) before what it sees, with its visual memory off (vis_mem_off): it cannot remember it, plans through it again and stands until it gives up; vis_mem_on lets it go round",
+                    self.eye.x, self.eye.y, self.eye.z
+                ),
+            );
+        }
+    }
+
     /// Where a step from the eye to `to` must stop, when it must: at the
     /// last tested point before the first that lies behind a surface the
-    /// window sees (farther along that pixel's line than what it shows)
+    /// window sees (along that pixel's line; without a memory taking in
+    /// what it sees, within the near clip before it)
     /// or in a voxel the memory holds (unless the eye stands in one
     /// already, as in a coarse voxel of the ground), backed off by the
     /// spacing of the points. None when the whole step is free.
@@ -126,18 +142,30 @@ impl Living {
             o.get(voxel_of(p)?)
         };
         let eye_held = held(from).is_some();
-        let tolerance = self.size_actor * 0.5 + spacing;
-        let behind_seen = |p: Vec3| {
+        // How near what the window sees a step may end. A memory that
+        // takes in what is seen holds a surface once it drops into the
+        // near clip, so the step may come up to it (the tolerance covers
+        // a pixel's depths across its footprint, as on a slope). Without
+        // one the window alone guards the way: the step ends its near
+        // clip before the surface, or the surface drops out of a window
+        // whose rays start at near, and the next step walks through it.
+        let remembers = octree.is_some() && self.memory_on;
+        let clearance = if remembers {
+            -(self.size_actor * 0.5 + spacing)
+        } else {
+            view.as_ref().map_or(0.0, |(_, v)| v.near.max(0.0)) + spacing
+        };
+        let nears_seen = |p: Vec3| {
             view.as_ref().is_some_and(|(w, v)| {
                 v.project(p)
-                    .is_some_and(|((x, y), d)| w.pixel(x, y).distance + tolerance < d)
+                    .is_some_and(|((x, y), d)| w.pixel(x, y).distance - clearance < d)
             })
         };
         let mut last = 0.0;
         for i in 1..=n {
             let t = tested * i as f32 / n as f32;
             let p = from + dir * t;
-            if behind_seen(p) || (!eye_held && held(p).is_some()) {
+            if nears_seen(p) || (!eye_held && held(p).is_some()) {
                 return Some(from + dir * (last - spacing).max(0.0));
             }
             last = t;

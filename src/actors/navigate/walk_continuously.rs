@@ -488,6 +488,7 @@ impl Living {
             // The way runs into what it sees or remembers: it stops
             // short and plans again on what it now knows.
             self.eye = stop;
+            self.forgets_what_stops_it();
             self.path.clear();
             return self.search_new_path();
         }
