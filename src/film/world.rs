@@ -419,6 +419,15 @@ impl Film {
         );
         let (error, current, actor) = (window.error, window.current, window.actor);
         let (scene, warnings) = built.map_err(Error::input)?;
+        // What `render` checks of each snapshot, checked where the scene
+        // is built: a frame that derives also renders, or the film says
+        // here which file and frame build what the renderer cannot use.
+        crate::scene::snapshot::validate(&scene).map_err(|e| {
+            let file = &self.anim.systems[0].def.name;
+            Error::input(format!(
+                "{file}: frame {number} (T = {time} s): the scene it builds cannot be rendered: {e}"
+            ))
+        })?;
         // A body no longer drawn loses its motor.
         self.bodies.retain(|_, m| m.time() == time);
         if let Some(e) = error {

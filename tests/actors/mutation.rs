@@ -1244,7 +1244,8 @@ fn inside(accel: &Accel, a: &Living, p: Vec3) -> bool {
 /// (docs/actors.md, "At the edges of the settings"): after one, what its
 /// window never saw it may walk into — the film said which setting and
 /// the value that keeps it out.
-const SENSES_WARNED: [&str; 4] = [
+const SENSES_WARNED: [&str; 5] = [
+    "with its visual memory off",
     "sees a view ",
     "sees through a window of ",
     "sees no farther than ",
@@ -1953,4 +1954,69 @@ fn one_actor_mutant() {
         println!("{}: {}", f.class, f.detail);
     }
     assert!(found.is_empty(), "{} failures", found.len());
+}
+
+/// The combined mutants' wall entries kept as regressions (issue 54),
+/// each the shipped scene with the settings the mutant changed, judged
+/// by the same checks: a walker fast enough to end a piece of its path
+/// every frame (`rel_search_level 0`, `speed 20`: 0.25 m pieces, 0.8 m
+/// a frame) never turned its eyes to its way and walked into a wall of
+/// the maze; with its visual memory off, the navigator walked into a
+/// wall once it came within its near clip (0.5), in silence; through a
+/// window of 4 or 8 pixels (rays 0.8 or 0.4 apart where it must see, an
+/// actor of 0.8) it planned past a corner it had placed only that well
+/// and walked into it, in silence; `walk_local` without its collision
+/// distance stood before a wall for the rest of the film, in silence.
+#[test]
+fn combined_mutants_that_walked_into_walls() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/actors");
+    let changed = |scene: &str, from: &str, to: &str| {
+        let text = std::fs::read_to_string(dir.join(scene)).unwrap();
+        assert!(text.contains(from), "{scene} holds {from}");
+        text.replacen(from, to, 1)
+    };
+    let walker = "inertia 0.5 turtle 3 mem_displ_cubes\n";
+    let scratch = Scratch::new("walls");
+    for text in [
+        changed(
+            "maze.lm",
+            walker,
+            &walker.replace('\n', " rel_search_level 0 speed 20\n"),
+        ),
+        changed("maze.lm", walker, &walker.replace('\n', " vis_mem_off\n")),
+        changed("maze.lm", "iVisionWinSize 0 32", "iVisionWinSize 0 4"),
+        changed(
+            "walker_maze.lm",
+            "iVisionWinSize 0 32",
+            "iVisionWinSize 0 8",
+        ),
+        changed(
+            "explore.lm",
+            "actorNbr_automata 0 watch",
+            "actorNbr_automata 0 watch dist_coll 0",
+        )
+        .replacen("0 walk_continuously init", "0 walk_local init", 1),
+    ] {
+        let m = Mutant {
+            text,
+            readable: false,
+            motion: None,
+        };
+        let extra = m
+            .text
+            .lines()
+            .find(|l| l.starts_with("actorNbr_automata 0 w"))
+            .unwrap_or("");
+        let (found, went) = run_mutant(&m, &dir, &scratch.root, COMBINED_FRAMES);
+        assert!(
+            went.loaded && went.frames == COMBINED_FRAMES,
+            "{extra}: {went:?}"
+        );
+        let said: Vec<_> = found
+            .iter()
+            .map(|f| format!("{}: {}", f.class, f.detail))
+            .collect();
+        assert!(found.is_empty(), "{extra}: {said:?}");
+    }
+    let _ = std::fs::remove_dir_all(&scratch.root);
 }

@@ -513,11 +513,22 @@ fn a_navigator_at_the_edges_of_its_settings_never_walks_through_a_wall() {
     let (_, _, said) = navigate_with(1, "");
     assert!(
         said.iter()
-            .any(|w| w.contains("window of 1×1 pixels") && w.contains("iVisionWinSize 4 or more")),
+            .any(|w| w.contains("window of 1×1 pixels") && w.contains("iVisionWinSize 9 or more")),
         "{said:?}"
     );
-    let (entered, _, said) = navigate_with(4, "");
-    assert!(!entered && said.is_empty(), "window 4: {said:?}");
+    // Rays as far apart as it is wide (a 4-pixel window) leave a wall's
+    // edge unplaced by as much: said too.
+    let (_, _, said) = navigate_with(4, "");
+    assert!(
+        said.iter().any(|w| w.contains("iVisionWinSize 9 or more")),
+        "window 4: {said:?}"
+    );
+    let (entered, _, said) = navigate_with(9, "");
+    assert!(!entered && said.is_empty(), "window 9: {said:?}");
+    // Fast enough to end a piece of its path every frame (search voxels
+    // of 0.25 at 0.8 a frame), it never turned its eyes to its way.
+    let (entered, _, said) = navigate_with(32, "rel_search_level 0 speed 20");
+    assert!(!entered, "speed 20 on 0.25 voxels: {said:?}");
     // Its visual memory off, only its window keeps it out: a wall that
     // came within its near clip (0.5) was no longer seen and it walked in.
     let (entered, arrived, said) = navigate_with(32, "vis_mem_off");

@@ -147,7 +147,23 @@ impl Living {
         let h = self.heading();
         // Never into what it sees or remembers (a fast walk jumped walls).
         let at = self.eye + h * step;
-        let stop = self.step_stop(at).unwrap_or(at);
+        let stop = match self.step_stop(at) {
+            Some(stop) => {
+                // walk_local plans nothing: where the way straight to the
+                // goal meets what it sees, it stands (issue 54: for ever,
+                // in silence).
+                self.note_once(
+                    "local stop",
+                    &format!(
+                        "walk_local stops at ({}) before what it sees on its straight way to its goal ({}); it plans no way round and stands there until its goal or behaviour changes (walk_continuously plans one)",
+                        show(stop),
+                        show(goal)
+                    ),
+                );
+                stop
+            }
+            None => at,
+        };
         self.look_at += stop - self.eye;
         self.eye = stop;
     }

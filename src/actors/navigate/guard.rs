@@ -16,15 +16,16 @@ use crate::actors::live::Living;
 const MAX_SAMPLES: usize = 4096;
 
 impl Living {
-    /// Says once what a navigator's vision cannot see of its own way
-    /// (issue 54): a view narrower than the actor where it must see a
-    /// wall beside its way (`fov`), or pixels so far apart there that a
-    /// wall between two of them goes unseen (`iVisionWinSize`). Asked
-    /// when it meets an obstacle (a blocked way, a cut step, the explore
-    /// mode): on open ground a narrow view is no fault (the tennis
-    /// players look at the ball through 9°). The step
-    /// guard keeps it out of what it saw; what such a window never sees
-    /// it may walk into, so the film says which setting and by how much.
+    /// Says once what a navigator's senses cannot keep up with on its
+    /// way (issue 54): a memory that is off (only this frame's window
+    /// guards it), a step longer than itself (`speed`), a view that ends
+    /// too near (`vision_range`), narrower than itself where it must see
+    /// a wall beside its way (`fov`), or pixels so far apart there (half its size or more) that
+    /// a wall's edge between two of them goes unplaced (`iVisionWinSize`). Asked
+    /// every frame of a navigator but a tennis player (who looks at the
+    /// ball through 9° on an open court by design). The step guard keeps
+    /// it out of what it saw; what its senses never hold it may walk
+    /// into, so the film says which setting and by how much.
     pub(in crate::actors) fn check_view(&mut self, dt: f32) {
         let Some(edge) = self.edge else {
             return; // said as "navigates without a vision window"
@@ -43,6 +44,15 @@ impl Living {
         let wide = 2.0 * ahead * (angle * 0.5).tan();
         // A window's rays are evenly spread on its image plane.
         let gap = wide / edge as f32;
+        if !self.memory_on {
+            self.note_once(
+                "memory off",
+                &format!(
+                    "navigates with its visual memory off (vis_mem_off): only what its window sees this frame keeps it out of walls; it stops its near clip ({}) before what it sees, but walks into what lies beside or behind its view, and plans again through what stopped it; vis_mem_on keeps it out",
+                    self.near
+                ),
+            );
+        }
         let step = self.speed * dt;
         if step > size {
             self.note_once(
@@ -77,12 +87,16 @@ impl Living {
                     fov.ceil()
                 ),
             );
-        } else if gap > size {
-            let pixels = (wide / size).ceil();
+        } else if 2.0 * gap >= size {
+            // A wall's edge between two rays is placed only to within
+            // their spacing: half its size, and the edge it plans past
+            // may lie where its body goes (a 4-pixel window's rays 0.8
+            // apart took an actor of 0.8 through a corner).
+            let pixels = (2.0 * wide / size).floor() + 1.0;
             self.note_once(
                 "sparse view",
                 &format!(
-                    "sees through a window of {edge}×{edge} pixels whose rays are {gap:.2} apart {ahead} ahead (fov {} = {:.1}°): farther apart than its own size ({size}: size_actor {} or the memory's voxel), it can walk into a wall between two of them; iVisionWinSize {pixels} or more (or a narrower fov) keeps it out",
+                    "sees through a window of {edge}×{edge} pixels whose rays are {gap:.2} apart {ahead} ahead (fov {} = {:.1}°): half its own size or more ({size}: size_actor {} or the memory's voxel), it can walk into a wall's edge between two of them; iVisionWinSize {pixels} or more (or a narrower fov) keeps it out",
                     self.fov,
                     self.fov as f32 / 10.0,
                     self.size_actor
@@ -91,27 +105,11 @@ impl Living {
         }
     }
 
-    /// Says once, when a step was cut short, that a navigator whose
-    /// visual memory is off cannot remember what stopped it: it plans
-    /// through it again, and only its stuck timer moves it on.
-    pub(in crate::actors) fn forgets_what_stops_it(&mut self) {
-        if !self.memory_on {
-            self.note_once(
-                "forgets",
-                &format!(
-                    "stopped at ({:.2}, {:.2}, {:.2}) before what it sees, with its visual memory off (vis_mem_off): it cannot remember it, plans through it again and stands until it gives up; vis_mem_on lets it go round",
-                    self.eye.x, self.eye.y, self.eye.z
-                ),
-            );
-        }
-    }
-
     /// Where a step from the eye to `to` must stop, when it must: at the
     /// last tested point before the first that lies behind a surface the
-    /// window sees (along that pixel's line; without a memory taking in
-    /// what it sees, within the near clip before it)
-    /// or in a voxel the memory holds (unless the eye stands in one
-    /// already, as in a coarse voxel of the ground), backed off by the
+    /// window sees (along that pixel's line; where the memory cannot
+    /// guard it, within the near clip before it) or in a voxel the memory
+    /// holds (but the eye's own), backed off by the
     /// spacing of the points. None when the whole step is free.
     pub(in crate::actors) fn step_stop(&self, to: Vec3) -> Option<Vec3> {
         let from = self.eye;
@@ -141,15 +139,17 @@ impl Living {
             let o = octree?;
             o.get(voxel_of(p)?)
         };
+        let eye_voxel = voxel_of(from);
         let eye_held = held(from).is_some();
         // How near what the window sees a step may end. A memory that
-        // takes in what is seen holds a surface once it drops into the
-        // near clip, so the step may come up to it (the tolerance covers
-        // a pixel's depths across its footprint, as on a slope). Without
-        // one the window alone guards the way: the step ends its near
-        // clip before the surface, or the surface drops out of a window
-        // whose rays start at near, and the next step walks through it.
-        let remembers = octree.is_some() && self.memory_on;
+        // takes in what is seen, the eye outside what it holds, holds a
+        // surface once it drops into the near clip, so the step may come
+        // up to it (the tolerance covers a pixel's depths across its
+        // footprint, as on a slope). Otherwise the window alone guards
+        // the way: the step ends its near clip before the surface, or the
+        // surface drops out of a window whose rays start at near, and the
+        // next step walks through it.
+        let remembers = octree.is_some() && self.memory_on && !eye_held;
         let clearance = if remembers {
             -(self.size_actor * 0.5 + spacing)
         } else {
@@ -161,11 +161,14 @@ impl Living {
                     .is_some_and(|((x, y), d)| w.pixel(x, y).distance - clearance < d)
             })
         };
+        // A held voxel stops the step; the eye's own, when held (a coarse
+        // voxel of the ground, a fine one at a wall's face), does not.
+        let blocked = |p: Vec3| held(p).is_some() && !(eye_held && voxel_of(p) == eye_voxel);
         let mut last = 0.0;
         for i in 1..=n {
             let t = tested * i as f32 / n as f32;
             let p = from + dir * t;
-            if nears_seen(p) || (!eye_held && held(p).is_some()) {
+            if nears_seen(p) || blocked(p) {
                 return Some(from + dir * (last - spacing).max(0.0));
             }
             last = t;

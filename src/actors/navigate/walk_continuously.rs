@@ -488,16 +488,19 @@ impl Living {
             // The way runs into what it sees or remembers: it stops
             // short and plans again on what it now knows.
             self.eye = stop;
-            self.forgets_what_stops_it();
             self.path.clear();
             return self.search_new_path();
         }
         let nav = &mut self.navigation;
         self.eye = at;
         nav.heading = heading;
+        // It looks the way it walks, also when a step ends its piece: a
+        // walker fast enough to end one every frame never turned its
+        // eyes to its way, and walked blind into walls (issue 54).
+        self.face(heading);
+        let nav = &mut self.navigation;
         if nav.travelled < piece.length() {
             nav.piece = Some(piece);
-            self.face(heading);
             return;
         }
         self.path.remove(0);
