@@ -25,21 +25,6 @@ use crate::lsys::automata::{Automata, AutomataCommand};
 use crate::lsys::Limits;
 use crate::render::Accel;
 
-/// The values of `state` (table B6) that the automata set, in one place.
-pub mod state {
-    pub const LOOK_AROUND: i64 = 6;
-    pub const SEARCH_NEW_PATH: i64 = 7;
-    pub const ALIGN: i64 = 8;
-    pub const WALK: i64 = 10;
-    pub const EXPLORE: i64 = 11;
-    pub const STOP: i64 = 12;
-    pub const FIX_THING: i64 = 16;
-    pub const INIT_TENNIS_GAME: i64 = 19;
-    pub const UPDATE_TENNIS_GAME: i64 = 20;
-    pub const LISTEN_WORDS: i64 = 23;
-    pub const TALK: i64 = 25;
-}
-
 /// The view angle before any `fov` command: 60°, in tenths of a degree.
 const DEFAULT_FOV: i64 = 600;
 

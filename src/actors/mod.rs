@@ -14,6 +14,7 @@ pub mod live;
 pub mod navigate;
 pub mod perception;
 pub mod planning;
+pub mod state;
 pub mod tennis;
 
 use crate::lsys::automata::{ActorAutomata, Automata, AutomataCommand, CommandAt, Located, Span};

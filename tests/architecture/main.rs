@@ -4,7 +4,8 @@
 //! - a module imports only modules of a lower layer (the order written in
 //!   docs/design.md, "Layers, lowest first"), never a sibling of its own
 //!   layer nor a higher one;
-//! - no two files import each other.
+//! - no file imports itself through any chain of imports (no circle,
+//!   of two files or more).
 //!
 //! Test code (`#[cfg(test)]` to the end of a file, `tests.rs`,
 //! `*_tests.rs`) and comments are not read. Each violation names the file
@@ -291,23 +292,149 @@ fn violations(files: &[File], layers: &BTreeMap<String, usize>) -> Vec<String> {
             }
         }
     }
-    let mut seen = BTreeSet::new();
-    for i in &all {
-        if let Some(back) = all.iter().find(|j| j.from == i.to && j.to == i.from) {
-            let key = if i.from < i.to {
-                (i.from.clone(), i.to.clone())
-            } else {
-                (i.to.clone(), i.from.clone())
+    out.extend(circles(&all));
+    out
+}
+
+/// Every circle of imports, of any length (issue 55: four files of
+/// `actors` imported each other round a circle the pair rule missed):
+/// one line each, the files in order with the line of each import.
+/// Tarjan's strongly connected components; in each of more than one
+/// file, the shortest circle through each of its files.
+fn circles(all: &[Import]) -> Vec<String> {
+    let mut next: BTreeMap<&Module, Vec<&Import>> = BTreeMap::new();
+    for i in all {
+        next.entry(&i.from).or_default().push(i);
+        next.entry(&i.to).or_default();
+    }
+    let nodes: Vec<&Module> = next.keys().copied().collect();
+    let index_of: BTreeMap<&Module, usize> =
+        nodes.iter().enumerate().map(|(k, m)| (*m, k)).collect();
+    let edges: Vec<Vec<usize>> = nodes
+        .iter()
+        .map(|m| next[m].iter().map(|i| index_of[&i.to]).collect())
+        .collect();
+    let components = strongly_connected(&edges);
+    let mut out = Vec::new();
+    let mut said = BTreeSet::new();
+    for c in components.iter().filter(|c| c.len() > 1) {
+        let inside: BTreeSet<usize> = c.iter().copied().collect();
+        for &start in &inside {
+            let Some(steps) = shortest_circle(start, &inside, &next, &nodes, &index_of) else {
+                continue;
             };
-            if seen.insert(key) {
-                out.push(format!(
-                    "{}:{} and {}:{}: the two files import each other (`{}`, `{}`)",
-                    i.file, i.line, back.file, back.line, i.written, back.written
-                ));
+            // Each circle once, whichever of its files it was found from.
+            let mut key: Vec<usize> = steps.iter().map(|i| index_of[&i.from]).collect();
+            let first = (0..key.len()).min_by_key(|&k| key[k]).unwrap_or(0);
+            key.rotate_left(first);
+            if !said.insert(key) {
+                continue;
             }
+            let path: Vec<String> = steps
+                .iter()
+                .map(|i| format!("{}:{} (`{}`)", i.file, i.line, i.written))
+                .collect();
+            out.push(format!(
+                "a circle of {} files: {} → back to the first",
+                steps.len(),
+                path.join(" → ")
+            ));
         }
     }
     out
+}
+
+/// The imports of the shortest circle from `start` back to it within
+/// `inside`, in order (breadth first).
+fn shortest_circle<'a>(
+    start: usize,
+    inside: &BTreeSet<usize>,
+    next: &BTreeMap<&Module, Vec<&'a Import>>,
+    nodes: &[&Module],
+    index_of: &BTreeMap<&Module, usize>,
+) -> Option<Vec<&'a Import>> {
+    let mut came: BTreeMap<usize, &Import> = BTreeMap::new();
+    let mut queue = std::collections::VecDeque::from([start]);
+    while let Some(n) = queue.pop_front() {
+        for &i in &next[nodes[n]] {
+            let m = index_of[&i.to];
+            if m == start {
+                let mut steps = vec![i];
+                let mut at = n;
+                while at != start {
+                    let back = came[&at];
+                    steps.push(back);
+                    at = index_of[&back.from];
+                }
+                steps.reverse();
+                return Some(steps);
+            }
+            if inside.contains(&m) && !came.contains_key(&m) {
+                came.insert(m, i);
+                queue.push_back(m);
+            }
+        }
+    }
+    None
+}
+
+/// Tarjan's strongly connected components of a graph given as each
+/// node's successors, each component's nodes.
+fn strongly_connected(edges: &[Vec<usize>]) -> Vec<Vec<usize>> {
+    struct State<'a> {
+        edges: &'a [Vec<usize>],
+        index: Vec<Option<usize>>,
+        low: Vec<usize>,
+        on_stack: Vec<bool>,
+        stack: Vec<usize>,
+        next: usize,
+        out: Vec<Vec<usize>>,
+    }
+    fn visit(s: &mut State, v: usize) {
+        s.index[v] = Some(s.next);
+        s.low[v] = s.next;
+        s.next += 1;
+        s.stack.push(v);
+        s.on_stack[v] = true;
+        for k in 0..s.edges[v].len() {
+            let w = s.edges[v][k];
+            match s.index[w] {
+                None => {
+                    visit(s, w);
+                    s.low[v] = s.low[v].min(s.low[w]);
+                }
+                Some(iw) if s.on_stack[w] => s.low[v] = s.low[v].min(iw),
+                _ => {}
+            }
+        }
+        if Some(s.low[v]) == s.index[v] {
+            let mut c = Vec::new();
+            while let Some(w) = s.stack.pop() {
+                s.on_stack[w] = false;
+                c.push(w);
+                if w == v {
+                    break;
+                }
+            }
+            s.out.push(c);
+        }
+    }
+    let n = edges.len();
+    let mut s = State {
+        edges,
+        index: vec![None; n],
+        low: vec![0; n],
+        on_stack: vec![false; n],
+        stack: Vec::new(),
+        next: 0,
+        out: Vec::new(),
+    };
+    for v in 0..n {
+        if s.index[v].is_none() {
+            visit(&mut s, v);
+        }
+    }
+    s.out
 }
 
 /// Every `.rs` file under `src/` but the binary's `main.rs` and test
@@ -344,7 +471,7 @@ fn design() -> String {
 }
 
 #[test]
-fn every_module_imports_only_lower_layers_and_no_two_files_import_each_other() {
+fn every_module_imports_only_lower_layers_and_no_file_imports_itself_round_a_circle() {
     let files = source_files();
     assert!(files.len() > 100, "the sources are found");
     let found = violations(&files, &layers(&design()));
@@ -387,7 +514,9 @@ fn planted_violations_are_found() {
         file("src/film/view.rs", "use super::Film;\npub struct V;\n"),
     ];
     let found = violations(&files, &layers);
-    assert_eq!(found.len(), 3, "{found:#?}");
+    // The back-import, the two pairs, and the circle the back-import
+    // closes (lsys → film → lsys::a → lsys).
+    assert_eq!(found.len(), 4, "{found:#?}");
     assert!(
         found[0].starts_with(
             "src/lsys/mod.rs:4: `crate::film::Film`: lsys (layer 1) imports film (layer 2)"
@@ -396,10 +525,12 @@ fn planted_violations_are_found() {
         found[0]
     );
     assert!(
-        found[1]
-            .starts_with("src/lsys/a.rs:1 and src/lsys/b.rs:1: the two files import each other"),
-        "{}",
-        found[1]
+        found.iter().any(|f| {
+            f.starts_with(
+            "a circle of 2 files: src/lsys/a.rs:1 (`super::b::B`) → src/lsys/b.rs:1 (`super::a::A`)"
+        )
+        }),
+        "{found:#?}"
     );
     // The same tree without the plants keeps the rules.
     let clean: Vec<File> = files
@@ -414,6 +545,41 @@ fn planted_violations_are_found() {
         })
         .collect();
     assert!(violations(&clean, &layers).is_empty());
+}
+
+/// A planted circle of three files, none of which imports its importer
+/// directly, is found, named file by file (issue 55).
+#[test]
+fn a_planted_circle_of_three_files_is_found() {
+    let layers = layers("Layers, lowest first: `actors`");
+    let files = vec![
+        file(
+            "src/actors/mod.rs",
+            "pub mod live;\npub mod tennis;\npub mod eyes;\n",
+        ),
+        file(
+            "src/actors/live.rs",
+            "use super::tennis::Player;\npub struct Living;\n",
+        ),
+        file(
+            "src/actors/tennis.rs",
+            "\nuse crate::actors::eyes::Eyes;\npub struct Player;\n",
+        ),
+        file(
+            "src/actors/eyes.rs",
+            "use super::live::Living;\npub struct Eyes;\n",
+        ),
+    ];
+    let found = violations(&files, &layers);
+    assert_eq!(found.len(), 1, "{found:#?}");
+    assert_eq!(
+        found[0],
+        "a circle of 3 files: src/actors/eyes.rs:1 (`super::live::Living`) → src/actors/live.rs:1 (`super::tennis::Player`) → src/actors/tennis.rs:2 (`crate::actors::eyes::Eyes`) → back to the first"
+    );
+    // Broken at any one file, no circle is left.
+    let mut broken = files;
+    broken[2].text = "pub struct Player;\n".into();
+    assert!(violations(&broken, &layers).is_empty());
 }
 
 #[test]

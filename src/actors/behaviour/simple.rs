@@ -3,8 +3,8 @@
 //! types.
 
 use super::*;
-use crate::actors::live::state::{ALIGN, LISTEN_WORDS, LOOK_AROUND, STOP, TALK, WALK};
 use crate::actors::live::{show, Living};
+use crate::actors::state::{ALIGN, LISTEN_WORDS, LOOK_AROUND, STOP, TALK, WALK};
 
 impl Living {
     /// Pushes a command string on the behaviour stack.

@@ -3,8 +3,8 @@
 //! parent module.
 
 use super::*;
-use crate::actors::live::state::{EXPLORE, SEARCH_NEW_PATH, WALK};
 use crate::actors::live::{show, Living};
+use crate::actors::state::{EXPLORE, SEARCH_NEW_PATH, WALK};
 
 impl Living {
     /// One frame of `walk_continuously`.

@@ -10,6 +10,7 @@ pub mod eyes;
 pub mod hit;
 pub mod impact;
 pub mod judge;
+mod look;
 pub mod player;
 pub mod racket_path;
 pub mod referee;

@@ -2,8 +2,8 @@
 //! footing state of the parent module.
 
 use super::*;
-use crate::actors::live::state::{LOOK_AROUND, SEARCH_NEW_PATH, STOP, WALK};
 use crate::actors::live::{show, Living};
+use crate::actors::state::{LOOK_AROUND, SEARCH_NEW_PATH, STOP, WALK};
 
 impl Living {
     /// One frame of `walk_stepworthy`.

@@ -3,8 +3,8 @@
 //! module.
 
 use super::*;
-use crate::actors::live::state::{INIT_TENNIS_GAME, UPDATE_TENNIS_GAME};
 use crate::actors::live::Living;
+use crate::actors::state::{INIT_TENNIS_GAME, UPDATE_TENNIS_GAME};
 
 impl Living {
     /// `referee` (5.7): at the first run, init_tennis_game (a one-set
