@@ -154,10 +154,12 @@ impl SceneArgs {
 /// `still -o`: an image path ending in .png or .exr.
 pub fn image_path(text: &str) -> std::result::Result<std::path::PathBuf, String> {
     let path = std::path::PathBuf::from(text);
-    let ext = path.extension().and_then(|e| e.to_str());
-    match ext.map(str::to_ascii_lowercase).as_deref() {
-        Some("png" | "exr") => Ok(path),
-        _ => Err(format!("{text}: the output must end in .png or .exr")),
+    match crate::render::ImageFormat::of_path(&path) {
+        Some(_) => Ok(path),
+        None => Err(format!(
+            "{text}: the output must end in {}",
+            crate::render::ImageFormat::listed()
+        )),
     }
 }
 

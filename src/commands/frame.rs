@@ -12,7 +12,7 @@ use crate::production::frames::FrameRange;
 use crate::production::settings::Defaults;
 use crate::production::timings::{Stage, Timings};
 use crate::render::motion::Motion;
-use crate::render::{self, Accel};
+use crate::render::{self, Accel, ImageFormat};
 use crate::scene::{mesh, obj};
 use crate::turtle::Options;
 
@@ -107,13 +107,6 @@ pub fn export(at: &FrameArgs, output: &Path, segment_width: f64) -> Result<()> {
     Ok(())
 }
 
-/// Whether `output` names an EXR image (else a PNG).
-fn is_exr(output: &Path) -> bool {
-    output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
-}
-
 /// `lmfilm still`: ray-traces the frame into OUT.png or OUT.exr with the
 /// BVH the frame owns; returns the files the frame was made from (the
 /// scenes and the files they name).
@@ -128,7 +121,7 @@ pub fn numbered(output: &Path, number: u64) -> PathBuf {
         .map_or("frame".into(), |s| s.to_string_lossy());
     let ext = output
         .extension()
-        .map_or("png".into(), |e| e.to_string_lossy());
+        .map_or(ImageFormat::Png.extension().into(), |e| e.to_string_lossy());
     output.with_file_name(format!("{stem}.{number:04}.{ext}"))
 }
 
@@ -142,7 +135,7 @@ pub fn stills(args: &StillArgs, frames: Option<&FrameRange>) -> Result<Vec<PathB
         at.frame = Some(r.start);
         at.time = None;
     }
-    let exr = is_exr(output);
+    let exr = ImageFormat::of_path(output) == Some(ImageFormat::Exr);
     let limits = at.scene.limits.limits();
     let request = quality.request();
     // Given sizes are checked before the derivation, the camera's after.

@@ -15,6 +15,7 @@ use crate::error::Error;
 use crate::film::names::{self, key, EVENTS_FILE, SOUNDTRACK_FILE};
 use crate::film::names::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
 use crate::film::names::{frame_record_path, mp4_paths, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD};
+use crate::render::ImageFormat;
 use crate::source::refused;
 
 /// Assembles `manifest.json` from the records and writes it: the stage
@@ -188,7 +189,7 @@ pub(super) fn valid_frames(
 pub(super) fn digest(name: &str, frames: &[(u64, FrameRecord)]) -> String {
     let mut list = String::new();
     for (k, f) in frames {
-        let png = key(&frame_path(name, *k, "png"));
+        let png = key(&frame_path(name, *k, ImageFormat::Png.extension()));
         if let Some(h) = f.outputs.get(&png) {
             list.push_str(&format!("{png} {h}\n"));
         }

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use super::record;
 use crate::error::Error;
-use crate::render::{Filter, Integrator, Preset, Settings};
+use crate::render::{Filter, ImageFormat, Integrator, Preset, Settings};
 use crate::sound;
 
 /// Image formats a render writes.
@@ -30,18 +30,19 @@ pub enum Formats {
 }
 
 impl Formats {
-    pub fn extensions(self) -> &'static [&'static str] {
+    /// The image formats it writes.
+    pub fn formats(self) -> &'static [ImageFormat] {
         match self {
-            Formats::Png => &["png"],
-            Formats::Exr => &["exr"],
-            Formats::Both => &["exr", "png"],
+            Formats::Png => &[ImageFormat::Png],
+            Formats::Exr => &[ImageFormat::Exr],
+            Formats::Both => &[ImageFormat::Exr, ImageFormat::Png],
         }
     }
 
     pub fn name(self) -> &'static str {
         match self {
-            Formats::Png => "png",
-            Formats::Exr => "exr",
+            Formats::Png => ImageFormat::Png.extension(),
+            Formats::Exr => ImageFormat::Exr.extension(),
             Formats::Both => "both",
         }
     }

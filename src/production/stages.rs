@@ -20,6 +20,8 @@ use crate::film::names::{self, key, EVENTS_FILE, SOUNDTRACK_FILE};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use rayon::prelude::*;
+
 use super::actor_images;
 
 use super::digest::{sha256_bytes, sha256_file};
@@ -42,7 +44,7 @@ use crate::film::names::{
 use crate::film::{Film, Frame};
 use crate::lsys::Limits;
 use crate::render::motion::Motion;
-use crate::render::{self, output, Accel};
+use crate::render::{self, output, Accel, ImageFormat};
 use crate::scene::snapshot;
 use crate::sound;
 use crate::sound::wav::MAX_WAV_BYTES;
@@ -549,7 +551,7 @@ pub fn render_frames(
             if blurs && k + 1 < rec.frame_count {
                 rels.push(key(&snapshot_path(k + 1)));
             }
-            rels.extend(["exr", "png", "json"].map(|e| key(&frame_path(name, k, e))));
+            rels.extend(frame_files(name, k).map(|rel| key(&rel)));
             rels.extend(insets.get(&k).map(|i| i.file.clone()));
             rels
         }),
@@ -772,9 +774,9 @@ impl FrameJob<'_> {
             outputs: self
                 .choice
                 .formats
-                .extensions()
+                .formats()
                 .iter()
-                .map(|e| (key(&frame_path(name, k, e)), String::new()))
+                .map(|f| (key(&frame_path(name, k, f.extension())), String::new()))
                 .collect(),
             render: self.choice.record(),
             snapshot: snap.clone(),
@@ -840,21 +842,17 @@ impl FrameJob<'_> {
             return Ok((p.index, false));
         };
         let (dir, name, k) = (self.dir, self.name, p.frame);
-        let exts = self.choice.formats.extensions();
-        let encode = |ext: &str| -> Option<Result<(String, String), Error>> {
-            if !exts.contains(&ext) {
+        let formats = self.choice.formats.formats();
+        let encode = |format: ImageFormat| -> Option<Result<(String, String), Error>> {
+            if !formats.contains(&format) {
                 return None;
             }
-            let rel = frame_path(name, k, ext);
+            let rel = frame_path(name, k, format.extension());
             let path = dir.join(&rel);
-            type Encoder = fn(&output::Image) -> std::io::Result<Vec<u8>>;
-            let (stage, encoder): (Stage, Encoder) = match ext {
-                "exr" => (Stage::EncodeExr, output::encode_exr),
-                _ => (Stage::EncodePng, output::encode_png),
-            };
+            let stage = Stage::encoding(format);
             let written = self
                 .timings
-                .time(stage, || encoder(&img))
+                .time(stage, || format.encode(&img))
                 .and_then(|bytes| {
                     let hash = self.timings.time(Stage::Record, || sha256_bytes(&bytes));
                     self.timings.time(stage, || write_atomic(&path, &bytes))?;
@@ -866,8 +864,13 @@ impl FrameJob<'_> {
                     .map_err(|e| Error::io(&path, e)),
             )
         };
-        let (exr, png) = rayon::join(|| encode("exr"), || encode("png"));
-        for (ext, made) in [("exr", exr), ("png", png)] {
+        // Every format at once (the EXR's blocks on the writer's pool
+        // beside the PNG).
+        let made: Vec<_> = ImageFormat::ALL
+            .into_par_iter()
+            .map(|f| (f, encode(f)))
+            .collect();
+        for (format, made) in made {
             match made {
                 Some(made) => {
                     let (key, hash) = made?;
@@ -875,7 +878,7 @@ impl FrameJob<'_> {
                 }
                 None => {
                     // Another format's image of an earlier render.
-                    let path = dir.join(frame_path(name, k, ext));
+                    let path = dir.join(frame_path(name, k, format.extension()));
                     if path.exists() {
                         std::fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
                     }
@@ -976,7 +979,7 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
             .chain([key(&mp4), key(&record_path)])
             .chain(
                 (0..rec.frame_count)
-                    .flat_map(|k| ["png", "json"].map(|e| key(&frame_path(name, k, e)))),
+                    .flat_map(|k| [PNG, RECORD_EXT].map(|e| key(&frame_path(name, k, e)))),
             ),
     )?;
     if let Some(k) = first_unrendered(dir, &rec) {
@@ -992,7 +995,7 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
     for (k, f) in &frames {
         let render = f.render.iter().map(|(k, v)| (k.as_str(), v.as_str()));
         let bounds = Bounds::of_settings(render, 0);
-        let png = frame_path(name, *k, "png");
+        let png = frame_path(name, *k, PNG);
         let Some(h) = f.outputs.get(&key(&png)) else {
             continue;
         };
@@ -1035,7 +1038,7 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
         .soundtrack
         .is_some()
         .then_some(Path::new(SOUNDTRACK_FILE));
-    let out = ffmpeg::mux(dir, name, rate, &frame_pattern(name, "png"), track)
+    let out = ffmpeg::mux(dir, name, rate, &frame_pattern(name, PNG), track)
         .map_err(|e| Error::other(e.to_string()))?;
     want.mp4 = sha256_file(&out, bounds.limit(&key(&mp4))).map_err(|e| Error::io(&out, e))?;
     let rp = dir.join(&record_path);
@@ -1043,10 +1046,28 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
     Ok((out, true))
 }
 
+/// The PNG, the format an MP4 is made of.
+const PNG: &str = ImageFormat::Png.extension();
+/// A frame's record beside its images.
+const RECORD_EXT: &str = "json";
+
+/// The extensions of a frame's files: each image format's, its record's.
+fn frame_extensions() -> impl Iterator<Item = &'static str> {
+    ImageFormat::ALL
+        .into_iter()
+        .map(ImageFormat::extension)
+        .chain([RECORD_EXT])
+}
+
+/// Frame `k`'s files, as paths in the folder.
+fn frame_files(name: &str, k: u64) -> impl Iterator<Item = PathBuf> + '_ {
+    frame_extensions().map(move |e| frame_path(name, k, e))
+}
+
 /// The first frame of the film without its PNG (`--frames` rendered
 /// only some), None when every frame has one.
 fn first_unrendered(dir: &Path, rec: &DeriveRecord) -> Option<u64> {
-    (0..rec.frame_count).find(|&k| !dir.join(frame_path(&rec.inputs.name, k, "png")).is_file())
+    (0..rec.frame_count).find(|&k| !dir.join(frame_path(&rec.inputs.name, k, PNG)).is_file())
 }
 
 /// Whether every frame of the derived film in `dir` has its PNG: an MP4
@@ -1066,7 +1087,7 @@ pub fn prune_frames(dir: &Path, rec: &DeriveRecord) -> Result<(), Error> {
     for e in entries.flatten() {
         let file = e.file_name().to_string_lossy().into_owned();
         let stale = parse_frame_file(&file).is_some_and(|(n, k, ext)| {
-            ["png", "exr", "json"].contains(&ext) && (n != rec.inputs.name || k >= rec.frame_count)
+            frame_extensions().any(|e| e == ext) && (n != rec.inputs.name || k >= rec.frame_count)
         });
         if stale {
             std::fs::remove_file(e.path()).map_err(|err| Error::io(&e.path(), err))?;

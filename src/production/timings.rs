@@ -8,6 +8,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
+use crate::render::ImageFormat;
+
 /// A stage of the pipeline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stage {
@@ -46,6 +48,14 @@ const STAGES: [Stage; 9] = [
 ];
 
 impl Stage {
+    /// The stage that encodes and writes an image format.
+    pub fn encoding(format: ImageFormat) -> Stage {
+        match format {
+            ImageFormat::Exr => Stage::EncodeExr,
+            ImageFormat::Png => Stage::EncodePng,
+        }
+    }
+
     fn name(self) -> &'static str {
         match self {
             Stage::Derive => "derive (frame loop)",

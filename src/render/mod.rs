@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use crate::aabb::{self, Aabb, MAX_COORDINATE};
 use crate::scene::Scene;
 pub use accel::{Accel, Hit};
-pub use output::Image;
+pub use output::{Image, ImageFormat};
 pub use settings::{Filter, Integrator, Preset, Settings};
 
 /// Refuses a scene the ray tracer cannot hold (snapshots come from

@@ -267,18 +267,64 @@ pub fn write_png(img: &Image, path: &Path) -> io::Result<()> {
     write_atomic(path, &bytes)
 }
 
-/// Writes PNG or EXR by the extension (case-insensitive `.png`/`.exr`), else an InvalidInput error naming the supported extensions.
+/// An image format lmfilm writes, in one place (issue 55): its file
+/// extension and its encoder. A new format is a variant here; the film
+/// folder's stages ask [`ImageFormat::ALL`] and each one's stage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum ImageFormat {
+    /// The master: linear half floats, zlib-compressed.
+    Exr,
+    /// 8-bit sRGB, what video encoders and viewers read.
+    Png,
+}
+
+impl ImageFormat {
+    pub const ALL: [ImageFormat; 2] = [ImageFormat::Png, ImageFormat::Exr];
+
+    /// Its file extension, lower case, without the dot.
+    pub const fn extension(self) -> &'static str {
+        match self {
+            ImageFormat::Exr => "exr",
+            ImageFormat::Png => "png",
+        }
+    }
+
+    /// The image encoded as a file of this format.
+    pub fn encode(self, img: &Image) -> io::Result<Vec<u8>> {
+        match self {
+            ImageFormat::Exr => encode_exr(img),
+            ImageFormat::Png => encode_png(img),
+        }
+    }
+
+    /// The format a path's extension names (any case), None for another.
+    pub fn of_path(path: &Path) -> Option<ImageFormat> {
+        let ext = path.extension()?.to_str()?;
+        Self::ALL
+            .into_iter()
+            .find(|f| f.extension().eq_ignore_ascii_case(ext))
+    }
+
+    /// The extensions lmfilm writes, for messages: ".png or .exr".
+    pub fn listed() -> String {
+        let all: Vec<String> = Self::ALL
+            .iter()
+            .map(|f| format!(".{}", f.extension()))
+            .collect();
+        all.join(" or ")
+    }
+}
+
+/// Writes the image in the format its extension names (any case), else
+/// an InvalidInput error naming the formats lmfilm writes.
 pub fn write(img: &Image, path: &Path) -> io::Result<()> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("png") => write_png(img, path),
-        Some("exr") => write_exr(img, path),
-        _ => Err(invalid_input(
-            "unsupported extension, expected .png or .exr",
-        )),
+    match ImageFormat::of_path(path) {
+        Some(ImageFormat::Png) => write_png(img, path),
+        Some(ImageFormat::Exr) => write_exr(img, path),
+        None => Err(invalid_input(format!(
+            "unsupported extension, expected {}",
+            ImageFormat::listed()
+        ))),
     }
 }
 

@@ -160,7 +160,7 @@ fn last_frame(dir: &Path, name: &str, total: u64) -> Option<(u64, Option<PathBuf
     let files: Vec<PathBuf> = rec.outputs.keys().map(|f| dir.join(f)).collect();
     let png = files
         .iter()
-        .find(|f| f.extension().is_some_and(|e| e == "png"))
+        .find(|f| crate::render::ImageFormat::of_path(f) == Some(crate::render::ImageFormat::Png))
         .cloned();
     Some((k, png, files))
 }
