@@ -196,6 +196,23 @@ pub enum Refused {
 }
 
 impl Refused {
+    /// What a file of this kind is instead of a regular file, None for a
+    /// regular file.
+    pub fn of_kind(kind: std::fs::FileType) -> Option<Refused> {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_file() {
+            None
+        } else if kind.is_dir() {
+            Some(Refused::Folder)
+        } else if kind.is_fifo() {
+            Some(Refused::Pipe)
+        } else if kind.is_socket() {
+            Some(Refused::Socket)
+        } else {
+            Some(Refused::Device)
+        }
+    }
+
     /// Whether the file is something else than a regular file (a folder,
     /// a device, a pipe, a socket), not merely too large.
     pub fn not_a_file(self) -> bool {
@@ -293,23 +310,12 @@ pub fn open_file(path: &Path, limit: u64) -> io::Result<Bounded> {
         Err(e) => return Err(e),
     };
     let meta = file.metadata()?;
-    let kind = meta.file_type();
-    let refused = if kind.is_dir() {
-        Some(Refused::Folder)
-    } else if kind.is_fifo() {
-        Some(Refused::Pipe)
-    } else if kind.is_socket() {
-        Some(Refused::Socket)
-    } else if !kind.is_file() {
-        Some(Refused::Device)
-    } else if meta.len() > limit {
-        Some(Refused::TooLarge {
+    let refused = Refused::of_kind(meta.file_type()).or_else(|| {
+        (meta.len() > limit).then_some(Refused::TooLarge {
             size: meta.len(),
             limit,
         })
-    } else {
-        None
-    };
+    });
     if let Some(r) = refused {
         return Err(r.into());
     }

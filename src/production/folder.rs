@@ -17,7 +17,7 @@ use crate::render::output;
 use crate::scene::snapshot::MAX_SNAPSHOT_BYTES;
 use crate::sound::wav::{MAX_SOUNDTRACK_BYTES, MAX_WAV_BYTES};
 use crate::sound::MAX_EVENTS_BYTES;
-use crate::source::refused;
+use crate::source::{refused, Refused};
 
 /// Largest record read (`derive.json`, `settings.json`, a frame's, the
 /// soundtrack's, the MP4's): a derive record of a long film is the
@@ -75,10 +75,7 @@ impl Bounds {
     /// The most bytes read of the folder's file `rel` (`/` separators,
     /// as the records key it).
     pub fn limit(&self, rel: &str) -> u64 {
-        let under = |dir: &str| {
-            rel.strip_prefix(dir)
-                .is_some_and(|rest| rest.starts_with('/'))
-        };
+        let under = |dir: &str| under(rel, dir);
         if rel == MANIFEST_FILE {
             MAX_MANIFEST
         } else if rel == EVENTS_FILE {
@@ -104,16 +101,19 @@ impl Bounds {
     }
 }
 
+/// Whether the folder's file `rel` lies under its folder `dir`.
+fn under(rel: &str, dir: &str) -> bool {
+    rel.strip_prefix(dir)
+        .is_some_and(|rest| rest.starts_with('/'))
+}
+
 /// What the user does about the folder's file `rel` that cannot be read
 /// (a folder, a device, a pipe, too large): remove it and run the command
 /// that makes it again.
 pub fn way_out(dir: &Path, rel: &str) -> String {
     let d = dir.display();
     let again = |command: &str| format!("remove it and run `{command}` again");
-    let under = |sub: &str| {
-        rel.strip_prefix(sub)
-            .is_some_and(|rest| rest.starts_with('/'))
-    };
+    let under = |sub: &str| under(rel, sub);
     if rel == SETTINGS_FILE {
         "remove it (the film's defaults apply again) or run with --clean".into()
     } else if rel == MANIFEST_FILE {
@@ -146,23 +146,13 @@ pub fn unreadable(dir: &Path, rel: &str, e: &io::Error) -> Error {
 /// never reads it, nor replaces what it did not write. Only its metadata
 /// is read, so a pipe is never opened. A missing file is no error.
 pub fn check_kind(dir: &Path, rel: &str) -> Result<(), Error> {
-    use std::os::unix::fs::FileTypeExt;
     let Ok(meta) = std::fs::metadata(dir.join(rel)) else {
         return Ok(());
     };
-    let kind = meta.file_type();
-    let what = if kind.is_file() {
-        return Ok(());
-    } else if kind.is_dir() {
-        crate::source::Refused::Folder
-    } else if kind.is_fifo() {
-        crate::source::Refused::Pipe
-    } else if kind.is_socket() {
-        crate::source::Refused::Socket
-    } else {
-        crate::source::Refused::Device
-    };
-    Err(unreadable(dir, rel, &what.into()))
+    match Refused::of_kind(meta.file_type()) {
+        Some(what) => Err(unreadable(dir, rel, &what.into())),
+        None => Ok(()),
+    }
 }
 
 /// Whether `e` says the file is something else than a regular file (a

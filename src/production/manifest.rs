@@ -143,19 +143,19 @@ impl Manifest {
     /// number.
     pub fn read(dir: &Path) -> Result<Manifest, Error> {
         let path = dir.join(MANIFEST_FILE);
-        let bytes = read_file(&path, MAX_MANIFEST).map_err(|source| match refused(&source) {
+        let bytes = read_file(&path, MAX_MANIFEST).map_err(|source| {
             // A pipe, a device, a folder or too large: the way out too.
-            Some(_) => Error::Io {
-                source: io::Error::new(
+            let source = match refused(&source) {
+                Some(_) => io::Error::new(
                     source.kind(),
                     format!("{source}; {}", way_out(dir, MANIFEST_FILE)),
                 ),
-                path: path.clone(),
-            },
-            None => Error::Io {
+                None => source,
+            };
+            Error::Io {
                 path: path.clone(),
                 source,
-            },
+            }
         })?;
         let text = String::from_utf8(bytes).map_err(|e| Error::Io {
             path: path.clone(),

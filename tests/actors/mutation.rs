@@ -218,32 +218,11 @@ const NUMBERS: &[&str] = &[
     "4294967296",
 ];
 
-/// The same in the combined round, but 1024: a window of 1024 pixels a
-/// side (the single round's) runs 150 frames for a minute.
-const COMBINED_NUMBERS: &[&str] = &[
-    "0",
-    "-1",
-    "1",
-    "2",
-    "3",
-    "4",
-    "7",
-    "15",
-    "20",
-    "21",
-    "0.001",
-    "0.5",
-    "-0.5",
-    "99",
-    "1025",
-    "100000",
-    "1048576",
-    "1e15",
-    "-1e15",
-    "1e30",
-    "-1e30",
-    "4294967296",
-];
+/// [`NUMBERS`] but 1024, for the combined round: a window of 1024
+/// pixels a side (the single round's) runs 150 frames for a minute.
+fn combined_numbers() -> Vec<&'static str> {
+    NUMBERS.iter().copied().filter(|&n| n != "1024").collect()
+}
 
 /// Commands a user may add to an actor's automata.
 const COMMANDS: &[&str] = &[
@@ -351,7 +330,7 @@ const WALK_EDGES: &[&str] = &[
 ];
 
 /// A vision window's edge at the lower edge of its range (1…1024
-/// pixels; the upper edge is the single round's, see [`COMBINED_NUMBERS`]).
+/// pixels; the upper edge is the single round's, see [`combined_numbers`]).
 fn window_edge(lines: &mut [String], rng: &mut Rng) {
     let windows: Vec<usize> = (0..lines.len())
         .filter(|&i| lines[i].trim_start().starts_with("iVisionWinSize"))
@@ -450,13 +429,9 @@ fn actor_lines(text: &str) -> Vec<usize> {
         .collect()
 }
 
-/// Axiom and production lines with an `M` or `g` symbol.
-fn symbol_lines(text: &str) -> Vec<usize> {
-    text.lines()
-        .enumerate()
-        .filter(|(_, l)| l.contains("M (") || l.contains("g ("))
-        .map(|(i, _)| i)
-        .collect()
+/// Whether an axiom or production line holds an `M` or `g` symbol.
+fn is_symbol_line(l: &str) -> bool {
+    l.contains("M (") || l.contains("g (")
 }
 
 fn pick<'a, T>(v: &'a [T], rng: &mut Rng) -> Option<&'a T> {
@@ -561,13 +536,24 @@ fn delete_line(lines: &mut Vec<String>, rng: &mut Rng) {
 }
 
 fn replace_symbol_number(lines: &mut [String], rng: &mut Rng) {
-    let symbols = symbol_lines(&lines.join("\n"));
+    replace_group(lines, is_symbol_line, SYMBOL_NUMBERS, rng)
+}
+
+/// One `( … )` group of one of the lines `which` picks replaced by one
+/// of `numbers`.
+fn replace_group(
+    lines: &mut [String],
+    which: impl Fn(&str) -> bool,
+    numbers: &[&str],
+    rng: &mut Rng,
+) {
+    let symbols: Vec<usize> = (0..lines.len()).filter(|&i| which(&lines[i])).collect();
     if let Some(&i) = pick(&symbols, rng) {
         let l = &lines[i];
         let groups: Vec<usize> = l.match_indices('(').map(|(k, _)| k).collect();
         if let Some(&k) = pick(&groups, rng) {
             if let Some(end) = l[k..].find(')') {
-                let n = pick(SYMBOL_NUMBERS, rng).unwrap();
+                let n = pick(numbers, rng).unwrap();
                 lines[i] = format!("{}({n}){}", &l[..k], &l[k + end + 1..]);
             }
         }
@@ -606,7 +592,7 @@ fn mutate_combined(scene: &Scene, rng: &mut Rng) -> Mutant {
     let changes = 1 + rng.below(4);
     for _ in 0..changes {
         match rng.below(16) {
-            0 | 1 => replace_number_from(&mut lines, COMBINED_NUMBERS, rng),
+            0 | 1 => replace_number_from(&mut lines, &combined_numbers(), rng),
             2 | 3 => nudge_number(&mut lines, rng),
             4 => add_command(&mut lines, COMMANDS, rng),
             5..=7 => add_command(&mut lines, MORE_COMMANDS, rng),
@@ -632,22 +618,8 @@ fn mutate_combined(scene: &Scene, rng: &mut Rng) -> Mutant {
 
 /// As [`replace_symbol_number`], bodies (`D` 50) included.
 fn replace_symbol_number_or_body(lines: &mut [String], rng: &mut Rng) {
-    let symbols: Vec<usize> = (0..lines.len())
-        .filter(|&i| {
-            let l = &lines[i];
-            l.contains("M (") || l.contains("g (") || l.contains("D () (50)")
-        })
-        .collect();
-    if let Some(&i) = pick(&symbols, rng) {
-        let l = &lines[i];
-        let groups: Vec<usize> = l.match_indices('(').map(|(k, _)| k).collect();
-        if let Some(&k) = pick(&groups, rng) {
-            if let Some(end) = l[k..].find(')') {
-                let n = pick(COMBINED_SYMBOL_NUMBERS, rng).unwrap();
-                lines[i] = format!("{}({n}){}", &l[..k], &l[k + end + 1..]);
-            }
-        }
-    }
+    let which = |l: &str| is_symbol_line(l) || l.contains("D () (50)");
+    replace_group(lines, which, COMBINED_SYMBOL_NUMBERS, rng)
 }
 
 /// One argument of an actor's or a body's readable symbol replaced

@@ -9,6 +9,7 @@ use std::path::Path;
 use std::process::Command;
 
 use crate::cli::lmfilm;
+use crate::common::fresh_dir;
 
 /// Runs a job script with bash, as a Slurm task `task` would.
 fn job(script: &Path, task: Option<u32>) {
@@ -51,9 +52,7 @@ fn run_locally(scene: &str, dir: &Path) -> (i32, String, String) {
 
 #[test]
 fn the_chain_makes_the_film_a_local_run_makes() {
-    let root = std::env::temp_dir().join(format!("lmfilm-farm-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(&root).unwrap();
+    let root = fresh_dir("farm", "chain");
     let scene = root.join("growing.lm");
     std::fs::write(&scene, SCENE).unwrap();
     let (s, farm, local) = (
@@ -215,8 +214,7 @@ fn sbatch_words(line: &str) -> Vec<String> {
 /// holds one option.
 #[test]
 fn hostile_values_are_refused_or_written_as_one_value() {
-    let root = std::env::temp_dir().join(format!("lmfilm-farm-hostile-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&root);
+    let root = fresh_dir("farm", "hostile");
     let (stubs, work) = (root.join("stubs"), root.join("work"));
     std::fs::create_dir_all(&stubs).unwrap();
     std::fs::create_dir_all(&work).unwrap();
@@ -412,8 +410,7 @@ fn slurms_limits_are_said_before_submitting() {
     if !slurm_is_up("slurms_limits_are_said_before_submitting") {
         return;
     }
-    let root = std::env::temp_dir().join(format!("lmfilm-farm-limits-{}", std::process::id()));
-    std::fs::create_dir_all(&root).unwrap();
+    let root = fresh_dir("farm", "limits");
     let scene = root.join("growing.lm");
     std::fs::write(&scene, SCENE).unwrap();
     let dir = root.join("film");
@@ -560,9 +557,7 @@ fn on_slurm_a_cancelled_task_is_finished_and_a_resubmission_resumes() {
     if !slurm_is_up("on_slurm_a_cancelled_task_is_finished_and_a_resubmission_resumes") {
         return;
     }
-    let root = std::env::temp_dir().join(format!("lmfilm-slurm-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(&root).unwrap();
+    let root = fresh_dir("slurm", "chain");
     let scene = root.join("growing.lm");
     std::fs::write(&scene, SCENE).unwrap();
     let s = scene.to_str().unwrap();
@@ -633,9 +628,7 @@ fn on_two_nodes_a_broken_node_is_left_behind() {
     if !slurm_is_up("on_two_nodes_a_broken_node_is_left_behind") {
         return;
     }
-    let root = std::env::temp_dir().join(format!("lmfilm-slurm-bad-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(&root).unwrap();
+    let root = fresh_dir("slurm", "bad");
     let scene = root.join("growing.lm");
     std::fs::write(&scene, SCENE).unwrap();
     let s = scene.to_str().unwrap();
@@ -699,10 +692,7 @@ fn on_two_nodes_a_broken_node_is_left_behind() {
 /// could not read — and changes nothing in the folder.
 #[test]
 fn farm_status_never_waits_on_a_hostile_file() {
-    let root =
-        std::env::temp_dir().join(format!("lmfilm-farm-hostile-status-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(&root).unwrap();
+    let root = fresh_dir("farm", "hostile-status");
     let scene = root.join("growing.lm");
     std::fs::write(&scene, SCENE).unwrap();
     let film = root.join("film");

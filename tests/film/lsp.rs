@@ -4,7 +4,7 @@
 //! (issue 53) still has every request answered and ends normally.
 
 use std::io::{BufRead, BufReader, Write};
-use std::process::{ChildStdout, Command, Output, Stdio};
+use std::process::{Child, ChildStdout, Command, Output, Stdio};
 
 use serde_json::{json, Value};
 
@@ -152,16 +152,21 @@ fn frame(message: &Value) -> Vec<u8> {
     bytes
 }
 
-/// Runs `lmfilm lsp` on `input` with its stdin closed right after, as
-/// `printf … | lmfilm lsp` does.
-fn run_on(input: &[u8]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
+/// `lmfilm lsp` with its stdin, stdout and stderr piped.
+fn lsp_piped() -> Child {
+    Command::new(env!("CARGO_BIN_EXE_lmfilm"))
         .arg("lsp")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Runs `lmfilm lsp` on `input` with its stdin closed right after, as
+/// `printf … | lmfilm lsp` does.
+fn run_on(input: &[u8]) -> Output {
+    let mut child = lsp_piped();
     child.stdin.take().unwrap().write_all(input).unwrap();
     child.wait_with_output().unwrap()
 }
@@ -317,13 +322,7 @@ fn stdout_closed_ends_quietly() {
     ];
     let input: Vec<u8> = sent.iter().flat_map(frame).collect();
     for _ in 0..TRIES {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_lmfilm"))
-            .arg("lsp")
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+        let mut child = lsp_piped();
         drop(child.stdout.take());
         // The server may be gone before all of it is written.
         let _ = child.stdin.take().unwrap().write_all(&input);

@@ -20,9 +20,9 @@ impl Living {
     /// way (issue 54): a memory that is off (only this frame's window
     /// guards it), a step longer than itself (`speed`), a view that ends
     /// too near (`vision_range`), narrower than itself where it must see
-    /// a wall beside its way (`fov`), or pixels so far apart there (half its size or more) that
-    /// a wall's edge between two of them goes unplaced (`iVisionWinSize`). Asked
-    /// every frame of a navigator but a tennis player (who looks at the
+    /// a wall beside its way (`fov`), or pixels so far apart there (half
+    /// its size or more) that a wall's edge between two of them goes
+    /// unplaced (`iVisionWinSize`). Asked every frame of a navigator but a tennis player (who looks at the
     /// ball through 9° on an open court by design). The step guard keeps
     /// it out of what it saw; what its senses never hold it may walk
     /// into, so the film says which setting and by how much.
@@ -109,8 +109,8 @@ impl Living {
     /// last tested point before the first that lies behind a surface the
     /// window sees (along that pixel's line; where the memory cannot
     /// guard it, within the near clip before it) or in a voxel the memory
-    /// holds (but the eye's own), backed off by the
-    /// spacing of the points. None when the whole step is free.
+    /// holds (but the eye's own), backed off by the spacing of the
+    /// points. None when the whole step is free.
     pub(in crate::actors) fn step_stop(&self, to: Vec3) -> Option<Vec3> {
         let from = self.eye;
         let way = to - from;
@@ -129,11 +129,14 @@ impl Living {
                 (c.max - c.min) as f32 * 3f32.sqrt()
             })
             .unwrap_or(0.0)
-            .max(self.window.as_ref().map_or(0.0, |w| w.depth_view().far));
+            .max(self.window.as_ref().map_or(0.0, |w| w.view.far));
         let tested = length.min(known + spacing);
         let n = ((tested / spacing).ceil() as usize).clamp(1, MAX_SAMPLES);
         let dir = way / length;
-        let view = self.window.as_ref().map(|w| (w, w.depth_view()));
+        let view = self
+            .window
+            .as_ref()
+            .map(|w| (w, w.depth_view().projector()));
         let voxel_of = |p: Vec3| octree.and_then(|o| o.voxel(p.as_dvec3().to_array()));
         let held = |p: Vec3| {
             let o = octree?;
@@ -153,12 +156,11 @@ impl Living {
         let clearance = if remembers {
             -(self.size_actor * 0.5 + spacing)
         } else {
-            view.as_ref().map_or(0.0, |(_, v)| v.near.max(0.0)) + spacing
+            self.window.as_ref().map_or(0.0, |w| w.view.near.max(0.0)) + spacing
         };
         let nears_seen = |p: Vec3| {
-            view.as_ref().is_some_and(|(w, v)| {
-                v.project(p)
-                    .is_some_and(|((x, y), d)| w.pixel(x, y).distance - clearance < d)
+            view.as_ref().is_some_and(|(w, project)| {
+                project(p).is_some_and(|((x, y), d)| w.pixel(x, y).distance - clearance < d)
             })
         };
         // A held voxel stops the step; the eye's own, when held (a coarse

@@ -491,9 +491,8 @@ impl Living {
             self.path.clear();
             return self.search_new_path();
         }
-        let nav = &mut self.navigation;
         self.eye = at;
-        nav.heading = heading;
+        self.navigation.heading = heading;
         // It looks the way it walks, also when a step ends its piece: a
         // walker fast enough to end one every frame never turned its
         // eyes to its way, and walked blind into walls (issue 54).

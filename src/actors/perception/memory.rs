@@ -82,6 +82,13 @@ impl DepthView {
     pub fn project(&self, p: Vec3) -> Option<((u32, u32), f32)> {
         Projector::new(self).project(p)
     }
+
+    /// [`DepthView::project`] for many points, the camera's basis found
+    /// once.
+    pub fn projector(&self) -> impl Fn(Vec3) -> Option<((u32, u32), f32)> {
+        let projector = Projector::new(self);
+        move |p| projector.project(p)
+    }
 }
 
 /// The inverse of [`CameraRays::dir`] for a square window.
