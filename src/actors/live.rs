@@ -9,12 +9,11 @@ use std::collections::BTreeMap;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::behaviour::{Behaviour, Deed, Progress, Senses};
+use super::behaviour::{Behaviour, Conversation, Deed, Progress, Senses};
 use super::footholds::plan::{Gait, Weights};
 use super::footholds::walk::Footing;
 use super::navigate::Navigation;
-use super::tennis::player::Player;
-use super::tennis::referee::Umpire;
+use super::tennis::Tennis;
 use super::{Actor, Table};
 use crate::actors::perception::memory::{Forgetting, VisualMemory};
 use crate::actors::perception::octree::Cube;
@@ -123,37 +122,13 @@ pub struct Living {
     pub progress: Progress,
     /// `speed`: how fast it walks, world units a second.
     pub speed: f32,
-    /// The sounds `talk` says (`words_to_speak`), first first.
-    pub words: Vec<u32>,
-    /// What `listen` waits for: the next n events of a source.
-    pub listen_to: Option<(u32, usize)>,
-    /// The sounds `listen` captured last, in the order they began.
-    pub heard_words: Vec<u32>,
-    /// The planned path's key points ahead, first next (`walk_continuously`).
-    pub path: Vec<Vec3>,
+    /// Each automaton's own state, next to its code: `talk` and
+    /// `listen`'s, `walk_continuously`'s (its tuning and its path),
+    /// the tennis automata's, `walk_stepworthy`'s.
+    pub conversation: Conversation,
     pub navigation: Navigation,
-    /// The referee's match and judge (`referee`, 5.7), once it runs.
-    pub umpire: Option<Umpire>,
-    /// A player's game (`play_tennis`, 5.6), once it plays.
-    pub player: Option<Player>,
-    /// Walking on footholds (`walk_stepworthy`, 5.9): its settings and
-    /// its walk.
+    pub tennis: Tennis,
     pub footing: Footing,
-    /// `heuristic`, `coll_test_func` (table G.1), `rel_search_level`
-    /// (search voxels of 2^level memory voxels a side), `ahead` (key
-    /// points tested) and `inertia` of the navigation.
-    pub heuristic: i64,
-    pub coll_test_func: i64,
-    pub rel_search_level: u32,
-    pub ahead: i64,
-    pub inertia: f32,
-    /// Algorithm 5 every `optim_rate` frames (0: never) over the next
-    /// `optim_ahead` key points.
-    pub optim_rate: i64,
-    pub optim_ahead: i64,
-    /// Most voxels one of its path searches may add to its path
-    /// ([`Limits::plan_voxels`]).
-    pub max_plan_voxels: usize,
 }
 
 /// Walking speed before any `speed` command, world units a second.
@@ -203,22 +178,10 @@ impl Living {
             stack: Vec::new(),
             progress: Progress::default(),
             speed: DEFAULT_SPEED,
-            words: Vec::new(),
-            listen_to: None,
-            heard_words: Vec::new(),
-            path: Vec::new(),
+            conversation: Conversation::default(),
             navigation: Navigation::default(),
-            umpire: None,
-            player: None,
+            tennis: Tennis::default(),
             footing: Footing::default(),
-            heuristic: 1,
-            coll_test_func: 3,
-            rel_search_level: 1,
-            ahead: 3,
-            inertia: 0.0,
-            optim_rate: 0,
-            optim_ahead: 5,
-            max_plan_voxels: Limits::default().plan_voxels,
         };
         for entry in actor.automata().iter().rev() {
             me.push(Behaviour {
@@ -231,7 +194,8 @@ impl Living {
     }
 
     /// Sets the state variables one automata command names (table B6);
-    /// the others keep their values (6.3.4).
+    /// the others keep their values (6.3.4). Every command has its arm:
+    /// a new one that forgets its effect does not compile.
     pub fn apply(&mut self, command: &AutomataCommand) {
         use AutomataCommand as C;
         let v = |p: [f64; 3]| DVec3::from_array(p).as_vec3();
@@ -287,18 +251,23 @@ impl Living {
             }
             C::State(s) => self.state = s,
             C::Speed(v) => self.speed = v as f32,
-            C::Heuristic(n) => self.heuristic = n,
-            C::CollTestFunc(n) => self.coll_test_func = n,
+            C::Heuristic(n) => self.navigation.tuning.heuristic = n,
+            C::CollTestFunc(n) => self.navigation.tuning.coll_test_func = n,
             C::RelSearchLevel(x) => {
-                self.rel_search_level = x.map_or(1, |x| x.round().clamp(0.0, 20.0) as u32)
+                self.navigation.tuning.rel_search_level =
+                    x.map_or(1, |x| x.round().clamp(0.0, 20.0) as u32)
             }
-            C::Ahead(n) => self.ahead = n,
-            C::OptimRate(n) => self.optim_rate = n,
-            C::OptimAhead(n) => self.optim_ahead = n,
-            C::Inertia(x) => self.inertia = x as f32,
-            C::WordsToSpeak(ref w) => self.words = w.iter().map(|&s| s as u32).collect(),
-            C::ListenTo { source, count } => self.listen_to = Some((source as u32, count as usize)),
-            C::TennisState(s) => self.tennis_state = s,
+            C::Ahead(n) => self.navigation.tuning.ahead = n,
+            C::OptimRate(n) => self.navigation.tuning.optim_rate = n,
+            C::OptimAhead(n) => self.navigation.tuning.optim_ahead = n,
+            C::Inertia(x) => self.navigation.tuning.inertia = x as f32,
+            C::WordsToSpeak(ref w) => {
+                self.conversation.words = w.iter().map(|&s| s as u32).collect()
+            }
+            C::ListenTo { source, count } => {
+                self.conversation.listen_to = Some((source as u32, count as usize))
+            }
+            C::TennisState(s) => self.tennis.state = s,
             C::Turtle(t) => self.turtle = t,
             C::VisMemOn => self.memory_on = true,
             C::VisMemOff => self.memory_on = false,
@@ -334,9 +303,11 @@ impl Living {
                     s.foot = f as f32;
                 }
             }
-            // Navigation, tennis and humanoid commands belong to the
-            // automata that use them (later issues).
-            _ => {}
+            // The thesis's humanoid (AGENTlib) plays keyframed tracks and
+            // has a walking motor; lmfilm's bodies walk as their actor's
+            // eye moves (docs/actors.md, "Bodies"): these are checked and
+            // set nothing.
+            C::KeyframeDef { .. } | C::MotorInit { .. } => {}
         }
     }
 
@@ -473,7 +444,7 @@ impl Living {
 pub fn living(table: &Table, limits: &Limits) -> Vec<Living> {
     let mut all: Vec<Living> = table.actors().iter().map(Living::new).collect();
     for a in &mut all {
-        a.max_plan_voxels = limits.plan_voxels;
+        a.navigation.tuning.max_plan_voxels = limits.plan_voxels;
     }
     all
 }

@@ -82,7 +82,7 @@ impl ActorRecord {
             id: l.id,
             automata: l.automata.map(|a| a.name()),
             state: l.state,
-            tennis_state: l.tennis_state,
+            tennis_state: l.tennis.state,
             pos: l.eye.to_array(),
             look_at: l.look_at.to_array(),
             goal: l.actual_goal().map(|g| g.to_array()),

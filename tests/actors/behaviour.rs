@@ -127,9 +127,9 @@ fn talk_says_its_words_in_turn_and_listen_hears_them() {
         "{said:?}"
     );
     let a = &f.living()[0];
-    assert!(a.automata.is_none() && a.words.is_empty());
+    assert!(a.automata.is_none() && a.conversation.words.is_empty());
     let b = &f.living()[1];
-    assert_eq!(b.heard_words, [6, 2, 6]);
+    assert_eq!(b.conversation.heard_words, [6, 2, 6]);
     assert_eq!(b.automata.map(|a| a.name()), Some("watch"));
 }
 
@@ -324,7 +324,7 @@ fn the_shown_path_is_drawn_for_the_viewer_only() {
     let window = a.window.as_ref().unwrap();
     for p in window.pixels.iter().filter(|p| p.hit()) {
         assert_ne!(p.object, u32::MAX);
-        let near_key = a.path.iter().any(|k| k.distance(p.position) < 0.09);
+        let near_key = a.navigation.path.iter().any(|k| k.distance(p.position) < 0.09);
         assert!(!near_key, "the actor sees its path at {}", p.position);
     }
 }

@@ -417,7 +417,7 @@ fn a_plan_past_its_limit_says_so_and_the_display_stays_bounded() {
         false
     });
     assert!(warnings.is_empty(), "{warnings:?}");
-    assert!(f.living()[0].path.len() > 9_000);
+    assert!(f.living()[0].navigation.path.len() > 9_000);
 }
 
 /// A goal outside the memory's cube is given up with a warning, also

@@ -54,7 +54,7 @@ fn play(seconds: u32) -> Played {
             _ => None,
         })
         .collect();
-    let umpire = film.living()[2].umpire.as_ref().unwrap();
+    let umpire = film.living()[2].tennis.umpire.as_ref().unwrap();
     Played {
         path,
         collisions,

@@ -45,6 +45,19 @@ impl Behaviour {
     }
 }
 
+/// What `talk` and `listen` (5.4, 5.5) keep: the words to say, what to
+/// listen for and what was heard (the referee's calls and the players'
+/// answers pass through them).
+#[derive(Debug, Clone, Default)]
+pub struct Conversation {
+    /// The sounds `talk` says (`words_to_speak`), first first.
+    pub words: Vec<u32>,
+    /// What `listen` waits for: the next n events of a source.
+    pub listen_to: Option<(u32, usize)>,
+    /// The sounds `listen` captured last, in the order they began.
+    pub heard_words: Vec<u32>,
+}
+
 /// What an actor perceives of the world beyond its window this frame.
 pub struct Senses<'a> {
     /// The on-going sound events it hears (audition, 3.4).

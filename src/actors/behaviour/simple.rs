@@ -194,9 +194,9 @@ impl Living {
             return;
         }
         self.state = TALK;
-        match self.words.first().copied() {
+        match self.conversation.words.first().copied() {
             Some(sound) => {
-                self.words.remove(0);
+                self.conversation.words.remove(0);
                 deeds.push(Deed::Say {
                     sound,
                     source: voice,
@@ -211,7 +211,7 @@ impl Living {
     /// (`listen_to`), in the order they begin, then ends; what it heard
     /// stays in `heard_words`.
     fn listen(&mut self, senses: &Senses) {
-        let Some((source, n)) = self.listen_to else {
+        let Some((source, n)) = self.conversation.listen_to else {
             return self.pop();
         };
         self.state = LISTEN_WORDS;
@@ -227,7 +227,7 @@ impl Living {
         self.progress.captured.extend(new);
         if self.progress.captured.len() >= n {
             self.progress.captured.truncate(n);
-            self.heard_words = self.progress.captured.iter().map(|e| e.0).collect();
+            self.conversation.heard_words = self.progress.captured.iter().map(|e| e.0).collect();
             self.pop();
         }
     }

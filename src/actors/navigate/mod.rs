@@ -23,13 +23,59 @@ use crate::actors::planning::heuristics::{self, collision_free, Heuristic};
 use crate::actors::planning::path::{self, Band, Explorer, NoPlan, SearchGrid, Step};
 use crate::actors::planning::spline::{self, Piece};
 use crate::lsys::automata::Automata;
+use crate::lsys::Limits;
 
 mod guard;
 mod walk_continuously;
 
+/// How an actor navigates, as its automata commands set it (table B6:
+/// `heuristic`, `coll_test_func`, `rel_search_level`, `ahead`, `inertia`,
+/// `optim_rate`, `optim_ahead`) and the film's limits bound it.
+#[derive(Debug, Clone)]
+pub struct Tuning {
+    /// The search and the collision test heuristics (table G.1).
+    pub heuristic: i64,
+    pub coll_test_func: i64,
+    /// Search voxels of 2^level memory voxels a side.
+    pub rel_search_level: u32,
+    /// Key points of the path tested for collisions.
+    pub ahead: i64,
+    pub inertia: f32,
+    /// Algorithm 5 every `optim_rate` frames (0: never) over the next
+    /// `optim_ahead` key points.
+    pub optim_rate: i64,
+    pub optim_ahead: i64,
+    /// Most voxels one of its path searches may add to its path
+    /// ([`Limits::plan_voxels`]).
+    pub max_plan_voxels: usize,
+    /// It plays on an open court (a tennis player runs to its place):
+    /// it walks without a memory and its view is not checked.
+    pub open_court: bool,
+}
+
+impl Default for Tuning {
+    /// The thesis's defaults.
+    fn default() -> Tuning {
+        Tuning {
+            heuristic: 1,
+            coll_test_func: 3,
+            rel_search_level: 1,
+            ahead: 3,
+            inertia: 0.0,
+            optim_rate: 0,
+            optim_ahead: 5,
+            max_plan_voxels: Limits::default().plan_voxels,
+            open_court: false,
+        }
+    }
+}
+
 /// What a navigating actor keeps between frames.
 #[derive(Debug, Clone, Default)]
 pub struct Navigation {
+    pub tuning: Tuning,
+    /// The planned path's key points ahead, first next.
+    pub path: Vec<Vec3>,
     /// The goal it walks to, popped from the goal stack.
     pub destination: Option<Vec3>,
     /// The unit direction it walks in (zero standing).

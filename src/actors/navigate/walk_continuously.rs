@@ -12,7 +12,7 @@ impl Living {
         if self.memory.is_none() {
             // Without a memory there is nothing to plan on (`init`). A
             // tennis player walks straight to its place then, by design.
-            if self.player.is_none() {
+            if !self.navigation.tuning.open_court {
                 self.note_once(
                     "no memory",
                     "runs walk_continuously without a visual memory (`init`): it has nothing to plan on and hands its goals to the next behaviour",
@@ -28,7 +28,7 @@ impl Living {
         }
         // A tennis player looks at the ball through a narrow view and
         // runs on an open court by design.
-        if self.player.is_none() {
+        if !self.navigation.tuning.open_court {
             self.check_view(dt);
         }
         if self.stuck(dt) {
@@ -37,7 +37,7 @@ impl Living {
         if self.navigation.explorer.is_some() {
             return self.explore(dt);
         }
-        if self.state == WALK && !self.path.is_empty() {
+        if self.state == WALK && !self.navigation.path.is_empty() {
             return self.move_along(dt);
         }
         self.search_new_path();
@@ -80,7 +80,7 @@ impl Living {
             show(self.eye),
             show(dest)
         ));
-        self.path.clear();
+        self.navigation.path.clear();
         self.start_exploring(dest);
     }
 
@@ -103,7 +103,7 @@ impl Living {
             self.navigation.destination = None;
             return;
         }
-        let Some(h) = heuristics::heuristic(self.heuristic as u32) else {
+        let Some(h) = heuristics::heuristic(self.navigation.tuning.heuristic as u32) else {
             return self.pop();
         };
         let aim = self.aim(h, dest);
@@ -134,7 +134,7 @@ impl Living {
                 "coarse",
                 &format!(
                     "its search voxels of {search} (the `init` voxel edge {} × 2^rel_search_level {}) cut its memory's cube ({} … {}) into {edge} per edge, fewer than {MIN_SEARCH_EDGE}: too coarse to plan in; lower rel_search_level or the voxel edge",
-                    cube.voxel_edge, self.rel_search_level, cube.min, cube.max
+                    cube.voxel_edge, self.navigation.tuning.rel_search_level, cube.min, cube.max
                 ),
             );
         }
@@ -148,7 +148,7 @@ impl Living {
         // Push itself and look around: the memory may then hold a way
         // (5.2.4).
         self.navigation.failures += 1;
-        self.path.clear();
+        self.navigation.path.clear();
         self.look_around();
     }
 
@@ -166,7 +166,13 @@ impl Living {
             Some(v) if !planar(h) => glam::DVec3::from_array(grid.centre(v)).as_vec3(),
             _ => self.eye,
         };
-        let points = match path::plan_on(&grid, to(from), to(aim), h, self.max_plan_voxels) {
+        let points = match path::plan_on(
+            &grid,
+            to(from),
+            to(aim),
+            h,
+            self.navigation.tuning.max_plan_voxels,
+        ) {
             Ok(points) => points,
             Err(NoPlan::TooLong { visited }) => {
                 // A plan this long costs the same at every voxel the
@@ -177,7 +183,7 @@ impl Living {
                     &format!(
                         "its path search to ({}) gave up after adding {visited} voxels to its path, over the limit of {}; it explores instead. Raise it with --max-plan-voxels N",
                         show(dest),
-                        self.max_plan_voxels
+                        self.navigation.tuning.max_plan_voxels
                     ),
                 );
                 return false;
@@ -186,7 +192,7 @@ impl Living {
         };
         let flat = planar(h);
         let y = self.eye.y;
-        self.path = points
+        self.navigation.path = points
             .iter()
             .skip(1)
             .map(|p| {
@@ -199,10 +205,10 @@ impl Living {
             })
             .collect();
         // The last key point is the goal itself, not its voxel.
-        if let Some(last) = self.path.last_mut() {
+        if let Some(last) = self.navigation.path.last_mut() {
             *last = aim;
         } else {
-            self.path.push(aim);
+            self.navigation.path.push(aim);
         }
         self.navigation.failures = 0;
         self.navigation.explorer = None;
@@ -226,7 +232,7 @@ impl Living {
     fn start_exploring(&mut self, dest: Vec3) {
         let (Some(memory), Some(h)) = (
             self.memory.as_ref(),
-            heuristics::heuristic(self.heuristic as u32),
+            heuristics::heuristic(self.navigation.tuning.heuristic as u32),
         ) else {
             return;
         };
@@ -256,7 +262,7 @@ impl Living {
     /// when one exists and it has not done so [`MAX_DETOURS`] times for
     /// this destination already.
     fn detour(&mut self) -> bool {
-        let h = heuristics::heuristic(self.heuristic as u32);
+        let h = heuristics::heuristic(self.navigation.tuning.heuristic as u32);
         let (Some(h), Some(dest)) = (h, self.navigation.destination) else {
             return false;
         };
@@ -281,7 +287,7 @@ impl Living {
     /// The search grid of its memory at `rel_search_level`, laid on the
     /// ground of its last search.
     fn grid<'m>(&self, memory: &'m Octree) -> SearchGrid<'m> {
-        SearchGrid::new(memory, self.rel_search_level).on(self.navigation.band)
+        SearchGrid::new(memory, self.navigation.tuning.rel_search_level).on(self.navigation.band)
     }
 
     /// For a planar heuristic, the layers laid on the ground its memory
@@ -294,7 +300,7 @@ impl Living {
             return None;
         }
         let eye = memory.voxel(self.eye.as_dvec3().to_array())?[1];
-        let side = 1u32 << self.rel_search_level.min(memory.levels());
+        let side = 1u32 << self.navigation.tuning.rel_search_level.min(memory.levels());
         let region = Region {
             centre: self.eye,
             range: GROUND_RANGE * side as f32 * memory.cube().voxel_edge as f32,
@@ -319,7 +325,8 @@ impl Living {
     /// height of a support heuristic's path").
     fn key_point(&self, grid: &SearchGrid, v: Voxel) -> Vec3 {
         let c = glam::DVec3::from_array(grid.centre(v)).as_vec3();
-        let flat = heuristics::heuristic(self.heuristic as u32).is_some_and(planar);
+        let flat =
+            heuristics::heuristic(self.navigation.tuning.heuristic as u32).is_some_and(planar);
         let y = if flat { self.eye.y } else { c.y };
         Vec3::new(c.x, y, c.z)
     }
@@ -379,7 +386,7 @@ impl Living {
     /// The goal cannot be reached: the next behaviour runs.
     fn give_up(&mut self) {
         self.navigation = Navigation::default();
-        self.path.clear();
+        self.navigation.path.clear();
         self.pop();
     }
 
@@ -412,7 +419,8 @@ impl Living {
         else {
             return;
         };
-        let grid = SearchGrid::new(memory.octree(), self.rel_search_level).on(self.navigation.band);
+        let grid = SearchGrid::new(memory.octree(), self.navigation.tuning.rel_search_level)
+            .on(self.navigation.band);
         let h = e.heuristic();
         if !self.navigation.looked_around
             && e.dead_end(|v| grid.is_empty(v))
@@ -439,7 +447,7 @@ impl Living {
                 self.navigation.explorer = None;
                 self.navigation.target = None;
                 if let Some(d) = self.navigation.destination {
-                    self.path = vec![d];
+                    self.navigation.path = vec![d];
                     self.state = WALK;
                 }
             }
@@ -452,7 +460,7 @@ impl Living {
                     "its goal ({goal}) is out of reach: exploring, it walked every search voxel heuristic {h} reaches from where it began within its memory's cube ({steps} steps), and none leads to the goal's voxel: goal given up",
                     goal = self.navigation.destination.map_or("?".into(), show),
                     steps = e.visited(),
-                    h = self.heuristic
+                    h = self.navigation.tuning.heuristic
                 );
                 self.give_up_goal(why);
                 self.give_up();
@@ -466,17 +474,17 @@ impl Living {
     /// Algorithm 5 dropped some).
     fn move_along(&mut self, dt: f32) {
         if self.path_blocked() {
-            self.path.clear();
+            self.navigation.path.clear();
             self.search_new_path();
             return self.blocked_at_once();
         }
         self.optimise();
         let nav = &mut self.navigation;
         let piece = match nav.piece.take() {
-            Some(p) if p.leads_along(&self.path) => p,
+            Some(p) if p.leads_along(&nav.path) => p,
             _ => {
                 nav.travelled = 0.0;
-                match Piece::new(self.eye, nav.heading, &self.path, self.inertia) {
+                match Piece::new(self.eye, nav.heading, &nav.path, nav.tuning.inertia) {
                     Some(p) => p,
                     None => return self.search_new_path(),
                 }
@@ -488,7 +496,7 @@ impl Living {
             // The way runs into what it sees or remembers: it stops
             // short and plans again on what it now knows.
             self.eye = stop;
-            self.path.clear();
+            self.navigation.path.clear();
             return self.search_new_path();
         }
         self.eye = at;
@@ -502,8 +510,8 @@ impl Living {
             nav.piece = Some(piece);
             return;
         }
-        self.path.remove(0);
-        if self.path.is_empty() {
+        nav.path.remove(0);
+        if nav.path.is_empty() {
             // At the goal: the next one, or the next behaviour.
             nav.destination = None;
             nav.failures = 0;
@@ -530,13 +538,13 @@ impl Living {
             "disagree",
             &format!(
                 "heuristic {} planned a path to ({}) through ({}), where its collision test coll_test_func {} finds no way (table G.1): it explores from there",
-                self.heuristic,
+                self.navigation.tuning.heuristic,
                 show(dest),
                 show(blocked),
-                self.coll_test_func
+                self.navigation.tuning.coll_test_func
             ),
         );
-        self.path.clear();
+        self.navigation.path.clear();
         self.start_exploring(dest);
     }
 
@@ -547,7 +555,7 @@ impl Living {
             return Vec::new();
         };
         let length: f32 = std::iter::once(self.eye)
-            .chain(self.path.iter().copied())
+            .chain(self.navigation.path.iter().copied())
             .collect::<Vec<_>>()
             .windows(2)
             .map(|w| w[0].distance(w[1]))
@@ -559,8 +567,8 @@ impl Living {
             current,
             self.eye,
             nav.heading,
-            &self.path,
-            self.inertia,
+            &self.navigation.path,
+            self.navigation.tuning.inertia,
             spacing,
         )
     }
@@ -602,7 +610,7 @@ impl Living {
     /// it has seen a support, and a level eye high over the ground with
     /// a narrow view sees none near it).
     fn gaze_along(&self, flat: Vec3) -> Vec3 {
-        let support = heuristics::heuristic(self.heuristic as u32)
+        let support = heuristics::heuristic(self.navigation.tuning.heuristic as u32)
             .is_some_and(|h| planar(h) && needs_support(h));
         let (Some(memory), true) = (self.memory.as_ref(), support) else {
             return flat;
@@ -629,7 +637,9 @@ impl Living {
     /// it walks straight to it, and the key points before it are dropped.
     fn optimise(&mut self) {
         self.navigation.since_optimised += 1;
-        if self.optim_rate <= 0 || self.navigation.since_optimised < self.optim_rate {
+        if self.navigation.tuning.optim_rate <= 0
+            || self.navigation.since_optimised < self.navigation.tuning.optim_rate
+        {
             return;
         }
         self.navigation.since_optimised = 0;
@@ -637,15 +647,15 @@ impl Living {
             return;
         };
         let view = window.depth_view();
-        let n = usize::try_from(self.optim_ahead)
+        let n = usize::try_from(self.navigation.tuning.optim_ahead)
             .unwrap_or(0)
-            .min(self.path.len());
+            .min(self.navigation.path.len());
         let seen = |p: Vec3| clearly_visible(window, &view, p, self.size_actor);
         let shortcut = (1..n)
             .rev()
-            .find(|&k| seen(self.path[k]) && self.free_way(self.path[k]));
+            .find(|&k| seen(self.navigation.path[k]) && self.free_way(self.navigation.path[k]));
         if let Some(k) = shortcut {
-            self.path.drain(..k);
+            self.navigation.path.drain(..k);
         }
     }
 
@@ -653,7 +663,7 @@ impl Living {
     /// the tests along a way; None without a memory.
     fn half_search_voxel(&self) -> Option<f32> {
         let edge = self.memory.as_ref()?.octree().cube().voxel_edge as f32;
-        Some(edge * (1u32 << self.rel_search_level.min(20)) as f32 * 0.5)
+        Some(edge * (1u32 << self.navigation.tuning.rel_search_level.min(20)) as f32 * 0.5)
     }
 
     /// Whether the straight way from the eye to `p`, as wide as the actor,
@@ -683,8 +693,13 @@ impl Living {
     /// test on the memory as it is now.
     fn first_blocked(&self) -> Option<Vec3> {
         let free = self.collision_test()?;
-        let ahead = self.ahead.max(1) as usize;
-        self.path.iter().take(ahead).copied().find(|&p| !free(p))
+        let ahead = self.navigation.tuning.ahead.max(1) as usize;
+        self.navigation
+            .path
+            .iter()
+            .take(ahead)
+            .copied()
+            .find(|&p| !free(p))
     }
 
     /// The collision test `coll_test_func` of a world point on the
@@ -692,7 +707,7 @@ impl Living {
     /// without a memory or a test.
     fn collision_test(&self) -> Option<impl Fn(Vec3) -> bool + '_> {
         let memory = self.memory.as_ref()?;
-        let test = heuristics::heuristic(self.coll_test_func as u32)?;
+        let test = heuristics::heuristic(self.navigation.tuning.coll_test_func as u32)?;
         let grid = self.grid(memory.octree());
         Some(move |p: Vec3| {
             grid.voxel(p.as_dvec3().to_array())

@@ -17,3 +17,13 @@ pub mod referee;
 pub mod score;
 #[cfg(test)]
 mod test_ball;
+
+/// What the tennis automata keep of an actor: its `tennis_state` (table
+/// B6), and its game as a player or its match as the referee, once the
+/// automata first runs.
+#[derive(Debug, Default)]
+pub struct Tennis {
+    pub state: i64,
+    pub player: Option<player::Player>,
+    pub umpire: Option<referee::Umpire>,
+}

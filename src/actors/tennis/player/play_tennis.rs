@@ -8,13 +8,15 @@ impl Living {
     /// `play_tennis` (5.6): audition, then vision, then the game, then
     /// the racket's motion, each frame.
     pub(in crate::actors) fn play_tennis(&mut self, senses: &Senses, deeds: &mut Vec<Deed>) {
-        if self.player.is_none() {
+        if self.tennis.player.is_none() {
             let side = if self.id == 0 {
                 Side::Green
             } else {
                 Side::Blue
             };
-            self.player = Some(Player::new(side));
+            self.tennis.player = Some(Player::new(side));
+            // It runs to its place on an open court (walk_continuously).
+            self.navigation.tuning.open_court = true;
         }
         if self.hear(senses) {
             return;
@@ -28,10 +30,10 @@ impl Living {
     /// automata.
     fn hear(&mut self, senses: &Senses) -> bool {
         let me = self.voice();
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         if std::mem::take(&mut p.interpret) {
             // interpret_words: the server's name and its half.
-            if let [name, half] = self.heard_words[..] {
+            if let [name, half] = self.conversation.heard_words[..] {
                 return self.begin_point(name, half);
             }
         }
@@ -45,21 +47,21 @@ impl Living {
                 // service says where to go.
                 FAULT | LET if voice => {
                     p.end_point();
-                    if self.tennis_state > FOLLOW_BALL {
-                        self.tennis_state = FOLLOW_BALL;
+                    if self.tennis.state > FOLLOW_BALL {
+                        self.tennis.state = FOLLOW_BALL;
                     }
                 }
                 SERVICE if voice => {
                     p.end_point();
                     p.interpret = true;
-                    self.listen_to = Some((e.source, 2));
+                    self.conversation.listen_to = Some((e.source, 2));
                     self.push(Behaviour::of(Automata::PlayTennis));
                     self.activate(Behaviour::of(Automata::Listen));
                     return true;
                 }
                 EXIT if voice => {
                     p.end_point();
-                    self.tennis_state = INACTIVE;
+                    self.tennis.state = INACTIVE;
                     self.pop();
                     return true;
                 }
@@ -104,7 +106,7 @@ impl Living {
     /// The referee named the server and its half: both players walk to
     /// their places (walk_continuously), then play the point.
     fn begin_point(&mut self, name: u32, half: u32) -> bool {
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         let server = match name {
             GREEN => Side::Green,
             BLUE => Side::Blue,
@@ -130,7 +132,7 @@ impl Living {
             aim_point(theirs, AIM_DEEP, AIM_WIDE)
         };
         p.stroke = None;
-        self.tennis_state = GOTO_PLAY_POSITION;
+        self.tennis.state = GOTO_PLAY_POSITION;
         self.push(Behaviour {
             automata: Automata::PlayTennis,
             commands: vec![AutomataCommand::TennisState(GOTO_PLAY_POSITION)],
@@ -148,7 +150,7 @@ impl Living {
             // The window was made for another thing: it looks next frame.
             return;
         }
-        let p = self.player.as_ref().expect("playing");
+        let p = self.tennis.player.as_ref().expect("playing");
         let partner = player_thing(p.side.opponent().index());
         if self.interest == Some(partner) && self.percepts.as_ref().and_then(|w| w.thing).is_none()
         {
@@ -162,7 +164,7 @@ impl Living {
             Vec3::ZERO
         };
         let found = self.follow_thing(lead);
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         if found.is_none() && self.interest == Some(BALL) {
             // look_around_set (5.6.1): where the ball should be — on its
             // way from its last sightings, else by the partner — with a
@@ -211,7 +213,7 @@ impl Living {
                     p.aim = aim_point(partner.position.as_dvec3(), AIM_DEEP, AIM_WIDE);
                     p.focus = Focus::Thing;
                 } else if partner.position.as_dvec3().distance(p.opponent_start) < PARTNER_NEAR {
-                    self.tennis_state = PARTNER_OK;
+                    self.tennis.state = PARTNER_OK;
                 }
             }
             (None, _) => {
@@ -227,8 +229,8 @@ impl Living {
     /// What vision looks for: the partner while it waits for it or
     /// glances at it, else the ball.
     fn wanted_interest(&self) -> i64 {
-        let p = self.player.as_ref().expect("playing");
-        if p.focus == Focus::Partner || self.tennis_state == LOOK_FOR_PARTNER {
+        let p = self.tennis.player.as_ref().expect("playing");
+        if p.focus == Focus::Partner || self.tennis.state == LOOK_FOR_PARTNER {
             player_thing(p.side.opponent().index())
         } else {
             BALL
@@ -238,28 +240,28 @@ impl Living {
     /// The game's Petri net (figure 5.6.1).
     fn play(&mut self, senses: &Senses, deeds: &mut Vec<Deed>) {
         let t = senses.time;
-        let p = self.player.as_mut().expect("playing");
-        let striking = self.tennis_state == HIT_PHASE;
-        if self.tennis_state > FOLLOW_BALL && !striking && p.gone() {
+        let p = self.tennis.player.as_mut().expect("playing");
+        let striking = self.tennis.state == HIT_PHASE;
+        if self.tennis.state > FOLLOW_BALL && !striking && p.gone() {
             // The ball went past or away: it waits for the next one.
             p.stroke = None;
-            self.tennis_state = FOLLOW_BALL;
+            self.tennis.state = FOLLOW_BALL;
         }
         let missed = p.tossed.is_some_and(|(_, at)| t - at > TOSS_PATIENCE);
-        if missed && p.strokes == 0 && self.tennis_state > FOLLOW_BALL {
+        if missed && p.strokes == 0 && self.tennis.state > FOLLOW_BALL {
             // It missed its toss: it tosses again.
             p.tossed = None;
             p.stroke = None;
-            self.tennis_state = FOLLOW_BALL;
+            self.tennis.state = FOLLOW_BALL;
         }
-        match self.tennis_state {
+        match self.tennis.state {
             INACTIVE | GOTO_PLAY_POSITION => {
                 let to = p.start.as_vec3();
                 let step = self.speed * senses.dt as f32;
                 let left = to - self.eye;
                 if left.length() <= step.max(1e-3) {
                     self.eye = to;
-                    self.tennis_state = LOOK_FOR_PARTNER;
+                    self.tennis.state = LOOK_FOR_PARTNER;
                     p.looking_since = Some(t);
                 } else {
                     self.eye += left.normalize() * step;
@@ -268,35 +270,35 @@ impl Living {
             LOOK_FOR_PARTNER => {
                 let since = *p.looking_since.get_or_insert(t);
                 if t - since > PARTNER_PATIENCE {
-                    self.tennis_state = PARTNER_OK;
+                    self.tennis.state = PARTNER_OK;
                 }
             }
             PARTNER_OK => {
-                self.tennis_state = FOLLOW_BALL;
+                self.tennis.state = FOLLOW_BALL;
                 p.ready_since = Some(t);
                 self.look_around_set();
             }
             FOLLOW_BALL => self.follow_ball(t, deeds),
-            FIRST_HIT_TURN..=7 => self.tennis_state += 1,
-            HIT_TURN => self.tennis_state = BOUNCE_OR_NOT_BOUNCE,
+            FIRST_HIT_TURN..=7 => self.tennis.state += 1,
+            HIT_TURN => self.tennis.state = BOUNCE_OR_NOT_BOUNCE,
             BOUNCE_OR_NOT_BOUNCE => self.bounce_or_not(t),
             BOUNCE => self.before_bounce(t),
             BOUNCE_BEGIN => {
                 // The ball has hit the ground (heard) and climbs again.
                 if p.bounced.is_some() {
-                    self.tennis_state = NOT_BOUNCE;
+                    self.tennis.state = NOT_BOUNCE;
                     p.velocity = None;
                 }
             }
             NOT_BOUNCE => self.before_impact(t, senses.dt),
             HIT_PHASE => self.hit_phase(t, senses.dt),
-            _ => self.tennis_state = GOTO_PLAY_POSITION,
+            _ => self.tennis.state = GOTO_PLAY_POSITION,
         }
     }
 
     /// Follows the ball; the server tosses once it has waited its pause, and knows its toss's impact.
     fn follow_ball(&mut self, t: f64, deeds: &mut Vec<Deed>) {
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         if p.is_server() && p.tossed.is_none() {
             let ready = *p.ready_since.get_or_insert(t);
             if t - ready >= SERVE_PAUSE {
@@ -322,23 +324,23 @@ impl Living {
                     let eye = self.eye.as_dvec3();
                     p.plan(eye, t, impact, v, true);
                 }
-                self.tennis_state = NOT_BOUNCE;
+                self.tennis.state = NOT_BOUNCE;
             }
             return;
         }
         if p.server.is_some() && p.coming() {
-            self.tennis_state = FIRST_HIT_TURN;
+            self.tennis.state = FIRST_HIT_TURN;
         }
     }
 
     /// Decides, from the first sight of the coming ball, whether it takes it after its bounce or before (eq. 5.6.7), and plans the stroke.
     fn bounce_or_not(&mut self, t: f64) {
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         let Some(v) = p.velocity else { return };
         let Some((_, at)) = p.ball.last() else { return };
         if p.bounced.is_some() {
             // It bounced already: it is taken on the rise.
-            self.tennis_state = NOT_BOUNCE;
+            self.tennis.state = NOT_BOUNCE;
             return;
         }
         let serving = p.is_server() && p.strokes == 0;
@@ -348,7 +350,7 @@ impl Living {
         };
         if !serving && p.bounced.is_none() && !p.side_ok(at, v, t) {
             // It lands out: let it go, and wait for the call.
-            self.tennis_state = FOLLOW_BALL;
+            self.tennis.state = FOLLOW_BALL;
             p.velocity = None;
             return;
         }
@@ -370,7 +372,7 @@ impl Living {
             choose_impact(p.start, first, second)
         };
         let bounce = receiving || (choice.bounce && !serving);
-        self.tennis_state = if bounce { BOUNCE } else { NOT_BOUNCE };
+        self.tennis.state = if bounce { BOUNCE } else { NOT_BOUNCE };
         let eye = self.eye.as_dvec3();
         let v_imp = if bounce {
             let at_bounce = velocity_at(v, t, &first);
@@ -383,10 +385,10 @@ impl Living {
 
     /// Waits for the bounce, estimating the impact after it again while the ball is far.
     fn before_bounce(&mut self, t: f64) {
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         let Some((_, at)) = p.ball.last() else { return };
         if at.y < BOUNCE_BEGINS || p.bounced.is_some() {
-            self.tennis_state = BOUNCE_BEGIN;
+            self.tennis.state = BOUNCE_BEGIN;
             p.learn_x(at, t);
             return;
         }
@@ -410,7 +412,7 @@ impl Living {
 
     /// Estimates the impact again while the ball is far, and starts the hit phase two frames before it.
     fn before_impact(&mut self, t: f64, dt: f64) {
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         let serving = p.stroke.as_ref().is_some_and(|s| s.serve);
         let close = |p: &Player| match (&p.stroke, p.ball.last()) {
             (Some(s), Some((_, b))) => b.distance(s.impact.point) < STOP_ESTIMATING,
@@ -434,7 +436,7 @@ impl Living {
         }
         let Some(s) = &p.stroke else { return };
         if s.impact.time - t <= 2.0 * dt {
-            self.tennis_state = HIT_PHASE;
+            self.tennis.state = HIT_PHASE;
             if let Some((_, at)) = p.ball.last() {
                 p.learn_x(at, t);
             }
@@ -443,9 +445,9 @@ impl Living {
 
     /// The stroke: once its impact time is past, the shot is sent.
     fn hit_phase(&mut self, t: f64, dt: f64) {
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         let Some(s) = &p.stroke else {
-            self.tennis_state = FOLLOW_BALL;
+            self.tennis.state = FOLLOW_BALL;
             return;
         };
         if t > s.impact.time + dt {
@@ -453,7 +455,7 @@ impl Living {
             p.sent = Some((s.impact.point, s.impact.time, s.wished));
             p.strokes += 1;
             p.partner_struck = false;
-            self.tennis_state = FOLLOW_BALL;
+            self.tennis.state = FOLLOW_BALL;
             p.velocity = None;
         }
     }
@@ -461,7 +463,7 @@ impl Living {
     /// The racket follows its planned path: where it is next frame is
     /// where the next frame's interpretation places its particle.
     fn swing(&mut self, senses: &Senses) {
-        let p = self.player.as_mut().expect("playing");
+        let p = self.tennis.player.as_mut().expect("playing");
         let Some(s) = &p.stroke else { return };
         let next = senses.time + senses.dt;
         self.eye = s.path.at(next).0.as_vec3();
@@ -473,7 +475,7 @@ impl Living {
     /// The direction the racket faces: its motion along the planned path
     /// (turtle 2), when it has one.
     pub fn racket_normal(&self, t: f64) -> Option<Vec3> {
-        let s = self.player.as_ref()?.stroke.as_ref()?;
+        let s = self.tennis.player.as_ref()?.stroke.as_ref()?;
         let n = s.path.normal(t);
         (n != DVec3::ZERO).then(|| n.as_vec3())
     }

@@ -13,12 +13,12 @@ impl Living {
     /// `talk`, then `tennis_error_detection` watches the next service;
     /// after the match's last call the next behaviour runs.
     pub(in crate::actors) fn referee(&mut self) {
-        let words = match self.umpire.as_mut() {
+        let words = match self.tennis.umpire.as_mut() {
             None => {
                 self.state = INIT_TENNIS_GAME;
                 let umpire = Umpire::new(Match::default());
                 let words = call::service(&umpire.game).to_vec();
-                self.umpire = Some(umpire);
+                self.tennis.umpire = Some(umpire);
                 words
             }
             Some(u) => {
@@ -32,12 +32,16 @@ impl Living {
                 words
             }
         };
-        let finished = self.umpire.as_ref().is_some_and(|u| u.game.finished());
+        let finished = self
+            .tennis
+            .umpire
+            .as_ref()
+            .is_some_and(|u| u.game.finished());
         if !finished {
             self.push(Behaviour::of(Automata::Referee));
             self.push(Behaviour::of(Automata::TennisErrorDetection));
         }
-        self.words = words;
+        self.conversation.words = words;
         self.activate(Behaviour::of(Automata::Talk));
     }
 
@@ -47,15 +51,16 @@ impl Living {
     pub(in crate::actors) fn tennis_error_detection(&mut self, senses: &Senses) {
         self.interest = Some(BALL);
         let lead = self
+            .tennis
             .umpire
             .as_ref()
             .map_or(Vec3::ZERO, |u| u.seen.lead(senses.dt));
         if let Some(ball) = self.follow_thing(lead) {
-            if let Some(u) = self.umpire.as_mut() {
+            if let Some(u) = self.tennis.umpire.as_mut() {
                 u.seen.push(senses.time, ball.position);
             }
         }
-        let Some(u) = self.umpire.as_mut() else {
+        let Some(u) = self.tennis.umpire.as_mut() else {
             // Without a match there is nothing to judge: the referee
             // automata starts one.
             return self.activate(Behaviour::of(Automata::Referee));
