@@ -7,25 +7,8 @@ use clap::{Args, ValueEnum};
 
 use crate::lsys::Limits;
 use crate::production::frames::FrameRange;
-use crate::production::settings::Formats;
-use crate::production::settings::{RenderRequest, SoundRequest};
-use crate::render::{Filter, Integrator, Preset};
+use crate::production::settings::{within, Formats, RenderRequest, SoundRequest};
 use crate::sound::{self, Attenuation, SampleFormat};
-
-/// A number of `what` within `lo..=hi`, read from `text`.
-fn within<T>(text: &str, what: &str, lo: T, hi: T) -> Result<T, String>
-where
-    T: std::str::FromStr + PartialOrd + std::fmt::Display + Copy,
-{
-    let n: T = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("{what} must be a number {lo}..{hi}, got {text:?}"))?;
-    if n < lo || n > hi {
-        return Err(format!("{what} must be {lo}..{hi}, got {n}"));
-    }
-    Ok(n)
-}
 
 /// A finite number > 0 for `what`.
 fn positive(text: &str, what: &str) -> Result<f64, String> {
@@ -33,16 +16,6 @@ fn positive(text: &str, what: &str) -> Result<f64, String> {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         _ => Err(format!("{what} must be > 0, got {text}")),
     }
-}
-
-/// `--width` and `--height`.
-pub fn side(text: &str) -> Result<u32, String> {
-    within(text, "a side in pixels", 1, 32768)
-}
-
-/// `--spp`: samples per pixel.
-pub fn spp(text: &str) -> Result<u32, String> {
-    within(text, "--spp", 1, 65536)
 }
 
 fn threads(text: &str) -> Result<usize, String> {
@@ -175,7 +148,7 @@ pub struct StillArgs {
     #[command(flatten)]
     pub at: FrameArgs,
     #[command(flatten)]
-    pub quality: QualityArgs,
+    pub quality: RenderRequest,
     /// Print where the time went: seconds to derive, build, render, encode.
     #[arg(long)]
     pub timings: bool,
@@ -195,64 +168,6 @@ pub struct FrameArgs {
     pub time: Option<f64>,
     #[command(flatten)]
     pub scene: SceneArgs,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-pub enum PresetArg {
-    Preview,
-    Final,
-}
-
-impl PresetArg {
-    pub fn preset(self) -> Preset {
-        match self {
-            PresetArg::Preview => Preset::Preview,
-            PresetArg::Final => Preset::Final,
-        }
-    }
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-pub enum IntegratorArg {
-    Whitted,
-    Path,
-}
-
-impl IntegratorArg {
-    pub fn integrator(self) -> Integrator {
-        match self {
-            IntegratorArg::Whitted => Integrator::Whitted,
-            IntegratorArg::Path => Integrator::Path,
-        }
-    }
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-pub enum FilterArg {
-    Box,
-    Gaussian,
-}
-
-impl FilterArg {
-    pub fn filter(self) -> Filter {
-        match self {
-            FilterArg::Box => Filter::Box,
-            FilterArg::Gaussian => Filter::Gaussian,
-        }
-    }
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-pub enum FormatArg {
-    Png,
-    Exr,
-    Both,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-pub enum Switch {
-    On,
-    Off,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -293,101 +208,21 @@ fn loudness_or_off(text: &str) -> Result<Loudness, String> {
     }
 }
 
-/// How an image is rendered: a preset and what overrides it. Every
-/// option left out keeps the film's recorded setting (`run`, `render`,
-/// `farm slurm`), else the preset's (`still`).
-#[derive(Args, Clone, Copy, Default)]
-#[command(next_help_heading = "Render settings")]
-pub struct QualityArgs {
-    /// `final` (the default): 16 samples, shadows, 5 bounces, 4 rays per
-    /// sphere light; `preview`: 1 sample, no shadows, mirrors and glass
-    /// approximated by one look. `run` with no scene (the built-in film)
-    /// renders at `final` with 3 samples per pixel unless --preset or
-    /// --spp is given.
-    #[arg(long, value_enum, value_name = "PRESET")]
-    pub preset: Option<PresetArg>,
-    /// Image width (default: the scene camera's window, `prefpos`; one
-    /// side given keeps its aspect ratio).
-    #[arg(long, value_parser = side)]
-    pub width: Option<u32>,
-    /// Image height (default: the scene camera's window).
-    #[arg(long, value_parser = side)]
-    pub height: Option<u32>,
-    /// Samples per pixel (overrides the preset's).
-    #[arg(long, value_parser = spp)]
-    pub spp: Option<u32>,
-    /// Pixel filter (default box).
-    #[arg(long, value_enum)]
-    pub filter: Option<FilterArg>,
-    /// Shadow rays (overrides the preset's).
-    #[arg(long, value_enum, value_name = "on|off")]
-    pub shadows: Option<Switch>,
-    /// Reflection and refraction bounces (overrides the preset's).
-    #[arg(long, value_name = "N", value_parser = max_depth)]
-    pub max_depth: Option<u32>,
-    /// Shadow rays toward each sphere light (overrides the preset's).
-    #[arg(long, value_name = "N", value_parser = light_samples)]
-    pub light_samples: Option<u32>,
-    /// `whitted` (the default): Rayshade's shading, lights, ambient,
-    /// mirrors and glass; `path`: path tracing, the sky lighting the
-    /// scene, soft shadows, light bouncing (--max-depth bounces), depth
-    /// of field from the camera's lens (docs/rendering.md).
-    #[arg(long, value_enum)]
-    pub integrator: Option<IntegratorArg>,
-    /// The fraction of each frame interval the shutter stays open, 0..=1
-    /// (default 0.5, a film camera's 180°): the path tracer blurs what
-    /// moves between a frame and the next over it; 0 freezes.
-    #[arg(long, value_name = "F", value_parser = shutter)]
-    pub shutter: Option<f32>,
-}
-
-fn shutter(text: &str) -> Result<f32, String> {
-    match text.parse::<f32>() {
-        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "--shutter takes a fraction 0..=1 of the frame interval, not `{text}`"
-        )),
-    }
-}
-
-fn max_depth(text: &str) -> Result<u32, String> {
-    within(text, "--max-depth", 0, 64)
-}
-
-fn light_samples(text: &str) -> Result<u32, String> {
-    within(text, "--light-samples", 1, 1024)
-}
-
-impl QualityArgs {
-    /// The request these options make (no formats, no inset).
-    pub fn request(&self) -> RenderRequest {
-        RenderRequest {
-            preset: self.preset.map(PresetArg::preset),
-            width: self.width,
-            height: self.height,
-            spp: self.spp,
-            filter: self.filter.map(FilterArg::filter),
-            shadows: self.shadows.map(|s| matches!(s, Switch::On)),
-            max_depth: self.max_depth,
-            light_samples: self.light_samples,
-            integrator: self.integrator.map(IntegratorArg::integrator),
-            shutter: self.shutter,
-            formats: None,
-            inset: None,
-        }
-    }
-}
-
 /// A film's render settings (`run`, `render`, `farm slurm`): every
 /// option left out keeps the film's recorded one.
 #[derive(Args, Clone, Copy)]
 pub struct RenderArgs {
     #[command(flatten)]
-    pub quality: QualityArgs,
+    pub quality: RenderRequest,
     /// `both` (the EXR master and its PNG, the default), `png` (8-bit
     /// sRGB) or `exr` (RGBA, Z, normal, object id).
-    #[arg(long, value_enum, help_heading = "Render settings")]
-    pub format: Option<FormatArg>,
+    #[arg(
+        long,
+        value_enum,
+        help_heading = "Render settings",
+        hide_possible_values = true
+    )]
+    pub format: Option<Formats>,
     /// Put actor N's vision window (the derive folder's
     /// actors/N/vision.NNNN.png) into the frames' top-left corner; `none`
     /// takes it out.
@@ -399,13 +234,9 @@ impl RenderArgs {
     /// The request these options make.
     pub fn request(&self) -> RenderRequest {
         RenderRequest {
-            formats: self.format.map(|f| match f {
-                FormatArg::Png => Formats::Png,
-                FormatArg::Exr => Formats::Exr,
-                FormatArg::Both => Formats::Both,
-            }),
+            formats: self.format,
             inset: self.inset.map(|i| i.0),
-            ..self.quality.request()
+            ..self.quality
         }
     }
 }
@@ -510,6 +341,7 @@ impl SoundArgs {
 mod tests {
     use super::*;
     use crate::production::settings::{sound_args, Defaults, RenderChoice};
+    use crate::render::{Filter, Integrator, Preset};
     use clap::Parser;
 
     #[derive(Parser)]

@@ -137,7 +137,7 @@ pub fn stills(args: &StillArgs, frames: Option<&FrameRange>) -> Result<Vec<PathB
     }
     let exr = ImageFormat::of_path(output) == Some(ImageFormat::Exr);
     let limits = at.scene.limits.limits();
-    let request = quality.request();
+    let request = *quality;
     // Given sizes are checked before the derivation, the camera's after.
     if let (Some(w), Some(h)) = (request.width, request.height) {
         Limits::check_pixels(w, h, limits.pixels).map_err(Error::input)?;

@@ -6,10 +6,11 @@
 use std::path::Path;
 use std::time::{Duration, Instant, SystemTime};
 
-use super::args::{PresetArg, StillArgs};
+use super::args::StillArgs;
 use super::frame::stills;
 use crate::error::Result;
 use crate::production::frames::FrameRange;
+use crate::render::Preset;
 
 /// How often the files are looked at.
 const POLL: Duration = Duration::from_millis(150);
@@ -36,7 +37,7 @@ fn stamp(path: &Path) -> Stamp {
 pub fn watch(args: &StillArgs, frames: Option<&FrameRange>, count: Option<u32>) -> Result<()> {
     // A preview unless a preset is asked for: quick to look at.
     let mut still_args = args.clone();
-    still_args.quality.preset.get_or_insert(PresetArg::Preview);
+    still_args.quality.preset.get_or_insert(Preset::Preview);
     let at = &args.at;
     let mut seen: Option<Vec<Stamp>> = None;
     let mut files = at.scenes.clone();

@@ -20,8 +20,12 @@ use crate::error::Error;
 use crate::render::{Filter, ImageFormat, Integrator, Preset, Settings};
 use crate::sound;
 
-/// Image formats a render writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+/// Image formats a render writes (`--format`): `both` (the EXR master
+/// and its PNG, the default), `png` (8-bit sRGB) or `exr` (RGBA, Z,
+/// normal, object id).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Formats {
     Png,
@@ -52,74 +56,234 @@ fn default_shutter() -> f32 {
     crate::render::settings::SHUTTER
 }
 
-/// Render settings, every one resolved.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct RenderChoice {
-    /// The preset the sampling settings started from.
-    pub preset: Preset,
-    /// Image size in pixels, and whether the user gave it (else it is
-    /// the scene camera's window, followed when the scene changes it).
-    pub width: u32,
-    pub height: u32,
-    pub size_given: bool,
-    pub spp: u32,
-    pub filter: Filter,
-    pub shadows: bool,
-    /// Reflection and refraction bounces.
-    pub max_depth: u32,
-    /// Shadow rays toward each sphere light.
-    pub light_samples: u32,
-    /// Whitted shading or path tracing (a folder recorded before the
-    /// choice existed was Whitted).
-    #[serde(default)]
-    pub integrator: Integrator,
-    /// The fraction of each frame interval the shutter is open (the
-    /// path tracer's motion blur).
-    #[serde(default = "default_shutter")]
-    pub shutter: f32,
-    pub formats: Formats,
-    /// The actor whose vision window goes into the frames' corner.
-    pub inset: Option<usize>,
+/// A number of `what` within `lo..=hi`, read from `text` (an option's
+/// value, checked where clap reads it: out of range is a usage error).
+pub fn within<T>(text: &str, what: &str, lo: T, hi: T) -> Result<T, String>
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display + Copy,
+{
+    let n: T = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("{what} must be a number {lo}..{hi}, got {text:?}"))?;
+    if n < lo || n > hi {
+        return Err(format!("{what} must be {lo}..{hi}, got {n}"));
+    }
+    Ok(n)
+}
+
+/// `--width` and `--height`.
+fn side(text: &str) -> Result<u32, String> {
+    within(text, "a side in pixels", 1, 32768)
+}
+
+/// `--spp`: samples per pixel.
+fn spp(text: &str) -> Result<u32, String> {
+    within(text, "--spp", 1, 65536)
+}
+
+fn max_depth(text: &str) -> Result<u32, String> {
+    within(text, "--max-depth", 0, 64)
+}
+
+fn light_samples(text: &str) -> Result<u32, String> {
+    within(text, "--light-samples", 1, 1024)
+}
+
+fn shutter(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "--shutter takes a fraction 0..=1 of the frame interval, not `{text}`"
+        )),
+    }
+}
+
+/// `--shadows on|off`.
+fn on_off() -> impl clap::builder::TypedValueParser<Value = bool> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(["on", "off"]).map(|s| s == "on")
+}
+
+/// A setting's value as its option writes it (`--shadows=on`).
+trait OptionText {
+    fn text(&self) -> String;
+}
+
+impl OptionText for u32 {
+    fn text(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl OptionText for f32 {
+    fn text(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl OptionText for bool {
+    fn text(&self) -> String {
+        (if *self { "on" } else { "off" }).to_string()
+    }
+}
+
+impl OptionText for Filter {
+    fn text(&self) -> String {
+        self.name().to_string()
+    }
+}
+
+impl OptionText for Integrator {
+    fn text(&self) -> String {
+        self.name().to_string()
+    }
+}
+
+/// The sampling options of a render, each defined once: its field, of
+/// the same name and type in the renderer's [`Settings`], in the film's
+/// [`RenderChoice`] (and so in its record and `settings.json`) and in a
+/// [`RenderRequest`] (the command line's `--name`, with its help and
+/// value parser), and whether a `--preset` sets it. Everything that
+/// copies, overlays or spells these settings is made from this list: a
+/// new render option is a line here and its field in [`Settings`].
+macro_rules! sampling_options {
+    ($(
+        $(#[doc = $doc:literal])*
+        $name:ident: $ty:ty, preset $preset:literal, arg($($arg:tt)*) $(, #[$serde:meta])?;
+    )*) => {
+        /// Render settings, every one resolved.
+        #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+        pub struct RenderChoice {
+            /// The preset the sampling settings started from.
+            pub preset: Preset,
+            /// Image size in pixels, and whether the user gave it (else it
+            /// is the scene camera's window, followed when the scene
+            /// changes it).
+            pub width: u32,
+            pub height: u32,
+            pub size_given: bool,
+            $( $(#[doc = $doc])* $(#[$serde])? pub $name: $ty, )*
+            pub formats: Formats,
+            /// The actor whose vision window goes into the frames' corner.
+            pub inset: Option<usize>,
+        }
+
+        /// What the user asked for on the command line: `None` is "as
+        /// before". Every option left out keeps the film's recorded
+        /// setting (`run`, `render`, `farm slurm`), else the preset's
+        /// (`still`).
+        #[derive(Debug, Clone, Copy, Default, PartialEq, clap::Args)]
+        #[command(next_help_heading = "Render settings")]
+        pub struct RenderRequest {
+            /// `final` (the default): 16 samples, shadows, 5 bounces, 4 rays
+            /// per sphere light; `preview`: 1 sample, no shadows, mirrors
+            /// and glass approximated by one look. `run` with no scene (the
+            /// built-in film) renders at `final` with 3 samples per pixel
+            /// unless --preset or --spp is given.
+            #[arg(long, value_enum, value_name = "PRESET", hide_possible_values = true)]
+            pub preset: Option<Preset>,
+            /// Image width (default: the scene camera's window, `prefpos`;
+            /// one side given keeps its aspect ratio).
+            #[arg(long, value_parser = side)]
+            pub width: Option<u32>,
+            /// Image height (default: the scene camera's window).
+            #[arg(long, value_parser = side)]
+            pub height: Option<u32>,
+            $( $(#[doc = $doc])* #[arg(long, $($arg)*)] pub $name: Option<$ty>, )*
+            /// The image formats (`run`, `render`, `farm slurm`: `--format`).
+            #[arg(skip)]
+            pub formats: Option<Formats>,
+            /// The inset (`--inset`); `Some(None)`: no inset.
+            #[arg(skip)]
+            pub inset: Option<Option<usize>>,
+        }
+
+        impl RenderChoice {
+            /// The preset's settings at the camera's size `camera`.
+            pub fn of_preset(preset: Preset, camera: (u32, u32)) -> RenderChoice {
+                let s = Settings::of_preset(preset, camera.0, camera.1);
+                RenderChoice {
+                    preset,
+                    width: s.width,
+                    height: s.height,
+                    size_given: false,
+                    $( $name: s.$name, )*
+                    formats: Formats::Both,
+                    inset: None,
+                }
+            }
+
+            /// The renderer's settings (frame 0, layers when an EXR is
+            /// written).
+            pub fn settings(&self) -> Settings {
+                Settings {
+                    width: self.width,
+                    height: self.height,
+                    $( $name: self.$name, )*
+                    layers: self.formats != Formats::Png,
+                    frame: 0,
+                }
+            }
+
+            /// The command-line options that ask for exactly these
+            /// settings (a farm's render tasks run with them).
+            pub fn args(&self) -> Vec<String> {
+                let mut a = vec![
+                    format!("--preset={}", self.preset.name()),
+                    $( format!("--{}={}", stringify!($name).replace('_', "-"), self.$name.text()), )*
+                    format!("--format={}", self.formats.name()),
+                    format!(
+                        "--inset={}",
+                        self.inset.map_or("none".into(), |a| a.to_string())
+                    ),
+                ];
+                if self.size_given {
+                    a.push(format!("--width={}", self.width));
+                    a.push(format!("--height={}", self.height));
+                }
+                a
+            }
+        }
+
+        impl RenderRequest {
+            /// The settings a preset sets, from `fresh`, the preset's.
+            fn preset_over(c: &mut RenderChoice, fresh: &RenderChoice) {
+                $( if $preset { c.$name = fresh.$name; } )*
+            }
+
+            /// The sampling settings the request names, over `c`.
+            fn overlay(&self, c: &mut RenderChoice) {
+                $( if let Some(v) = self.$name { c.$name = v; } )*
+            }
+        }
+    };
+}
+
+sampling_options! {
+    /// Samples per pixel (overrides the preset's).
+    spp: u32, preset true, arg(value_parser = spp);
+    /// Pixel filter (default box).
+    filter: Filter, preset false, arg(value_enum);
+    /// Shadow rays (overrides the preset's).
+    shadows: bool, preset true, arg(value_name = "on|off", value_parser = on_off(), hide_possible_values = true);
+    /// Reflection and refraction bounces (overrides the preset's).
+    max_depth: u32, preset true, arg(value_name = "N", value_parser = max_depth);
+    /// Shadow rays toward each sphere light (overrides the preset's).
+    light_samples: u32, preset true, arg(value_name = "N", value_parser = light_samples);
+    /// `whitted` (the default): Rayshade's shading, lights, ambient,
+    /// mirrors and glass; `path`: path tracing, the sky lighting the
+    /// scene, soft shadows, light bouncing (--max-depth bounces), depth
+    /// of field from the camera's lens (docs/rendering.md).
+    // A folder recorded before the choice existed was Whitted.
+    integrator: Integrator, preset true, arg(value_enum), #[serde(default)];
+    /// The fraction of each frame interval the shutter stays open, 0..=1
+    /// (default 0.5, a film camera's 180°): the path tracer blurs what
+    /// moves between a frame and the next over it; 0 freezes.
+    shutter: f32, preset false, arg(value_name = "F", value_parser = shutter), #[serde(default = "default_shutter")];
 }
 
 impl RenderChoice {
-    /// The preset's settings at the camera's size `camera`.
-    pub fn of_preset(preset: Preset, camera: (u32, u32)) -> RenderChoice {
-        let s = Settings::of_preset(preset, camera.0, camera.1);
-        RenderChoice {
-            preset,
-            width: s.width,
-            height: s.height,
-            size_given: false,
-            spp: s.spp,
-            filter: s.filter,
-            shadows: s.shadows,
-            max_depth: s.max_depth,
-            light_samples: s.light_samples,
-            integrator: s.integrator,
-            shutter: s.shutter,
-            formats: Formats::Both,
-            inset: None,
-        }
-    }
-
-    /// The renderer's settings (frame 0, layers when an EXR is written).
-    pub fn settings(&self) -> Settings {
-        Settings {
-            width: self.width,
-            height: self.height,
-            spp: self.spp,
-            filter: self.filter,
-            shadows: self.shadows,
-            max_depth: self.max_depth,
-            light_samples: self.light_samples,
-            integrator: self.integrator,
-            shutter: self.shutter,
-            layers: self.formats != Formats::Png,
-            frame: 0,
-        }
-    }
-
     /// The settings as a frame's record keeps them, as text: every field
     /// of the type (a field added is recorded, so a resumed run never
     /// keeps frames made with another value), but `size_given`, which
@@ -143,49 +307,6 @@ impl RenderChoice {
             })
             .collect()
     }
-
-    /// The command-line options that ask for exactly these settings (a
-    /// farm's render tasks run with them).
-    pub fn args(&self) -> Vec<String> {
-        let mut a = vec![
-            format!("--preset={}", self.preset.name()),
-            format!("--spp={}", self.spp),
-            format!("--filter={}", self.filter.name()),
-            format!("--shadows={}", if self.shadows { "on" } else { "off" }),
-            format!("--max-depth={}", self.max_depth),
-            format!("--light-samples={}", self.light_samples),
-            format!("--integrator={}", self.integrator.name()),
-            format!("--shutter={}", self.shutter),
-            format!("--format={}", self.formats.name()),
-            format!(
-                "--inset={}",
-                self.inset.map_or("none".into(), |a| a.to_string())
-            ),
-        ];
-        if self.size_given {
-            a.push(format!("--width={}", self.width));
-            a.push(format!("--height={}", self.height));
-        }
-        a
-    }
-}
-
-/// What the user asked for on the command line: `None` is "as before".
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct RenderRequest {
-    pub preset: Option<Preset>,
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub spp: Option<u32>,
-    pub filter: Option<Filter>,
-    pub shadows: Option<bool>,
-    pub max_depth: Option<u32>,
-    pub light_samples: Option<u32>,
-    pub integrator: Option<Integrator>,
-    pub shutter: Option<f32>,
-    pub formats: Option<Formats>,
-    /// `Some(None)`: no inset.
-    pub inset: Option<Option<usize>>,
 }
 
 /// A film's defaults where the folder records none: the final preset,
@@ -218,13 +339,8 @@ impl RenderRequest {
             }
         };
         if let Some(p) = self.preset {
-            let fresh = RenderChoice::of_preset(p, camera);
             c.preset = p;
-            c.spp = fresh.spp;
-            c.shadows = fresh.shadows;
-            c.max_depth = fresh.max_depth;
-            c.light_samples = fresh.light_samples;
-            c.integrator = fresh.integrator;
+            RenderRequest::preset_over(&mut c, &RenderChoice::of_preset(p, camera));
         }
         if !c.size_given {
             (c.width, c.height) = camera;
@@ -243,13 +359,7 @@ impl RenderRequest {
             }
             (None, None) => {}
         }
-        c.spp = self.spp.unwrap_or(c.spp);
-        c.filter = self.filter.unwrap_or(c.filter);
-        c.shadows = self.shadows.unwrap_or(c.shadows);
-        c.max_depth = self.max_depth.unwrap_or(c.max_depth);
-        c.light_samples = self.light_samples.unwrap_or(c.light_samples);
-        c.integrator = self.integrator.unwrap_or(c.integrator);
-        c.shutter = self.shutter.unwrap_or(c.shutter);
+        self.overlay(&mut c);
         c.formats = self.formats.unwrap_or(c.formats);
         c.inset = self.inset.unwrap_or(c.inset);
         c

@@ -44,7 +44,7 @@ pub fn applies(accel: &Accel) -> bool {
 
 /// One camera ray of a row's: sample `sample` of pixel `x` at `offset`
 /// in the pixel, whose key is `key` (each sample's own keys the bounces'
-/// soft shadows, as [`super::sample::pixel`] keys them); or, where
+/// soft shadows, as [`super::whitted::Whitted`] keys them one at a time); or, where
 /// `sample` is None, the pixel's centre ray, cast for the layers (depth,
 /// normal, object) and not shaded.
 #[derive(Clone, Copy)]

@@ -6,6 +6,7 @@
 pub mod accel;
 pub mod batch;
 pub mod camera;
+mod integrator;
 pub mod motion;
 pub mod output;
 pub mod path;
@@ -13,6 +14,7 @@ pub mod sample;
 pub mod settings;
 pub mod shade;
 pub mod simd;
+pub mod whitted;
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
@@ -109,8 +111,8 @@ pub fn render_with(
         // 2 cores busy, 1.80 this way.
         .with_max_len(1)
         .for_each(|(y, (((rgba, depth), normal), object))| {
-            let mut scratch = sample::Scratch::default();
-            sample::row(&mut scratch, accel, &cam, settings, y as u32, |x, p| {
+            let mut integrator = integrator::start(settings.integrator);
+            integrator.row(accel, &cam, settings, y as u32, &mut |x, p| {
                 let i = x as usize;
                 (rgba[i], depth[i], normal[i], object[i]) = (p.rgba, p.depth, p.normal, p.object);
             });

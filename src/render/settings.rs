@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 /// How pixel samples are weighted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Filter {
     Box,
@@ -23,16 +23,15 @@ impl Filter {
 }
 
 /// How a pixel's light is computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Integrator {
     /// Rayshade's Whitted shading: lights, hard or sphere-sampled
-    /// shadows, an ambient term, mirrors and glass traced (`shade`).
+    /// shadows, an ambient term, mirrors and glass traced.
     #[default]
     Whitted,
     /// Unidirectional path tracing with next-event estimation and
-    /// multiple importance sampling, the sky as a light, a thin lens
-    /// (`path`).
+    /// multiple importance sampling, the sky as a light, a thin lens.
     Path,
 }
 
@@ -50,7 +49,7 @@ impl Integrator {
 pub const SHUTTER: f32 = 0.5;
 
 /// The two starting points of a render's sampling settings.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Preset {
     Preview,

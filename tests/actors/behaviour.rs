@@ -324,7 +324,11 @@ fn the_shown_path_is_drawn_for_the_viewer_only() {
     let window = a.window.as_ref().unwrap();
     for p in window.pixels.iter().filter(|p| p.hit()) {
         assert_ne!(p.object, u32::MAX);
-        let near_key = a.navigation.path.iter().any(|k| k.distance(p.position) < 0.09);
+        let near_key = a
+            .navigation
+            .path
+            .iter()
+            .any(|k| k.distance(p.position) < 0.09);
         assert!(!near_key, "the actor sees its path at {}", p.position);
     }
 }

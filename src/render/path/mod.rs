@@ -21,6 +21,7 @@ use glam::{Vec3, Vec3A};
 
 use super::accel::{Accel, Hit, Query};
 use super::camera::CameraRays;
+use super::sample::{Integrate, PixelOut, Samples};
 use super::settings::Settings;
 use super::shade::lights::{uniform_sphere, SPHERE_PDF};
 use super::shade::{self, lights::toward, texture, EPS};
@@ -98,6 +99,42 @@ fn environment(accel: &Accel, d: Vec3A, direct: bool) -> Vec3 {
         shade::background(accel, d) * scale
     } else {
         shade::sky_light(accel, d) * scale
+    }
+}
+
+/// The path integrator's buffers for a row.
+#[derive(Default)]
+pub struct PathTracer {
+    samples: Samples,
+    buffers: Buffers,
+}
+
+impl Integrate for PathTracer {
+    /// Pixel by pixel: a pixel's camera rays are cast together.
+    fn row(
+        &mut self,
+        accel: &Accel,
+        cam: &CameraRays,
+        st: &Settings,
+        y: u32,
+        put: &mut dyn FnMut(u32, PixelOut),
+    ) {
+        let PathTracer { samples, buffers } = self;
+        for x in 0..st.width {
+            let pixel = samples.pixel(accel, cam, st, (x, y), |key, s| {
+                colours(
+                    accel,
+                    cam,
+                    st,
+                    (x, y),
+                    key,
+                    &s.offsets,
+                    buffers,
+                    &mut s.colours,
+                )
+            });
+            put(x, pixel);
+        }
     }
 }
 
