@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::behaviour::{Behaviour, Conversation, Deed, Progress, Senses};
+use super::behaviour::{AutomataProgress, Behaviour, Conversation, Deed, Senses};
 use super::footholds::plan::{Gait, Weights};
 use super::footholds::walk::Footing;
 use super::navigate::Navigation;
@@ -119,7 +119,7 @@ pub struct Living {
     /// The behaviour stack (5.1): the next command string is the last.
     pub stack: Vec<Behaviour>,
     /// Where the running automata is.
-    pub progress: Progress,
+    pub progress: AutomataProgress,
     /// `speed`: how fast it walks, world units a second.
     pub speed: f32,
     /// Each automaton's own state, next to its code: `talk` and
@@ -176,7 +176,7 @@ impl Living {
             seeing: std::time::Duration::ZERO,
             percepts: None,
             stack: Vec::new(),
-            progress: Progress::default(),
+            progress: AutomataProgress::default(),
             speed: DEFAULT_SPEED,
             conversation: Conversation::default(),
             navigation: Navigation::default(),

@@ -15,7 +15,7 @@ use crate::lsys::Limits;
 use crate::production::frames::{FrameRange, FrameSelection, Shard};
 use crate::production::settings::{self, Defaults, RenderChoice, RenderRequest, SoundRequest};
 use crate::production::timings::Timings;
-use crate::production::{assemble, mux, record, stages, verify};
+use crate::production::{assemble, mux, pipeline, record, stages, verify};
 use crate::render::Integrator;
 use crate::sound;
 use crate::turtle::Options;
@@ -50,59 +50,6 @@ fn derive_into(
     p.done();
     assemble::finish(dir)?;
     Ok(derived)
-}
-
-/// Derives the film into its claimed folder while a render stage renders
-/// each selected frame as soon as its snapshot is on disk (issue 45);
-/// returns whether it derived and, when it did, how many frames were
-/// rendered (none are announced when the folder was up to date: the
-/// caller renders what is missing then).
-fn derive_rendering(
-    film: &mut crate::film::Film,
-    inputs: record::Inputs,
-    dir: &Path,
-    (choice, frames, max_pixels): (&RenderChoice, &[u64], u64),
-    (timings, log_frames): (&Timings, bool),
-) -> Result<(bool, Option<u64>)> {
-    let name = inputs.name.clone();
-    let (tx, rx) = std::sync::mpsc::channel::<(u64, String)>();
-    std::thread::scope(|scope| {
-        let render = scope.spawn(|| {
-            let mut p = FrameLog::new(log_frames);
-            let tick = &mut |d| p.frame(d);
-            let n = stages::render_announced(
-                dir,
-                &name,
-                (frames, rx),
-                choice,
-                max_pixels,
-                tick,
-                timings,
-            );
-            p.done();
-            n
-        });
-        let mut announce = move |k: u64, hash: &str| {
-            tx.send((k, hash.to_string()))
-                .map_err(|_| Error::other("the render stage stopped"))
-        };
-        // The derivation's own pool (vision rows, actor images): in the
-        // renderer's, its tasks waited behind whole frames' rows, and
-        // the derivation is the chain every frame waits on.
-        let derived = stages::own_pool("derive").and_then(|pool| {
-            pool.install(|| {
-                stages::derive_announcing(film, inputs, dir, &mut |_, _| {}, timings, &mut announce)
-            })
-        });
-        drop(announce); // the render stage ends with the announcements
-        let rendered = render
-            .join()
-            .unwrap_or_else(|_| Err(Error::other("the render stage panicked")));
-        // The render stage's error first: the derivation stopped for it.
-        let rendered = rendered?;
-        let (_, derived) = derived?;
-        Ok((derived, derived.then_some(rendered)))
-    })
 }
 
 /// The film's render settings in `dir`: `request` over the folder's
@@ -308,13 +255,17 @@ pub fn run(
     let frames = selection.frames(f.frame_count(), Shard::all());
     let max_pixels = film.limits.pixels;
     let (derived, streamed) = if stages::streams(&choice) {
-        derive_rendering(
+        let mut p = FrameLog::new(work.log_frames);
+        let streamed = pipeline::derive_rendering(
             f,
             inputs,
             &dir,
             (&choice, &frames, max_pixels),
-            (&timings, work.log_frames),
-        )?
+            &timings,
+            &mut |d| p.frame(d),
+        )?;
+        p.done();
+        streamed
     } else {
         let mut p = Progress::new("deriving frame");
         let tick = &mut |k, n| p.tick(k, n);

@@ -43,7 +43,7 @@ enum End {
 
 /// Where the editor is in the protocol's life cycle.
 #[derive(Clone, Copy, PartialEq)]
-enum Stage {
+enum Lifecycle {
     /// Before `initialize`.
     Starting,
     Serving,
@@ -55,7 +55,7 @@ enum Stage {
 /// of input.
 fn serve(input: &mut impl BufRead, output: &mut impl Write) -> io::Result<End> {
     let mut documents: HashMap<String, String> = HashMap::new();
-    let mut stage = Stage::Starting;
+    let mut stage = Lifecycle::Starting;
     while let Some(message) = Message::read(input)? {
         match message {
             Message::Request(req) => {
@@ -63,12 +63,12 @@ fn serve(input: &mut impl BufRead, output: &mut impl Write) -> io::Result<End> {
             }
             Message::Notification(n) if n.method == "exit" => {
                 return Ok(match stage {
-                    Stage::Shut => End::Done,
+                    Lifecycle::Shut => End::Done,
                     _ => End::Abrupt,
                 });
             }
             // Notifications before `initialize` and after `shutdown` are dropped.
-            Message::Notification(n) if stage == Stage::Serving => {
+            Message::Notification(n) if stage == Lifecycle::Serving => {
                 if let Some(uri) = update(&mut documents, &n) {
                     let diagnostics = diagnose(&uri, &documents[&uri]);
                     let params = json!({ "uri": uri, "diagnostics": diagnostics });
@@ -84,13 +84,13 @@ fn serve(input: &mut impl BufRead, output: &mut impl Write) -> io::Result<End> {
 
 /// The response to one request, moving the life cycle on at `initialize`
 /// and `shutdown`.
-fn respond(stage: &mut Stage, documents: &HashMap<String, String>, req: &Request) -> Response {
+fn respond(stage: &mut Lifecycle, documents: &HashMap<String, String>, req: &Request) -> Response {
     let id = req.id.clone();
     let refuse =
         |code: ErrorCode, why: &str| Response::new_err(id.clone(), code as i32, why.into());
     match (*stage, req.method.as_str()) {
-        (Stage::Starting, "initialize") => {
-            *stage = Stage::Serving;
+        (Lifecycle::Starting, "initialize") => {
+            *stage = Lifecycle::Serving;
             let capabilities = json!({
                 "textDocumentSync": 1,
                 "hoverProvider": true,
@@ -99,13 +99,13 @@ fn respond(stage: &mut Stage, documents: &HashMap<String, String>, req: &Request
             });
             Response::new_ok(id, json!({ "capabilities": capabilities }))
         }
-        (Stage::Starting, _) => refuse(ErrorCode::ServerNotInitialized, "not initialized yet"),
-        (Stage::Serving, "shutdown") => {
-            *stage = Stage::Shut;
+        (Lifecycle::Starting, _) => refuse(ErrorCode::ServerNotInitialized, "not initialized yet"),
+        (Lifecycle::Serving, "shutdown") => {
+            *stage = Lifecycle::Shut;
             Response::new_ok(id, ())
         }
-        (Stage::Serving, _) => Response::new_ok(id, answer(documents, req)),
-        (Stage::Shut, _) => refuse(ErrorCode::InvalidRequest, "shut down"),
+        (Lifecycle::Serving, _) => Response::new_ok(id, answer(documents, req)),
+        (Lifecycle::Shut, _) => refuse(ErrorCode::InvalidRequest, "shut down"),
     }
 }
 

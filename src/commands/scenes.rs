@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::film::Film;
+use crate::lsys::animation::read_source;
 use crate::lsys::{Limits, Source};
 use crate::production::stages::SceneText;
 use crate::turtle::Options;
@@ -35,7 +36,28 @@ pub const BUILT_IN_SPP: u32 = 3;
 /// (`--allow-commands`), by every command alike; scripts are found in the
 /// first scene's folder.
 pub fn load_film(scenes: &[PathBuf], allow_commands: bool, opts: Options) -> Result<Film> {
-    let mut film = Film::load(scenes, opts)?;
+    film_of(scenes, &read(scenes)?, allow_commands, opts)
+}
+
+/// Each scene file read once, bounded ([`read_source`]): what is parsed
+/// is what the records hash.
+fn read(scenes: &[PathBuf]) -> Result<Vec<Source>> {
+    scenes
+        .iter()
+        .map(|p| read_source(p).map_err(|e| Error::input(e.to_string())))
+        .collect()
+}
+
+/// The film of `sources`, read from the files `scenes`.
+fn film_of(
+    scenes: &[PathBuf],
+    sources: &[Source],
+    allow_commands: bool,
+    opts: Options,
+) -> Result<Film> {
+    // Sounds and surfaces are found beside the first file.
+    let dir = scenes.first().and_then(|p| p.parent());
+    let mut film = Film::from_sources(sources, dir, opts)?;
     if let Some(what) = film.wants_commands() {
         if !allow_commands {
             return Err(Error::input(format!(
@@ -43,12 +65,8 @@ pub fn load_film(scenes: &[PathBuf], allow_commands: bool, opts: Options) -> Res
             )));
         }
         // A bare file name's folder is the current one.
-        let dir = scenes
-            .first()
-            .and_then(|p| p.parent())
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        film.allow_commands(dir);
+        let dir = dir.filter(|d| !d.as_os_str().is_empty());
+        film.allow_commands(dir.unwrap_or(Path::new(".")));
     }
     Ok(film)
 }
@@ -84,16 +102,15 @@ pub fn load(scenes: &[PathBuf], allow_commands: bool, limits: Limits) -> Result<
             .collect();
         (film, texts, "lmfilm".to_string())
     } else {
-        let film = load_film(scenes, allow_commands, opts)?;
-        let mut texts = Vec::new();
-        for p in scenes {
-            let bytes = crate::source::read_file(p, crate::lsys::animation::MAX_SCENE_BYTES)
-                .map_err(|e| Error::input(format!("{}: {e}", p.display())))?;
-            texts.push(SceneText {
-                name: p.display().to_string(),
-                bytes,
-            });
-        }
+        let sources = read(scenes)?;
+        let film = film_of(scenes, &sources, allow_commands, opts)?;
+        let texts = sources
+            .into_iter()
+            .map(|s| SceneText {
+                name: s.name,
+                bytes: s.text.into_bytes(),
+            })
+            .collect();
         let name = scenes[0]
             .file_stem()
             .map_or("film".into(), |s| s.to_string_lossy().into_owned());

@@ -26,7 +26,7 @@ use crate::source::{Diagnostic, FileRef, Source};
 
 /// An imported trajectory: times strictly increasing.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Trajectory {
+pub struct ActorTrack {
     pub actor: i64,
     pub times: Vec<f64>,
     pub points: Vec<DVec3>,
@@ -35,7 +35,7 @@ pub struct Trajectory {
     dirs: Vec<DVec3>,
 }
 
-impl Trajectory {
+impl ActorTrack {
     fn new(actor: i64, times: Vec<f64>, points: Vec<DVec3>) -> Self {
         let mut dirs = Vec::with_capacity(points.len().saturating_sub(1));
         let mut last = DVec3::X;
@@ -46,7 +46,7 @@ impl Trajectory {
             }
             dirs.push(last);
         }
-        Trajectory {
+        ActorTrack {
             actor,
             times,
             points,
@@ -81,7 +81,7 @@ pub fn parse_trace(
     src: &Source,
     actor: i64,
     file: &FileRef,
-) -> std::result::Result<Trajectory, Diagnostic> {
+) -> std::result::Result<ActorTrack, Diagnostic> {
     let (mut times, mut points) = (Vec::new(), Vec::new());
     let format = "a record is `Actor <actor> <state> <time> <x> <y> <z>`";
     let mut offset = 0;
@@ -135,7 +135,7 @@ pub fn parse_trace(
     if times.is_empty() {
         return Err(file.error(format!("{} holds no record of actor {actor}", src.name)));
     }
-    Ok(Trajectory::new(actor, times, points))
+    Ok(ActorTrack::new(actor, times, points))
 }
 
 /// A `trace_actor` declaration and the records `I` collected for it.
@@ -154,7 +154,7 @@ pub struct Export {
 #[derive(Debug, Clone, Default)]
 pub struct Tracks {
     pub channels: Vec<Channel>,
-    pub imports: Vec<Trajectory>,
+    pub imports: Vec<ActorTrack>,
     pub exports: Vec<Export>,
     /// The time of the frame being interpreted.
     pub time: f64,
@@ -363,7 +363,7 @@ mod tests {
         )
     }
 
-    fn trace(text: &str, actor: i64) -> std::result::Result<Trajectory, Diagnostic> {
+    fn trace(text: &str, actor: i64) -> std::result::Result<ActorTrack, Diagnostic> {
         parse_trace(&Source::new("t.trace", text), actor, &file())
     }
 

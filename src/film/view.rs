@@ -24,9 +24,7 @@ use crate::scene::motor::{Drive, Motor};
 use crate::scene::rig::Targets;
 use crate::sound::air::{self, Air, AMBIENT_SOURCE};
 use crate::source::FileRef;
-use crate::turtle::{
-    ActorMapping, ActorPose, BodyPart, ParticleMapping, SoundRequest, TurtleWorld,
-};
+use crate::turtle::{ActorMapping, ActorPose, BodyPart, ParticleMapping, SoundCue, TurtleWorld};
 
 use super::tracks::Tracks;
 
@@ -382,14 +380,14 @@ impl TurtleWorld for WorldView<'_> {
         }
     }
 
-    fn sound(&mut self, request: SoundRequest) {
+    fn sound(&mut self, request: SoundCue) {
         let r = match request {
-            SoundRequest::Play { sound } => {
+            SoundCue::Play { sound } => {
                 let c = self.air.centre();
                 self.air.play(sound, AMBIENT_SOURCE, c)
             }
-            SoundRequest::Emit { sound, source, at } => self.air.play(sound, source, at),
-            SoundRequest::Move { source, at } => self.air.move_source(source, at),
+            SoundCue::Emit { sound, source, at } => self.air.play(sound, source, at),
+            SoundCue::Move { source, at } => self.air.move_source(source, at),
         };
         if let Err(e) = r {
             self.fail(Error::input(e));

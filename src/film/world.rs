@@ -81,7 +81,7 @@ fn scene_library(anim: &Animation, search: &[PathBuf]) -> Result<Library> {
     for o in anim.systems.iter().flat_map(|s| &s.def.options) {
         if let OptionItem::SoundFile { number, file } = o {
             let found = library::resolve(&file.name, search);
-            if found.is_none_or(|f| matches!(f, library::Found::File(p) if !p.is_file())) {
+            if found.is_none_or(|f| matches!(f, library::SoundOrigin::File(p) if !p.is_file())) {
                 let dirs: Vec<String> = search.iter().map(|d| d.display().to_string()).collect();
                 let message = format!(
                     "sound file {:?} not found (or not a file); looked in {}",
@@ -102,8 +102,8 @@ fn files_on_disk(lib: &Library, search: &[PathBuf]) -> Vec<(String, PathBuf)> {
     let mut files: Vec<(String, PathBuf)> = lib
         .iter()
         .filter_map(|(_, file)| match library::resolve(file, search)? {
-            library::Found::File(path) => Some((file.to_string(), path)),
-            library::Found::Embedded(..) => None,
+            library::SoundOrigin::File(path) => Some((file.to_string(), path)),
+            library::SoundOrigin::Embedded(..) => None,
         })
         .collect();
     let mut seen = std::collections::BTreeSet::new();

@@ -176,7 +176,7 @@ impl<'a> Machine<'a> {
                 Op::Div => bin!(|a, b| a / b),
                 Op::Pow => bin!(f64::powf),
                 Op::Mod => bin!(|a, b| a % b),
-                Op::Step => bin!(|a, b| if a < b || a < 0.0 { 0.0 } else { 1.0 }),
+                Op::PostfixOp => bin!(|a, b| if a < b || a < 0.0 { 0.0 } else { 1.0 }),
                 Op::MemSet => {
                     sp -= 1;
                     let v = st[sp];

@@ -46,7 +46,7 @@ pub enum Op {
     Pow,
     Mod,
     /// `~`: 0 if a < b or a < 0, else 1.
-    Step,
+    PostfixOp,
     /// `<` (binary): memory[a] = b, leaves b.
     MemSet,
     Abs,
@@ -77,7 +77,7 @@ impl Op {
         use Op::*;
         match self {
             Num(_) | Param(_) | Constant(_) | Rand => (0, 1),
-            RandRange | Add | Sub | Mul | Div | Pow | Mod | Step | MemSet | And | Or => (2, 1),
+            RandRange | Add | Sub | Mul | Div | Pow | Mod | PostfixOp | MemSet | And | Or => (2, 1),
             Abs | Neg | Sin | Cos | Asin | Tanh | MemGet | Lt | Le | Gt | Ge | Eq | Ne | Not => {
                 (1, 1)
             }
@@ -301,7 +301,7 @@ impl<'a> Compiler<'a> {
                 b'/' => Op::Div,
                 b'^' => Op::Pow,
                 b'%' => Op::Mod,
-                b'~' => Op::Step,
+                b'~' => Op::PostfixOp,
                 b'<' => Op::MemSet,
                 b'|' => Op::Abs,
                 b'_' => Op::Neg,

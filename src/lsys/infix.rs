@@ -17,7 +17,7 @@ pub const FUNCTIONS: [(&str, Op, usize); 10] = [
     ("asin", Op::Asin, 1),
     ("tanh", Op::Tanh, 1),
     ("abs", Op::Abs, 1),
-    ("step", Op::Step, 2),
+    ("step", Op::PostfixOp, 2),
     ("mem", Op::MemGet, 1),
     ("mem_set", Op::MemSet, 2),
     ("rand", Op::Rand, 0),

@@ -16,7 +16,7 @@
 use std::sync::Arc;
 
 use super::catalogue::{named, names, Meaning, Unit, SLOTS};
-use super::readable_condition::{condition, Step};
+use super::readable_condition::{condition, PostfixOp};
 use super::scan::{is_symbol_char, name_suggestion, trivia_end, READABLE_SECTIONS, SECTIONS};
 use crate::source::{Diagnostic, Source, Written};
 
@@ -748,10 +748,10 @@ impl<'a> Reader<'a> {
     /// One step of a condition in postfix: an atom `lhs cmp rhs` as
     /// `[(= (lhs) - (rhs))pred]` (or `[(= lhs)pred]` when rhs is 0), or a
     /// logic operator.
-    fn step(&mut self, step: Step) {
+    fn step(&mut self, step: PostfixOp) {
         match step {
-            Step::Logic { op, at } => self.put(&format!(" {op}"), at),
-            Step::Compare {
+            PostfixOp::Logic { op, at } => self.put(&format!(" {op}"), at),
+            PostfixOp::Compare {
                 left,
                 right,
                 at,

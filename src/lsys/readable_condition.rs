@@ -8,7 +8,7 @@ use crate::source::{Diagnostic, Source};
 
 /// One step of a condition in postfix.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Step {
+pub enum PostfixOp {
     /// `left pred right`: the byte ranges of the two expressions, where
     /// the comparison is written and its classic predicate (`<`, `p`,
     /// `>`, `g`, `=`, `!`).
@@ -23,7 +23,7 @@ pub enum Step {
 }
 
 /// The steps of the condition written at `start..end` of `src`.
-pub fn condition(src: &Source, start: usize, end: usize) -> Result<Vec<Step>, Diagnostic> {
+pub fn condition(src: &Source, start: usize, end: usize) -> Result<Vec<PostfixOp>, Diagnostic> {
     let mut p = Condition {
         src,
         text: &src.text,
@@ -44,7 +44,7 @@ struct Condition<'a> {
     text: &'a str,
     pos: usize,
     end: usize,
-    steps: Vec<Step>,
+    steps: Vec<PostfixOp>,
 }
 
 /// The comparisons and their classic predicates.
@@ -84,7 +84,7 @@ impl Condition<'_> {
         while self.word("or") {
             let at = self.pos;
             self.and()?;
-            self.steps.push(Step::Logic { op: '|', at });
+            self.steps.push(PostfixOp::Logic { op: '|', at });
         }
         Ok(())
     }
@@ -94,7 +94,7 @@ impl Condition<'_> {
         while self.word("and") {
             let at = self.pos;
             self.not()?;
-            self.steps.push(Step::Logic { op: '&', at });
+            self.steps.push(PostfixOp::Logic { op: '&', at });
         }
         Ok(())
     }
@@ -103,7 +103,7 @@ impl Condition<'_> {
         if self.word("not") {
             let at = self.pos;
             self.not()?;
-            self.steps.push(Step::Logic { op: '!', at });
+            self.steps.push(PostfixOp::Logic { op: '!', at });
             return Ok(());
         }
         self.primary()
@@ -228,7 +228,7 @@ impl Condition<'_> {
         };
         self.pos += sign.len();
         let (r0, r1) = self.operand(false)?;
-        self.steps.push(Step::Compare {
+        self.steps.push(PostfixOp::Compare {
             left: (l0, l1),
             right: (r0, r1),
             at,

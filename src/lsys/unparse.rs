@@ -246,7 +246,7 @@ pub fn postfix(ops: &[Op], constant_r: bool) -> Option<String> {
                 Op::Div => "/",
                 Op::Pow => "^",
                 Op::Mod => "%",
-                Op::Step => "~",
+                Op::PostfixOp => "~",
                 Op::MemSet => "<",
                 Op::Abs => "|",
                 Op::Neg => "_",

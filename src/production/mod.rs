@@ -12,6 +12,7 @@ pub mod folder;
 pub mod frames;
 pub mod manifest;
 pub mod mux;
+pub mod pipeline;
 pub mod record;
 pub mod settings;
 pub mod stages;

@@ -58,8 +58,8 @@ pub struct SceneText {
     pub bytes: Vec<u8>,
 }
 
-/// Progress of a stage: `(done, total)` after each frame.
-pub type Progress<'a> = &'a mut dyn FnMut(u64, u64);
+/// Progress of a stage, told after each frame: `(done, total)`.
+pub type Tick<'a> = &'a mut dyn FnMut(u64, u64);
 
 /// One frame of a render done: the `done`th of `total`, frame `frame`,
 /// rendered now (`made`) or found up to date, `seconds` from its reading
@@ -186,7 +186,7 @@ pub fn derive(
     inputs: Inputs,
     dir: &Path,
     clean: bool,
-    progress: Progress,
+    progress: Tick,
     timings: &Timings,
 ) -> Result<(DeriveRecord, bool), Error> {
     claim(dir, &inputs, clean)?;
@@ -211,7 +211,7 @@ pub fn derive_announcing(
     film: &mut Film,
     inputs: Inputs,
     dir: &Path,
-    progress: Progress,
+    progress: Tick,
     timings: &Timings,
     announce: &mut dyn FnMut(u64, &str) -> Result<(), Error>,
 ) -> Result<(DeriveRecord, bool), Error> {
@@ -405,7 +405,7 @@ fn prune_snapshots(scene_dir: &Path, frames: u64) -> Result<(), Error> {
 /// turtle's warnings are shown once each at the end.
 pub fn every_frame(
     film: &mut Film,
-    progress: Progress,
+    progress: Tick,
     mut each: impl FnMut(&Frame, &[Living]) -> Result<(), Error>,
 ) -> Result<(), Error> {
     let frames = film.frame_count();
@@ -918,7 +918,7 @@ fn sound_record(settings: &sound::SoundSettings) -> BTreeMap<String, String> {
 pub fn soundtrack(
     dir: &Path,
     settings: &sound::SoundSettings,
-) -> Result<Option<sound::Report>, Error> {
+) -> Result<Option<sound::SoundtrackReport>, Error> {
     let rec = open(dir)?;
     let bounds = Bounds::new(0, rec.frame_count);
     // What the soundtrack reads and writes, before it is rendered.

@@ -32,7 +32,7 @@ pub const MAX_FRAMES: usize = 8_640_000;
 
 /// One channel of a joint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Channel {
+pub enum JointChannel {
     Position(usize),
     Rotation(usize),
 }
@@ -44,7 +44,7 @@ pub struct Joint {
     pub parent: Option<usize>,
     /// Its origin in its parent's frame, at rest.
     pub offset: Vec3,
-    pub channels: Vec<Channel>,
+    pub channels: Vec<JointChannel>,
     /// Where its channels start in a frame's values.
     pub first: usize,
     /// The tip of an end joint (`End Site`), in its own frame.
@@ -175,8 +175,8 @@ impl Mocap {
                 for (c, ch) in j.channels.iter().enumerate() {
                     let what = format!("frame {f}'s value {} ({}, {ch:?})", j.first + c, j.name);
                     let limit = match ch {
-                        Channel::Position(_) => MAX_LENGTH,
-                        Channel::Rotation(_) => 1e6,
+                        JointChannel::Position(_) => MAX_LENGTH,
+                        JointChannel::Rotation(_) => 1e6,
                     };
                     values.push(w.number(&what, limit)?);
                 }
@@ -226,7 +226,7 @@ impl Mocap {
         let mut rotation = Quat::IDENTITY;
         if let Some(row) = self.row(frame) {
             for (c, ch) in j.channels.iter().enumerate() {
-                if let Channel::Rotation(axis) = *ch {
+                if let JointChannel::Rotation(axis) = *ch {
                     let mut a = Vec3::ZERO;
                     a[axis] = 1.0;
                     rotation *= Quat::from_axis_angle(a, row[j.first + c].to_radians());
@@ -254,7 +254,7 @@ impl Mocap {
             let mut translation = j.offset;
             if let Some(row) = row {
                 for (c, ch) in j.channels.iter().enumerate() {
-                    if let Channel::Position(axis) = *ch {
+                    if let JointChannel::Position(axis) = *ch {
                         translation[axis] += row[j.first + c];
                     }
                 }
@@ -296,12 +296,12 @@ fn joint(
     for _ in 0..count {
         let (c, at) = w.word("a channel")?;
         let ch = match c {
-            "Xposition" => Channel::Position(0),
-            "Yposition" => Channel::Position(1),
-            "Zposition" => Channel::Position(2),
-            "Xrotation" => Channel::Rotation(0),
-            "Yrotation" => Channel::Rotation(1),
-            "Zrotation" => Channel::Rotation(2),
+            "Xposition" => JointChannel::Position(0),
+            "Yposition" => JointChannel::Position(1),
+            "Zposition" => JointChannel::Position(2),
+            "Xrotation" => JointChannel::Rotation(0),
+            "Yrotation" => JointChannel::Rotation(1),
+            "Zrotation" => JointChannel::Rotation(2),
             _ => {
                 return Err(w.error(
                     at,

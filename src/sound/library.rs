@@ -191,18 +191,18 @@ pub fn search_path(events_dir: Option<&Path>, library: Option<&Path>) -> Vec<Pat
 
 /// Where a sound file was found.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Found {
+pub enum SoundOrigin {
     File(PathBuf),
     /// The built-in sound of this name.
     Embedded(&'static str, &'static [u8]),
 }
 
-impl Found {
+impl SoundOrigin {
     /// The file decoded as a mono signal.
     pub fn read(&self) -> Result<Signal, String> {
         match self {
-            Found::File(path) => wav::read(path),
-            Found::Embedded(name, bytes) => {
+            SoundOrigin::File(path) => wav::read(path),
+            SoundOrigin::Embedded(name, bytes) => {
                 wav::decode(bytes).map_err(|e| format!("built-in {name}: {e}"))
             }
         }
@@ -211,10 +211,10 @@ impl Found {
     /// The file's length in seconds, from its header.
     pub fn duration(&self) -> Result<f64, String> {
         match self {
-            Found::File(path) => crate::source::open_file(path, wav::MAX_WAV_BYTES)
+            SoundOrigin::File(path) => crate::source::open_file(path, wav::MAX_WAV_BYTES)
                 .map_err(|e| format!("{}: cannot read: {e}", path.display()))
                 .and_then(|f| wav::duration(std::io::BufReader::new(f))),
-            Found::Embedded(_, bytes) => wav::duration(*bytes),
+            SoundOrigin::Embedded(_, bytes) => wav::duration(*bytes),
         }
     }
 }
@@ -223,21 +223,21 @@ impl Found {
 /// named `file` (an absolute `file` is taken as is). What exists is found
 /// even when it is not a regular file (a folder, a device, a pipe):
 /// reading it then says so, rather than play another sound of that name.
-pub fn resolve(file: &str, search: &[PathBuf]) -> Option<Found> {
+pub fn resolve(file: &str, search: &[PathBuf]) -> Option<SoundOrigin> {
     let path = Path::new(file);
     if path.is_absolute() {
-        return path.exists().then(|| Found::File(path.to_path_buf()));
+        return path.exists().then(|| SoundOrigin::File(path.to_path_buf()));
     }
     search
         .iter()
         .map(|d| d.join(path))
         .find(|p| p.exists())
-        .map(Found::File)
+        .map(SoundOrigin::File)
         .or_else(|| {
             EMBEDDED
                 .iter()
                 .find(|(name, _)| *name == file)
-                .map(|&(name, bytes)| Found::Embedded(name, bytes))
+                .map(|&(name, bytes)| SoundOrigin::Embedded(name, bytes))
         })
 }
 
@@ -311,7 +311,7 @@ mod tests {
         for (n, file) in Library::default().iter() {
             let found = resolve(file, &[]);
             assert!(
-                matches!(found, Some(Found::Embedded(..))),
+                matches!(found, Some(SoundOrigin::Embedded(..))),
                 "sound {n}: {file}"
             );
         }
@@ -337,7 +337,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("frog.wav"), b"not a wav").unwrap();
         let found = resolve("frog.wav", std::slice::from_ref(&dir));
-        assert_eq!(found, Some(Found::File(dir.join("frog.wav"))));
+        assert_eq!(found, Some(SoundOrigin::File(dir.join("frog.wav"))));
         assert!(found.unwrap().read().is_err());
         assert!(resolve("no_such_sound.wav", std::slice::from_ref(&dir)).is_none());
         std::fs::remove_dir_all(&dir).unwrap();

@@ -11,10 +11,10 @@
 //! 1. **Need.** ℓ[k] = min(0, ln(limit) − ln(envelope[k])): the log gain
 //!    that brings sample k's peak down to the limit.
 //! 2. **Hold.** h[j] = min ℓ over [j − S, j + L − 1 + S], L the look-ahead
-//!    ([`Stage::lookahead`]) and S the [`SPREAD`]: a gain is no higher than the need of any
+//!    ([`LimiterTiming::lookahead`]) and S the [`SPREAD`]: a gain is no higher than the need of any
 //!    sample it reaches within the look-ahead.
 //! 3. **Release.** e[j] = min(h[j], β·e[j − 1]): after a peak the gain
-//!    recovers exponentially (time constant [`Stage::release`]), not at
+//!    recovers exponentially (time constant [`LimiterTiming::release`]), not at
 //!    once, which would click.
 //! 4. **Attack.** a[n] = mean of e over [n − L + 1, n]: the gain glides
 //!    down over the look-ahead instead of jumping. Every e in the mean of
@@ -30,7 +30,7 @@ use std::collections::VecDeque;
 
 /// A limiter's timing, seconds.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Stage {
+pub struct LimiterTiming {
     /// Look-ahead: the attack glide before each peak.
     pub lookahead: f64,
     /// Release time constant, exponential in dB: fast after deep cuts,
@@ -57,12 +57,12 @@ pub struct Stage {
 ///   LUFS with the first even cut by 40 dB; this one reaches −16 with a
 ///   23 dB cut). It distorts the onsets more, which is what making such a
 ///   track that loud means.
-pub const STAGES: [Stage; 2] = [
-    Stage {
+pub const STAGES: [LimiterTiming; 2] = [
+    LimiterTiming {
         lookahead: 0.0015,
         release: 0.01,
     },
-    Stage {
+    LimiterTiming {
         lookahead: 0.0005,
         release: 0.002,
     },
@@ -85,7 +85,7 @@ pub struct Limiter {
 
 impl Limiter {
     /// The limiter with `stage`'s timing at `rate` Hz (0 taken as 1).
-    pub fn new(rate: u32, stage: Stage) -> Limiter {
+    pub fn new(rate: u32, stage: LimiterTiming) -> Limiter {
         let fs = f64::from(rate.max(1));
         Limiter {
             lookahead: ((stage.lookahead * fs).round() as usize).max(1),

@@ -38,7 +38,7 @@ pub fn paths(arg: &Path, output: Option<&Path>) -> (PathBuf, PathBuf) {
 
 /// What [`render_file`] wrote.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Report {
+pub struct SoundtrackReport {
     pub channels: usize,
     pub samples: usize,
     pub rate: u32,
@@ -59,7 +59,7 @@ pub fn render_file(
     settings: &SoundSettings,
     library: Option<&Path>,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<Report, Error> {
+) -> Result<SoundtrackReport, Error> {
     let bytes = read_file(events, MAX_EVENTS_BYTES)
         .map_err(|e| Error::input(format!("{}: cannot read: {e}", events.display())))?;
     let file = EventsFile::parse(Source::from_bytes(events.display().to_string(), bytes)?)?;
@@ -75,7 +75,7 @@ pub fn render_file(
         })?;
     }
     write_atomic(output, &bytes).map_err(|e| Error::other(e.to_string()))?;
-    Ok(Report {
+    Ok(SoundtrackReport {
         channels: track.channels.len(),
         samples: track.channels.first().map_or(0, Vec::len),
         rate: track.rate,

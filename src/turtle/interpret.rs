@@ -10,7 +10,7 @@ use glam::{Affine3A, DVec3, Vec3};
 use super::builder::Builder;
 use super::polygon::{newell, triangulate, PolygonStack};
 use super::state::{bend, Turtle};
-use super::world::{ActorMapping, BodyPart, ParticleMapping, SoundRequest, TurtleWorld};
+use super::world::{ActorMapping, BodyPart, ParticleMapping, SoundCue, TurtleWorld};
 use crate::lsys::step::ActorScope;
 use crate::lsys::word::NO_ORIGIN;
 use crate::lsys::{LSystem, Limits, Symbol, Who};
@@ -910,11 +910,11 @@ impl Interpreter<'_> {
             |v: f64| (v.is_finite() && v >= 0.0 && v <= u32::MAX as f64).then_some(v as u32);
         let at = self.t.pos;
         let request = match mode as i64 {
-            0 => whole(g[0]).map(|sound| SoundRequest::Play { sound }),
+            0 => whole(g[0]).map(|sound| SoundCue::Play { sound }),
             1 => whole(g[0])
                 .zip(whole(g[1]))
-                .map(|(sound, source)| SoundRequest::Emit { sound, source, at }),
-            2 => whole(g[0]).map(|source| SoundRequest::Move { source, at }),
+                .map(|(sound, source)| SoundCue::Emit { sound, source, at }),
+            2 => whole(g[0]).map(|source| SoundCue::Move { source, at }),
             _ => {
                 self.warn(&format!("`T` par1 = {mode} is not 0, 1 or 2: skipped"));
                 return;

@@ -24,7 +24,7 @@ pub use builder::{Builder, Surfaces};
 pub use interpret::{interpret, Options, Placed, Structure, Tables};
 pub use state::Turtle;
 pub use world::{
-    ActorMapping, ActorPose, BodyPart, NoWorld, ParticleMapping, SoundRequest, TurtleWorld,
+    ActorMapping, ActorPose, BodyPart, NoWorld, ParticleMapping, SoundCue, TurtleWorld,
 };
 
 /// The image size of the camera's window `prefpos_x1_x2_y1_y2`, in

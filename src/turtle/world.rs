@@ -56,7 +56,7 @@ pub trait TurtleWorld: Sensors {
     /// Microphone `mic` placed at `p` (`l` par3 = 8, 10).
     fn microphone(&mut self, _mic: i64, _p: DVec3) {}
     /// A sound event of the `T` symbol, for the sound event handler.
-    fn sound(&mut self, _request: SoundRequest) {}
+    fn sound(&mut self, _request: SoundCue) {}
     /// The `E` symbol: run script `number` with the integer growth values.
     fn command(&mut self, _number: i64, _values: [i64; 3]) {}
     /// A part of actor `actor`'s body: drawn in its own `M` branch, so
@@ -163,7 +163,7 @@ impl ActorPose {
 /// What a `T` symbol asks of the sound event handler (C.6), in world
 /// coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum SoundRequest {
+pub enum SoundCue {
     /// par1 = 0: play sound `sound` back (no place: heard as is).
     Play { sound: u32 },
     /// par1 = 1: source `source` starts sound `sound` at `at`.

@@ -54,7 +54,7 @@ const FLOWERS: [[f64; 2]; 9] = [
     [-4.0, 0.5],
 ];
 
-struct Step {
+struct ExplorerStep {
     time: f64,
     x: f64,
     z: f64,
@@ -62,7 +62,7 @@ struct Step {
     state: i64,
 }
 
-fn steps() -> Vec<Step> {
+fn steps() -> Vec<ExplorerStep> {
     trace("scenes/actors/maze.lm")
         .iter()
         .map(|f| {
@@ -71,7 +71,7 @@ fn steps() -> Vec<Step> {
             let goal = a["goal"]
                 .as_array()
                 .map(|g| [0, 1, 2].map(|k| g[k].as_f64().unwrap()));
-            Step {
+            ExplorerStep {
                 time: f["time"].as_f64().unwrap(),
                 x: p(&a["pos"], 0),
                 z: p(&a["pos"], 2),
@@ -82,7 +82,7 @@ fn steps() -> Vec<Step> {
         .collect()
 }
 
-fn length(steps: &[Step]) -> f64 {
+fn length(steps: &[ExplorerStep]) -> f64 {
     steps
         .windows(2)
         .map(|w| (w[1].x - w[0].x).hypot(w[1].z - w[0].z))
@@ -91,7 +91,7 @@ fn length(steps: &[Step]) -> f64 {
 
 /// Where the actor crosses the north wall's line z = 4 going north or
 /// south: (time, x).
-fn crossings(steps: &[Step]) -> Vec<(f64, f64)> {
+fn crossings(steps: &[ExplorerStep]) -> Vec<(f64, f64)> {
     steps
         .windows(2)
         .filter(|w| (w[0].z - 4.0).signum() != (w[1].z - 4.0).signum())

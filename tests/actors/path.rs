@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use lmfilm::actors::perception::octree::{Cube, Octree, Voxel};
 use lmfilm::actors::planning::heuristics::{candidates, heuristic, Heuristic};
 use lmfilm::actors::planning::path::{
-    extend, label, plan, plan_voxels, search, shortest, Explorer, NoPlan, Step, MAX_LABEL,
+    extend, label, plan, plan_voxels, search, shortest, Explorer, ExplorerStep, NoPlan, MAX_LABEL,
 };
 use proptest::prelude::*;
 
@@ -208,7 +208,7 @@ fn the_explorer_walks_one_voxel_at_a_time() {
     let mut seen = BTreeSet::from([at]);
     let outcome = loop {
         match e.step(|v| g.is_empty(v)) {
-            Step::Go(v) => {
+            ExplorerStep::Go(v) => {
                 let d: u32 = (0..3).map(|i| at[i].abs_diff(v[i])).sum();
                 assert_eq!(d, 1, "{at:?} → {v:?}");
                 at = v;
@@ -217,7 +217,7 @@ fn the_explorer_walks_one_voxel_at_a_time() {
             other => break other,
         }
     };
-    assert_eq!(outcome, Step::Enclosed);
+    assert_eq!(outcome, ExplorerStep::Enclosed);
     assert_eq!(at, [1, 0, 1], "back at the start");
     let inside = bfs(h, [1, 0, 1], &|v| g.is_empty(v), None);
     assert_eq!(seen, inside.keys().copied().collect());
@@ -230,9 +230,9 @@ fn the_explorer_walks_one_voxel_at_a_time() {
     loop {
         let reached = steps.len();
         match e.step(|v: Voxel| open.is_empty(v) && !(reached >= 2 && v == [3, 0, 0])) {
-            Step::Go(v) => steps.push(v),
+            ExplorerStep::Go(v) => steps.push(v),
             s => {
-                assert_eq!(s, Step::Enclosed);
+                assert_eq!(s, ExplorerStep::Enclosed);
                 break;
             }
         }
@@ -384,9 +384,9 @@ fn heuristic_9_climbs_the_stairs_and_crosses_the_bridge() {
     let mut walked = vec![start];
     loop {
         match e.step(empty) {
-            Step::Go(v) => walked.push(v),
-            Step::Arrived => break,
-            Step::Enclosed => panic!("enclosed"),
+            ExplorerStep::Go(v) => walked.push(v),
+            ExplorerStep::Arrived => break,
+            ExplorerStep::Enclosed => panic!("enclosed"),
         }
     }
     assert_walkable(&walked, &t);
@@ -451,18 +451,18 @@ fn a_dead_end_reopened_takes_its_candidates_again() {
     assert!(e.dead_end(|v| seen.is_empty(v)));
     // Not reopened: the next step gives up the start at once.
     let mut gave_up = e.clone();
-    assert_eq!(gave_up.step(|v| seen.is_empty(v)), Step::Enclosed);
+    assert_eq!(gave_up.step(|v| seen.is_empty(v)), ExplorerStep::Enclosed);
     // Reopened after looking around: the corridor is there.
     e.reopen();
     assert!(!e.dead_end(|v| full.is_empty(v)));
-    assert_eq!(e.step(|v| full.is_empty(v)), Step::Go([2, 4, 3]));
+    assert_eq!(e.step(|v| full.is_empty(v)), ExplorerStep::Go([2, 4, 3]));
     assert!(!e.dead_end(|v| full.is_empty(v)));
     // A voxel walked back to is no dead end: its candidates were taken
     // when it was reached.
     let mut back = Explorer::new(h, start, end);
     let closed = |v: Voxel| full.is_empty(v) && v[2] < 4;
     let (mut steps, mut returned) = (0, false);
-    while let Step::Go(v) = back.step(closed) {
+    while let ExplorerStep::Go(v) = back.step(closed) {
         steps += 1;
         if v == start && steps > 1 {
             assert!(!back.dead_end(closed));

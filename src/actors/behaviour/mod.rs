@@ -79,7 +79,7 @@ pub enum Deed {
 
 /// Where the running automata is in its work.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct Progress {
+pub struct AutomataProgress {
     /// `observe`: how far the eyes have turned, radians.
     pub turned: f32,
     /// `listen`: when it began, and the events captured so far (sound,

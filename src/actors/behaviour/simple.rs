@@ -16,7 +16,7 @@ impl Living {
     /// commands set the state, and its automata runs from the start; with
     /// an empty stack the actor runs none.
     pub fn pop(&mut self) {
-        self.progress = Progress::default();
+        self.progress = AutomataProgress::default();
         match self.stack.pop() {
             Some(script) => {
                 for c in &script.commands {

@@ -20,7 +20,7 @@ use crate::actors::perception::memory::DepthView;
 use crate::actors::perception::octree::{Octree, Voxel};
 use crate::actors::perception::vision::{Pixel, Window};
 use crate::actors::planning::heuristics::{self, collision_free, Heuristic};
-use crate::actors::planning::path::{self, Band, Explorer, NoPlan, SearchGrid, Step};
+use crate::actors::planning::path::{self, Band, Explorer, ExplorerStep, NoPlan, SearchGrid};
 use crate::actors::planning::spline::{self, Piece};
 use crate::lsys::automata::Automata;
 use crate::lsys::Limits;

@@ -438,11 +438,11 @@ impl Living {
             return self.look_around();
         }
         match e.step(|v| grid.is_empty(v)) {
-            Step::Go(v) => {
+            ExplorerStep::Go(v) => {
                 self.navigation.looked_around = false;
                 self.navigation.target = Some(self.key_point(&grid, v));
             }
-            Step::Arrived => {
+            ExplorerStep::Arrived => {
                 // In the goal's voxel: the last steps to the goal itself.
                 self.navigation.explorer = None;
                 self.navigation.target = None;
@@ -451,7 +451,7 @@ impl Living {
                     self.state = WALK;
                 }
             }
-            Step::Enclosed => {
+            ExplorerStep::Enclosed => {
                 if self.detour() {
                     return;
                 }

@@ -31,7 +31,7 @@ enum Entry {
 
 /// What the explorer does next.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Step {
+pub enum ExplorerStep {
     /// Go to this voxel: the next candidate, or one voxel back along the
     /// path when every candidate of the last one failed (backtracking).
     Go(Voxel),
@@ -92,7 +92,7 @@ impl<'h> Explorer<'h> {
     /// One move of Algorithm 1. `is_empty` says whether a voxel is free
     /// now (false past the grid); a candidate found occupied when its
     /// turn comes (the memory filled meanwhile) is skipped.
-    pub fn step(&mut self, is_empty: impl FnMut(Voxel) -> bool) -> Step {
+    pub fn step(&mut self, is_empty: impl FnMut(Voxel) -> bool) -> ExplorerStep {
         self.step_in(&mut Fresh {
             h: self.heuristic,
             is_empty,
@@ -101,13 +101,13 @@ impl<'h> Explorer<'h> {
 
     /// [`step`](Self::step) with the candidate lists and the voxels of
     /// `ask`.
-    fn step_in(&mut self, ask: &mut impl Ask) -> Step {
+    fn step_in(&mut self, ask: &mut impl Ask) -> ExplorerStep {
         loop {
             let Some(&last) = self.path.last() else {
-                return Step::Enclosed;
+                return ExplorerStep::Enclosed;
             };
             if last == self.end {
-                return Step::Arrived;
+                return ExplorerStep::Arrived;
             }
             if self.pending {
                 self.pending = false;
@@ -117,12 +117,12 @@ impl<'h> Explorer<'h> {
             // get_next_candidate: each label on top closes a path voxel
             // whose candidates all failed.
             match self.cand_list.pop() {
-                None => return Step::Enclosed,
+                None => return ExplorerStep::Enclosed,
                 Some(Entry::NewNeighbours) => {
                     self.path.pop();
                     return match self.path.last() {
-                        Some(&back) => Step::Go(back),
-                        None => Step::Enclosed,
+                        Some(&back) => ExplorerStep::Go(back),
+                        None => ExplorerStep::Enclosed,
                     };
                 }
                 Some(Entry::Candidate(c)) => {
@@ -132,7 +132,7 @@ impl<'h> Explorer<'h> {
                     self.path.push(c);
                     self.visited += 1;
                     self.pending = true;
-                    return Step::Go(c);
+                    return ExplorerStep::Go(c);
                 }
             }
         }
@@ -268,14 +268,14 @@ pub enum NoPlan {
 fn run(e: &mut Explorer, ask: &mut impl Ask, max_visited: usize) -> Result<(), NoPlan> {
     loop {
         match e.step_in(ask) {
-            Step::Arrived => return Ok(()),
-            Step::Enclosed => return Err(NoPlan::NoWay),
-            Step::Go(_) if e.visited() > max_visited => {
+            ExplorerStep::Arrived => return Ok(()),
+            ExplorerStep::Enclosed => return Err(NoPlan::NoWay),
+            ExplorerStep::Go(_) if e.visited() > max_visited => {
                 return Err(NoPlan::TooLong {
                     visited: e.visited(),
                 })
             }
-            Step::Go(_) => {}
+            ExplorerStep::Go(_) => {}
         }
     }
 }
@@ -665,9 +665,9 @@ mod tests {
         let h = heuristic(0).unwrap();
         let open = |v: Voxel| v[1] == 0 && v[0] < 8 && v[2] < 8;
         let mut e = Explorer::new(h, [3, 0, 3], [3, 0, 0]);
-        assert_eq!(e.step(open), Step::Go([3, 0, 2]));
+        assert_eq!(e.step(open), ExplorerStep::Go([3, 0, 2]));
         let mut e = Explorer::new(h, [3, 0, 3], [6, 0, 6]);
-        assert_eq!(e.step(open), Step::Go([4, 0, 3]));
+        assert_eq!(e.step(open), ExplorerStep::Go([4, 0, 3]));
         // The start's label, then its other candidates, farthest lowest
         // (the table's order reversed among equals).
         let c = Entry::Candidate;
@@ -681,7 +681,7 @@ mod tests {
             ]
         );
         // The next step opens the candidates of [4, 0, 3] with a label.
-        assert_eq!(e.step(open), Step::Go([4, 0, 4]));
+        assert_eq!(e.step(open), ExplorerStep::Go([4, 0, 4]));
         assert_eq!(e.cand_list[4], Entry::NewNeighbours);
         assert_eq!(e.visited(), 3);
     }

@@ -26,12 +26,12 @@ const LEARN_MIN: f64 = 1e-3;
 /// the racket velocity is c = speed·n. A negative speed moves the racket
 /// backwards, slowing the ball down.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Hit {
+pub struct RacketHit {
     pub normal: DVec3,
     pub speed: f64,
 }
 
-impl Hit {
+impl RacketHit {
     /// The racket velocity c.
     pub fn velocity(&self) -> DVec3 {
         self.normal * self.speed
@@ -46,17 +46,17 @@ impl Hit {
 /// For |a| = |v| (a the mirror image of v, or a = −v) the racket stands
 /// still (eq. 5.6.11, 5.6.12); for a = v there is no stroke: c = 0 and a
 /// normal along which v does not change.
-pub fn hit(v: DVec3, a: DVec3) -> Hit {
+pub fn hit(v: DVec3, a: DVec3) -> RacketHit {
     let change = a - v;
     if change == DVec3::ZERO {
         let normal = match v.try_normalize() {
             Some(dir) => dir.any_orthonormal_vector(),
             None => DVec3::Y,
         };
-        return Hit { normal, speed: 0.0 };
+        return RacketHit { normal, speed: 0.0 };
     }
     let normal = change.normalize();
-    Hit {
+    RacketHit {
         normal,
         speed: (a + v).dot(normal),
     }

@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-use super::hit::Hit;
+use super::hit::RacketHit;
 use super::impact::Impact;
 use crate::sound::trajectory::Trajectory;
 
@@ -36,7 +36,7 @@ pub struct StrokePlan {
     pub position: DVec3,
     pub velocity: DVec3,
     pub impact: Impact,
-    pub hit: Hit,
+    pub hit: RacketHit,
     /// The length (m) of the straight stroke on either side of the impact.
     pub hit_length: f64,
     /// Seconds from the stroke's end back to the start point.
@@ -59,7 +59,7 @@ pub struct RacketPath {
 
 /// The stroke's direction of motion and speed: the hit's velocity, or
 /// `MIN_RACKET_SPEED` along its normal when the racket would stand still.
-fn stroke_motion(hit: &Hit) -> (DVec3, f64) {
+fn stroke_motion(hit: &RacketHit) -> (DVec3, f64) {
     if hit.speed.abs() < MIN_RACKET_SPEED {
         (hit.normal, MIN_RACKET_SPEED)
     } else {

@@ -17,7 +17,7 @@ use super::call::word::{BLUE, EXIT, FAULT, GREEN, LEFT, LET, RIGHT, SERVICE};
 use super::court::{court, service_box, side_of, Half, Side, BALL_LOW, BASE_LINE};
 use super::ears::Ears;
 use super::eyes::{player_thing, Sightings, BALL};
-use super::hit::{aim_point, hit, Aim, Hit, Shot};
+use super::hit::{aim_point, hit, Aim, RacketHit, Shot};
 use super::impact::{
     after_bounce, choose_impact, estimate_impact, horizontal, impact_delay, rising_impact,
     velocity_now, Impact, Learner,
@@ -332,7 +332,7 @@ impl Player {
         }
         let aim = if serve { &self.service } else { &self.rally };
         let a = aim.velocity(impact.point, self.aim);
-        let Hit { normal, speed } = hit(v, a);
+        let RacketHit { normal, speed } = hit(v, a);
         let velocity = self
             .stroke
             .as_ref()
@@ -342,7 +342,7 @@ impl Player {
             position: racket,
             velocity,
             impact,
-            hit: Hit {
+            hit: RacketHit {
                 normal,
                 speed: speed / FIELD_GAIN,
             },
