@@ -87,9 +87,9 @@ pub struct Living {
     pub eps_look_at: BTreeMap<i64, f64>,
     /// `align`: the point `auto_align` turns to.
     pub align: Option<Vec3>,
-    /// `state` (vision system, 0..26) and `tennis_state` (0..13).
+    /// `state`: the vision system's state (0..26); `tennis_state` is
+    /// the tennis automata's ([`Tennis`]).
     pub state: i64,
-    pub tennis_state: i64,
     /// `turtle`: the actor–turtle mapping (6.3.4).
     pub turtle: i64,
     /// Whether what it sees goes into its memory (`vis_mem_on`/`off`).
@@ -162,7 +162,6 @@ impl Living {
             eps_look_at: BTreeMap::new(),
             align: None,
             state: 0,
-            tennis_state: 0,
             turtle: 0,
             memory_on: true,
             memory: None,

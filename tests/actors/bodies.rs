@@ -211,7 +211,7 @@ fn the_players_hold_their_rackets_and_the_referee_follows_the_ball() {
             frames += 1;
             held += usize::from(d < 0.02);
             // The frame a hit phase ends follows the impact.
-            let now = f.living()[p].tennis_state == 13;
+            let now = f.living()[p].tennis.state == 13;
             if hitting[p] && !now {
                 let at = last[p].unwrap();
                 assert!(
