@@ -1,10 +1,11 @@
 # lmfilm — the main job and the checks. `make help` lists the targets.
 CARGO ?= cargo
 
-.PHONY: film test test-worlds check lint bench bench-render bench-path bench-film bench-farm readable clean help
+.PHONY: film check-video test test-worlds check lint bench bench-render bench-path bench-film bench-farm readable clean help
 
 help:
-	@echo "make film   the built-in film (14 s of the tennis match on its set): frames, soundtrack and manifest in renders/lmfilm/ (an MP4 too with ffmpeg)"
+	@echo "make film   the built-in film (14 s of the tennis match on its set): frames, soundtrack, manifest and the video renders/lmfilm/lmfilm.mp4"
+	@echo "make check-video  the built-in film's MP4 played in headless Chromium (apt-get install chromium)"
 	@echo "make test   build and run the whole test suite"
 	@echo "make test-worlds  actors on hundreds of generated worlds (LMFILM_WORLDS=N per family, default 50): the table of docs/actors.md"
 	@echo "make lint   cargo fmt --check and cargo clippy --all-targets"
@@ -18,6 +19,11 @@ help:
 
 film:
 	$(CARGO) run --release -- run
+
+# The built-in film's video played in headless Chromium (Debian's
+# `chromium`): size, duration, sound, played to the end.
+check-video: film
+	python3 scripts/play_in_browser.py renders/lmfilm
 
 test:
 	$(CARGO) test --all-targets

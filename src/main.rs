@@ -14,6 +14,7 @@ use lmfilm::commands::sound::SoundInput;
 use lmfilm::commands::{self, trace::trace};
 use lmfilm::lsys::Limits;
 use lmfilm::production::frames::{FrameRange, Shard};
+use lmfilm::production::settings::VideoRequest;
 use lmfilm::render::accel::tri4::{Simd, SIMD_VAR};
 
 /// A deterministic film pipeline after Noser's behavioural L-systems.
@@ -121,7 +122,8 @@ enum Command {
         still: StillArgs,
     },
     /// Make a whole film: derive, render every frame, the soundtrack, the
-    /// manifest, and an MP4 when ffmpeg is installed.
+    /// video (DIR/<name>.mp4, H.264 and Opus, made by lmfilm) and the
+    /// manifest.
     ///
     /// With no scene, the built-in film goes to renders/lmfilm/: 14 s of
     /// the tennis match (two players, the ball, the referee calling the
@@ -156,6 +158,8 @@ enum Command {
         render: RenderArgs,
         #[command(flatten)]
         sound: SoundArgs,
+        #[command(flatten)]
+        video: VideoRequest,
         #[command(flatten)]
         scene: SceneArgs,
     },
@@ -214,15 +218,18 @@ enum Command {
         #[command(flatten)]
         render: RenderArgs,
     },
-    /// Frames and soundtrack of a film folder into an MP4 through ffmpeg.
+    /// Frames and soundtrack of a film folder into its video.
     ///
-    /// Writes DIR/<name>.mp4 (H.264 + AAC). Example:
+    /// Writes DIR/<name>.mp4 (H.264 and Opus, made by lmfilm itself: no
+    /// ffmpeg needed) from the PNG frames and soundtrack.wav. Example:
     ///
     ///     lmfilm mux renders/lmfilm
     Mux {
         /// A film folder with frames/<name>.NNNN.png.
         #[arg(value_name = "DIR")]
         dir: PathBuf,
+        #[command(flatten)]
+        video: VideoRequest,
     },
     /// Check a film folder: complete, intact, made from its own inputs.
     ///
@@ -377,10 +384,11 @@ fn main() -> ExitCode {
             clean,
             render,
             sound,
+            video,
             scene,
         } => {
             let film = FilmArgs::new(&scenes, &scene, clean);
-            commands::film::run(&film, output.as_deref(), &render, &work, &sound)
+            commands::film::run(&film, output.as_deref(), &render, &work, &sound, &video)
         }
         Command::Derive {
             scenes,
@@ -398,7 +406,7 @@ fn main() -> ExitCode {
             shard,
             max_pixels,
         } => commands::film::render(&dir, &render, &work, shard, max_pixels),
-        Command::Mux { dir } => commands::film::mux(&dir),
+        Command::Mux { dir, video } => commands::film::mux(&dir, &video),
         Command::Verify { dir } => commands::film::verify(&dir),
         Command::Trace {
             scenes,

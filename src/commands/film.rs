@@ -13,9 +13,11 @@ use crate::film::names::{
 };
 use crate::lsys::Limits;
 use crate::production::frames::{FrameRange, FrameSelection, Shard};
-use crate::production::settings::{self, Defaults, RenderChoice, RenderRequest, SoundRequest};
+use crate::production::settings::{
+    self, Defaults, RenderChoice, RenderRequest, SoundRequest, VideoRequest, VideoSettings,
+};
 use crate::production::timings::Timings;
-use crate::production::{assemble, mux, pipeline, record, stages, verify};
+use crate::production::{assemble, pipeline, record, stages, verify};
 use crate::render::Integrator;
 use crate::sound;
 use crate::turtle::Options;
@@ -207,8 +209,7 @@ pub fn defaults(scenes: &[PathBuf]) -> Defaults {
     }
 }
 
-/// `lmfilm run`: derive, render, soundtrack, MP4 (with ffmpeg) and the
-/// manifest, with the film's settings: the options given over those the
+/// `lmfilm run`: derive, render, soundtrack, MP4 and the manifest, with the film's settings: the options given over those the
 /// folder recorded.
 pub fn run(
     film: &FilmArgs,
@@ -216,6 +217,7 @@ pub fn run(
     args: &RenderArgs,
     work: &WorkArgs,
     sound_args: &SoundArgs,
+    video: &VideoRequest,
 ) -> Result<()> {
     work.threads();
     let timings = Timings::start();
@@ -248,6 +250,7 @@ pub fn run(
         film.limits.pixels,
     )?;
     let sound_settings = resolve_sound(&dir, &sound_args.request())?;
+    let video = resolve_video(&dir, video)?;
     let selection = match work.frames {
         Some(range) => FrameSelection::range(range),
         None => FrameSelection::resolve(None, f.rs_switch()),
@@ -287,8 +290,8 @@ pub fn run(
     };
     let sounded = soundtrack(&dir, &sound_settings)?;
     let complete = stages::all_rendered(&dir)?;
-    let mp4 = if complete && mux::ffmpeg_available() {
-        Some(stages::mux(&dir)?)
+    let mp4 = if complete {
+        Some(stages::mux(&dir, video.qp)?)
     } else {
         None
     };
@@ -316,9 +319,13 @@ pub fn run(
         eprint!("{}", timings.report());
     }
     match mp4 {
-        Some((path, made)) => println!("film: {} ({})", path.display(), now(made)),
-        None if !complete => println!("no MP4: only some frames are rendered (`lmfilm render {}` renders the rest, then `lmfilm mux {}`)", dir.display(), dir.display()),
-        None => println!("ffmpeg is not installed: frames and soundtrack are in {}; `lmfilm mux {}` makes the MP4 once it is", dir.display(), dir.display()),
+        Some((path, made, note)) => {
+            println!("film: {} ({})", path.display(), now(made));
+            if let Some(note) = note {
+                println!("note: {note}");
+            }
+        }
+        None => println!("no MP4: only some frames are rendered (`lmfilm render {}` renders the rest, then `lmfilm mux {}`)", dir.display(), dir.display()),
     }
     Ok(())
 }
@@ -431,16 +438,32 @@ pub fn render(
 }
 
 /// `lmfilm mux DIR`.
-pub fn mux(dir: &Path) -> Result<()> {
+pub fn mux(dir: &Path, video: &VideoRequest) -> Result<()> {
     stages::check_finishing(dir)?;
-    let (mp4, made) = stages::mux(dir)?;
+    let video = resolve_video(dir, video)?;
+    let (mp4, made, note) = stages::mux(dir, video.qp)?;
     assemble::finish(dir)?;
     println!(
         "{}{}",
         mp4.display(),
         if made { "" } else { " (up to date)" }
     );
+    if let Some(note) = note {
+        println!("note: {note}");
+    }
     Ok(())
+}
+
+/// The film's video settings in `dir`: `request` over the recorded
+/// ones, else the defaults; recorded when new.
+pub(crate) fn resolve_video(dir: &Path, request: &VideoRequest) -> Result<VideoSettings> {
+    let mut recorded = settings::read(dir)?;
+    let chosen = request.resolve(recorded.video.as_ref());
+    if recorded.video != Some(chosen) {
+        recorded.video = Some(chosen);
+        settings::write(dir, &recorded)?;
+    }
+    Ok(chosen)
 }
 
 /// `lmfilm verify DIR`: each problem named, and an error (exit 1) when

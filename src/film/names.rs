@@ -27,12 +27,6 @@ pub fn snapshot_path(frame: u64) -> PathBuf {
     PathBuf::from(SCENE_DIR).join(format!("{}.snap", frame_number(frame)))
 }
 
-/// The printf-style pattern of the frame files for ffmpeg,
-/// `frames/<name>.%04d.<ext>`; a `%` in the name is escaped as `%%`.
-pub fn frame_pattern(name: &str, ext: &str) -> String {
-    format!("{FRAMES_DIR}/{}.%04d.{ext}", name.replace('%', "%%"))
-}
-
 /// The derivation's record, at the folder's root.
 pub const DERIVE_RECORD: &str = "derive.json";
 

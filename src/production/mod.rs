@@ -18,3 +18,4 @@ pub mod settings;
 pub mod stages;
 pub mod timings;
 pub mod verify;
+pub mod video;

@@ -1,22 +1,18 @@
-//! `lmfilm mux` (DESIGN §5): the PNG frames and the soundtrack into an MP4
-//! (H.264 + AAC) through the `ffmpeg` executable. ffmpeg is optional: the
-//! frames and the soundtrack are the film's real outputs, the MP4 is a
-//! convenience, so a missing ffmpeg is a clear message, never a failed run.
+//! `lmfilm mux` (DESIGN §5): the PNG frames and the soundtrack into the
+//! film's MP4 (H.264 and Opus, [`super::video`]), made in-process: no
+//! ffmpeg is needed.
 
-use std::ffi::OsString;
 use std::fmt;
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
+use super::video::{self, Pcm, Rgb, VideoEncoder, VideoError};
 use crate::atomic::temp_path;
+use crate::source::read_file;
 
-/// The most lines of ffmpeg's own error output an error message keeps.
-const STDERR_LINES: usize = 20;
-
-/// Frames per second as ffmpeg wants it: a reduced fraction, so that
-/// 29.97 fps is exactly 30000/1001 and never drifts from the soundtrack.
+/// Frames per second as a reduced fraction, so that 29.97 fps is exactly
+/// 30000/1001 and never drifts from the soundtrack.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FrameRate {
     pub num: u32,
@@ -68,12 +64,12 @@ fn gcd(a: u32, b: u32) -> u32 {
 pub enum MuxError {
     /// Δt gives no usable frame rate.
     FrameRate { dt: f64 },
-    /// No `ffmpeg` on the PATH.
-    FfmpegMissing { dir: PathBuf },
     /// A file or the output folder could not be used.
     Io { path: PathBuf, source: io::Error },
-    /// ffmpeg ran and failed; `stderr` holds the end of its messages.
-    Ffmpeg { status: String, stderr: String },
+    /// A frame or the soundtrack could not be read or encoded.
+    Input { path: PathBuf, why: String },
+    /// The encoder or the muxer failed.
+    Video(VideoError),
 }
 
 impl fmt::Display for MuxError {
@@ -84,17 +80,9 @@ impl fmt::Display for MuxError {
                 "cannot make a video with a frame interval of {dt} s: Δt must be a \
                  positive number of seconds"
             ),
-            MuxError::FfmpegMissing { dir } => write!(
-                f,
-                "ffmpeg is not installed, so no MP4 was made; the frames and the \
-                 soundtrack are already in {dir}. Install ffmpeg (e.g. `apt-get install \
-                 ffmpeg`) and run `lmfilm mux {dir}`",
-                dir = dir.display()
-            ),
             MuxError::Io { path, source } => write!(f, "{}: {source}", path.display()),
-            MuxError::Ffmpeg { status, stderr } => {
-                write!(f, "ffmpeg failed ({status}):\n{stderr}")
-            }
+            MuxError::Input { path, why } => write!(f, "{}: {why}", path.display()),
+            MuxError::Video(e) => write!(f, "{e}"),
         }
     }
 }
@@ -108,112 +96,157 @@ impl std::error::Error for MuxError {
     }
 }
 
-/// Whether an `ffmpeg` executable runs.
-pub fn ffmpeg_available() -> bool {
-    Command::new("ffmpeg")
-        .arg("-version")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
+/// The largest soundtrack the MP4 takes: far beyond a film's.
+const MAX_SOUNDTRACK_BYTES: u64 = 4 << 30;
+
+/// What [`mux`] made: the MP4, and what it had to leave out, said.
+#[derive(Debug)]
+pub struct Muxed {
+    pub mp4: PathBuf,
+    pub note: Option<String>,
 }
 
-/// Encodes `dir/frames` (an ffmpeg image pattern relative to `dir`, e.g.
-/// `frames/film.%04d.png`, numbered from 0) at `rate`, with `soundtrack`
-/// (relative to `dir` or absolute) as AAC when given, into
-/// `dir/<name>.mp4`. The video goes to a temporary name first and is
-/// renamed when complete, so a killed mux never leaves a broken MP4.
+/// Encodes the PNG `frames` (paths relative to `dir`, in frame order,
+/// each with the most bytes it may have) at `rate` with the quantiser `qp`, and `soundtrack` (relative to `dir`)
+/// as Opus when given, into `dir/<name>.mp4`. The video goes to a
+/// temporary name first and is renamed when complete, so a killed mux
+/// never leaves a broken MP4.
 pub fn mux(
     dir: &Path,
     name: &str,
     rate: FrameRate,
-    frames: &str,
+    frames: &[(PathBuf, u64)],
     soundtrack: Option<&Path>,
-) -> Result<PathBuf, MuxError> {
-    for path in std::iter::once(dir.to_path_buf()).chain(soundtrack.map(|s| dir.join(s))) {
-        fs::metadata(&path).map_err(|source| MuxError::Io { path, source })?;
+    qp: u8,
+) -> Result<Muxed, MuxError> {
+    let fps = f64::from(rate.num) / f64::from(rate.den);
+    let mut encoder: Option<VideoEncoder> = None;
+    for (rel, limit) in frames {
+        let path = dir.join(rel);
+        let bytes = read_file(&path, *limit).map_err(|source| MuxError::Io {
+            path: path.clone(),
+            source,
+        })?;
+        let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+            .map_err(|e| MuxError::Input {
+                path: path.clone(),
+                why: format!("not a PNG lmfilm can read: {e}"),
+            })?
+            .into_rgb8();
+        let rgb = Rgb {
+            width: image.width(),
+            height: image.height(),
+            pixels: image.as_raw(),
+        };
+        let encoder = match &mut encoder {
+            Some(e) => e,
+            None => encoder.insert(
+                VideoEncoder::new((rgb.width, rgb.height), fps, qp).map_err(MuxError::Video)?,
+            ),
+        };
+        encoder.push(&rgb).map_err(MuxError::Video)?;
     }
+    let Some(encoder) = encoder else {
+        return Err(MuxError::Input {
+            path: dir.to_path_buf(),
+            why: "the film has no frame to make a video of".into(),
+        });
+    };
+    let (sound, note) = match soundtrack {
+        Some(rel) => sound_of(&dir.join(rel))?,
+        None => (None, None),
+    };
+    let packets = match &sound {
+        Some(pcm) => Some(video::opus_packets(pcm).map_err(MuxError::Video)?),
+        None => None,
+    };
     let out = dir.join(format!("{name}.mp4"));
-    let tmp = temp_path(&out).map_err(|source| MuxError::Io {
+    let io_err = |source| MuxError::Io {
         path: out.clone(),
         source,
-    })?;
-    let tmp_name = tmp.file_name().unwrap_or_default().to_string_lossy();
-    let result = run_ffmpeg(dir, &ffmpeg_args(rate, frames, soundtrack, &tmp_name));
-    let result = result.and_then(|()| {
-        fs::rename(&tmp, &out).map_err(|source| MuxError::Io {
-            path: out.clone(),
-            source,
+    };
+    let tmp = temp_path(&out).map_err(io_err)?;
+    let written = fs::File::create(&tmp)
+        .map_err(io_err)
+        .and_then(|file| {
+            let sound = sound.as_ref().zip(packets.as_deref());
+            video::write_mp4(
+                io::BufWriter::new(file),
+                &encoder,
+                (rate.num, rate.den),
+                sound,
+            )
+            .map_err(MuxError::Video)
         })
-    });
-    if result.is_err() {
+        .and_then(|()| fs::rename(&tmp, &out).map_err(io_err));
+    if written.is_err() {
         let _ = fs::remove_file(&tmp);
     }
-    result.map(|()| out)
+    written.map(|()| Muxed { mp4: out, note })
 }
 
-/// The ffmpeg command line. `bitexact` and no metadata keep encoder
-/// versions and dates out of the file; odd frame sizes are padded by one
-/// pixel because yuv420p needs even ones.
-fn ffmpeg_args(
-    rate: FrameRate,
-    frames: &str,
-    soundtrack: Option<&Path>,
-    out: &str,
-) -> Vec<OsString> {
-    let rate = rate.to_string();
-    let mut args = os(&["-hide_banner", "-nostdin", "-loglevel", "error", "-y"]);
-    args.extend(os(&["-framerate", &rate, "-i", frames]));
-    if let Some(sound) = soundtrack {
-        args.extend([OsString::from("-i"), sound.as_os_str().to_owned()]);
+/// The soundtrack's samples as the MP4 takes them: one or two channels
+/// (of more, microphone 0's), at a rate Opus encodes; else none, and why.
+fn sound_of(path: &Path) -> Result<(Option<Pcm>, Option<String>), MuxError> {
+    let input = |why: String| MuxError::Input {
+        path: path.to_path_buf(),
+        why,
+    };
+    let bytes = read_file(path, MAX_SOUNDTRACK_BYTES).map_err(|source| MuxError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let reader = hound::WavReader::new(io::Cursor::new(bytes))
+        .map_err(|e| input(format!("not a WAV file lmfilm can read: {e}")))?;
+    let spec = reader.spec();
+    if !video::OPUS_RATES.contains(&spec.sample_rate) {
+        return Ok((
+            None,
+            Some(format!(
+                "the video has no sound: its soundtrack's rate, {} Hz, is none Opus encodes ({}); make the soundtrack at 48000 Hz (`lmfilm sound DIR --rate 48000`) and mux again",
+                spec.sample_rate,
+                video::OPUS_RATES.map(|r| r.to_string()).join(", ")
+            )),
+        ));
     }
-    args.extend(os(&[
-        "-map",
-        "0:v:0",
-        "-vf",
-        "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-    ]));
-    args.extend(os(&["-c:v", "libx264", "-pix_fmt", "yuv420p"]));
-    if soundtrack.is_some() {
-        args.extend(os(&["-map", "1:a:0", "-c:a", "aac"]));
+    let samples: Vec<f32> = match spec.sample_format {
+        hound::SampleFormat::Float => reader
+            .into_samples::<f32>()
+            .collect::<Result<_, _>>()
+            .map_err(|e| input(e.to_string()))?,
+        hound::SampleFormat::Int => {
+            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
+            reader
+                .into_samples::<i32>()
+                .map(|s| s.map(|s| s as f32 * scale))
+                .collect::<Result<_, _>>()
+                .map_err(|e| input(e.to_string()))?
+        }
+    };
+    let channels = spec.channels.max(1);
+    if channels <= 2 {
+        return Ok((
+            Some(Pcm {
+                rate: spec.sample_rate,
+                channels,
+                samples,
+            }),
+            None,
+        ));
     }
-    args.extend(os(&["-map_metadata", "-1", "-fflags", "+bitexact"]));
-    args.extend(os(&["-flags:v", "+bitexact", "-flags:a", "+bitexact"]));
-    args.extend(os(&["-movflags", "+faststart", "-f", "mp4", out]));
-    args
-}
-
-fn os(items: &[&str]) -> Vec<OsString> {
-    items.iter().map(OsString::from).collect()
-}
-
-/// Runs ffmpeg in `dir`; a missing executable and a failed encode are
-/// told apart.
-fn run_ffmpeg(dir: &Path, args: &[OsString]) -> Result<(), MuxError> {
-    let output = Command::new("ffmpeg")
-        .current_dir(dir)
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .output()
-        .map_err(|source| match source.kind() {
-            io::ErrorKind::NotFound => MuxError::FfmpegMissing {
-                dir: dir.to_path_buf(),
-            },
-            _ => MuxError::Io {
-                path: PathBuf::from("ffmpeg"),
-                source,
-            },
-        })?;
-    if output.status.success() {
-        return Ok(());
-    }
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    let lines: Vec<&str> = stderr.lines().collect();
-    Err(MuxError::Ffmpeg {
-        status: output.status.to_string(),
-        stderr: lines[lines.len().saturating_sub(STDERR_LINES)..].join("\n"),
-    })
+    let first: Vec<f32> = samples
+        .iter()
+        .step_by(usize::from(channels))
+        .copied()
+        .collect();
+    Ok((
+        Some(Pcm {
+            rate: spec.sample_rate,
+            channels: 1,
+            samples: first,
+        }),
+        Some(format!(
+            "the video's sound is microphone 0's: the soundtrack has {channels} channels, a channel a microphone, and soundtrack.wav keeps them all"
+        )),
+    ))
 }

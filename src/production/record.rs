@@ -205,6 +205,10 @@ pub struct MuxRecord {
     pub rate: String,
     /// sha256 of the soundtrack muxed in, if any.
     pub soundtrack: Option<String>,
+    /// The H.264 quantiser (none: a video made by ffmpeg, before lmfilm
+    /// made its own).
+    #[serde(default)]
+    pub video_qp: Option<u8>,
 }
 
 /// This program's version, as records carry it.

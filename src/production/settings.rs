@@ -405,11 +405,54 @@ pub fn sound_args(s: &sound::SoundSettings) -> Vec<String> {
     ]
 }
 
+/// The video's settings (`<name>.mp4`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct VideoSettings {
+    /// The H.264 quantiser: 0 near lossless … 51 smallest.
+    pub qp: u8,
+}
+
+impl Default for VideoSettings {
+    fn default() -> VideoSettings {
+        VideoSettings {
+            qp: crate::production::video::DEFAULT_QP,
+        }
+    }
+}
+
+fn video_qp(text: &str) -> Result<u8, String> {
+    within(text, "--video-qp", 0, 51)
+}
+
+/// What the user asked of the video: `None` is "as before".
+#[derive(Debug, Clone, Copy, Default, PartialEq, clap::Args)]
+#[command(next_help_heading = "Video settings")]
+pub struct VideoRequest {
+    /// The video's H.264 quantiser, 0 (near lossless, largest) to 51
+    /// (smallest); default 20: the built-in film's decoded video is
+    /// 43.8 dB PSNR (luma) from its frames at 3.3 Mbit/s (docs/film.md).
+    #[arg(long = "video-qp", value_name = "QP", value_parser = video_qp)]
+    pub qp: Option<u8>,
+}
+
+impl VideoRequest {
+    /// The settings: the request over `base`, else over the defaults.
+    pub fn resolve(&self, base: Option<&VideoSettings>) -> VideoSettings {
+        let b = base.copied().unwrap_or_default();
+        VideoSettings {
+            qp: self.qp.unwrap_or(b.qp),
+        }
+    }
+}
+
 /// `settings.json`: the film's settings, resolved.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FilmSettings {
     pub render: Option<RenderChoice>,
     pub sound: Option<sound::SoundSettings>,
+    /// A folder recorded before lmfilm made its own video has none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub video: Option<VideoSettings>,
 }
 
 /// The folder's recorded settings (none recorded: both `None`); a
@@ -424,6 +467,7 @@ pub fn read(dir: &Path) -> Result<FilmSettings, Error> {
     Ok(found.unwrap_or(FilmSettings {
         render: None,
         sound: None,
+        video: None,
     }))
 }
 

@@ -32,12 +32,12 @@ use super::record::{
 };
 use super::settings::RenderChoice;
 use super::timings::{Stage, Timings};
-use super::{assemble, mux as ffmpeg};
+use super::{assemble, mux as video_mux};
 use crate::actors::live::Living;
 use crate::atomic::{remove_stale_temps, write_atomic};
 use crate::error::Error;
 use crate::film::names::ACTORS_DIR;
-use crate::film::names::{frame_path, frame_pattern, snapshot_path, FRAMES_DIR, SCENE_DIR};
+use crate::film::names::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
 use crate::film::names::{
     frame_record_path, mp4_paths, parse_frame_file, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD,
 };
@@ -962,15 +962,15 @@ pub fn soundtrack(
     Ok(Some(report))
 }
 
-/// Frames and soundtrack into `<name>.mp4` through ffmpeg, unless its
-/// record shows the same frames, soundtrack and rate and the MP4 is
-/// intact. Returns the MP4's path and whether it was made now.
-pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
+/// Frames and soundtrack into `<name>.mp4` (H.264 at the quantiser
+/// `qp`, Opus), unless its record shows the same frames, soundtrack,
+/// rate and quantiser and the MP4 is intact. Returns the MP4's path,
+/// whether it was made now, and what it had to leave out.
+pub fn mux(dir: &Path, qp: u8) -> Result<(PathBuf, bool, Option<String>), Error> {
     let rec = open(dir)?;
     let name = &rec.inputs.name;
     let (mp4, record_path) = mp4_paths(name);
-    // What the MP4 reads and writes (ffmpeg reads the PNGs and the
-    // soundtrack: a pipe would keep it waiting), before it is made.
+    // What the MP4 reads and writes, before it is made.
     refuse_odd_files(
         dir,
         [SOUNDTRACK_FILE, SOUND_RECORD]
@@ -989,9 +989,10 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
             dir.display()
         )));
     }
-    let rate = ffmpeg::FrameRate::from_dt(rec.dt).map_err(|e| Error::input(e.to_string()))?;
+    let rate = video_mux::FrameRate::from_dt(rec.dt).map_err(|e| Error::input(e.to_string()))?;
     let frames = assemble::valid_frames(dir, &rec)?;
-    // Each PNG as its record says: ffmpeg reads them.
+    // Each PNG as its record says, and the most bytes it may have.
+    let mut pngs = Vec::new();
     for (k, f) in &frames {
         let render = f.render.iter().map(|(k, v)| (k.as_str(), v.as_str()));
         let bounds = Bounds::of_settings(render, 0);
@@ -1007,6 +1008,8 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
                 dir.display()
             )));
         }
+        let limit = bounds.limit(&key(&png));
+        pngs.push((png, limit));
     }
     let bounds = Bounds::new(0, rec.frame_count);
     let sound = match record::read_made::<SoundRecord>(dir, Path::new(SOUND_RECORD))? {
@@ -1024,6 +1027,7 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
         mp4: String::new(),
         rate: rate.to_string(),
         soundtrack: sound.map(|s| s.soundtrack),
+        video_qp: Some(qp),
     };
     if let Some(old) = record::read_made::<MuxRecord>(dir, &record_path)? {
         let same = MuxRecord {
@@ -1031,19 +1035,24 @@ pub fn mux(dir: &Path) -> Result<(PathBuf, bool), Error> {
             ..want.clone()
         };
         if old == same && intact(dir, &mp4, &old.mp4, &bounds)? {
-            return Ok((dir.join(mp4), false));
+            return Ok((dir.join(mp4), false, None));
         }
     }
     let track = want
         .soundtrack
         .is_some()
         .then_some(Path::new(SOUNDTRACK_FILE));
-    let out = ffmpeg::mux(dir, name, rate, &frame_pattern(name, PNG), track)
-        .map_err(|e| Error::other(e.to_string()))?;
+    let made = video_mux::mux(dir, name, rate, &pngs, track, qp).map_err(|e| match e {
+        video_mux::MuxError::Io { .. } | video_mux::MuxError::Input { .. } => {
+            Error::input(e.to_string())
+        }
+        _ => Error::other(e.to_string()),
+    })?;
+    let out = made.mp4;
     want.mp4 = sha256_file(&out, bounds.limit(&key(&mp4))).map_err(|e| Error::io(&out, e))?;
     let rp = dir.join(&record_path);
     record::write(&rp, &want).map_err(|e| Error::io(&rp, e))?;
-    Ok((out, true))
+    Ok((out, true, made.note))
 }
 
 /// The PNG, the format an MP4 is made of.

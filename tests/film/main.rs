@@ -16,6 +16,7 @@ mod frame_loop;
 mod hostile_folders;
 mod limits;
 mod lsp;
+mod mp4;
 mod path;
 mod readable;
 mod records;

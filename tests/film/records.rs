@@ -291,9 +291,7 @@ fn concurrent_shards_on_two_hosts_give_the_run_manifest() {
     let m = std::fs::read_to_string(split.join("manifest.json")).unwrap();
     assert!(!m.contains("frames/"), "{m}");
     ok(&["sound", s(&split)]);
-    if lmfilm::production::mux::ffmpeg_available() {
-        ok(&["mux", s(&split)]);
-    }
+    ok(&["mux", s(&split)]);
     assert_eq!(
         read(&whole.join("manifest.json")),
         read(&split.join("manifest.json"))
@@ -419,10 +417,6 @@ fn a_bare_scene_name_finds_its_scripts() {
 /// frame changes, and a damaged MP4 is named by verify.
 #[test]
 fn the_mp4_is_made_from_its_frames_and_soundtrack() {
-    if !lmfilm::production::mux::ffmpeg_available() {
-        eprintln!("ffmpeg is not installed: skipped");
-        return;
-    }
     let root = temp("mp4");
     let scene = write(&root, "film.lm", SCENE);
     let dir = root.join("out");
@@ -442,6 +436,13 @@ fn the_mp4_is_made_from_its_frames_and_soundtrack() {
     let out = run(&[&scene], &dir, &[]);
     assert!(out.contains("film.mp4 (made now)"), "{out}");
     ok(&["verify", s(&dir)]);
+    // A truncated MP4 (a copy cut short) is named too, and made again.
+    let whole = read(&mp4);
+    std::fs::write(&mp4, &whole[..whole.len() / 3]).unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("film.mp4"), "{err}");
+    ok(&["mux", s(&dir)]);
+    assert_eq!(read(&mp4), whole, "made again, the same bytes");
     // New frames: the old MP4 no longer matches them.
     ok(&["render", s(&dir), "--spp", "2"]);
     let err = fails(&["verify", s(&dir)], 1);

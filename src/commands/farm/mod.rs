@@ -22,6 +22,7 @@ use crate::error::{Error, Result};
 use crate::film::names::{self, FARM_DIR};
 use crate::lsys::Limits;
 use crate::production::settings;
+use crate::production::settings::VideoRequest;
 
 pub use scripts::{Chain, Commands, Request, ATTEMPTS, LOGS_DIR, NODE_FAILURES};
 pub use status::{status, StatusArgs};
@@ -128,6 +129,8 @@ pub struct SlurmArgs {
     #[command(flatten)]
     pub sound: SoundArgs,
     #[command(flatten)]
+    pub video: VideoRequest,
+    #[command(flatten)]
     pub scene: SceneArgs,
 }
 
@@ -174,6 +177,8 @@ pub fn slurm(args: &SlurmArgs) -> Result<()> {
         limits.pixels,
     )?;
     let sound = film::resolve_sound(&dir, &args.sound.request())?;
+    // The finishing job's `mux` reads the video's settings recorded here.
+    film::resolve_video(&dir, &args.video)?;
     let mut render = choice.args();
     render.push(format!("--max-pixels={}", limits.pixels));
     let commands = Commands {
@@ -263,7 +268,7 @@ mod tests {
         assert!(c
             .finish
             .contains("render \"$dir\" --log-frames '--spp=4' &&"));
-        assert!(c.finish.contains("command -v ffmpeg"));
+        assert!(c.finish.contains(" mux \"$dir\" &&"));
         assert!(c.finish.contains("' verify \"$dir\"\n"));
         for (s, log) in [
             (&c.derive, "derive-%j"),

@@ -210,11 +210,11 @@ if [ -n "$waiting" ]; then
 fi
 
 # The frames a shard left (none when every shard rendered its own), the
-# soundtrack and manifest, the MP4 where ffmpeg is, and the check.
+# soundtrack and manifest, the MP4, and the check.
 finish() {
   @BIN@ render "$dir" --log-frames@RENDER_OPTIONS@ &&
     @BIN@ sound "$dir"@OPTIONS@ &&
-    { ! command -v ffmpeg >/dev/null 2>&1 || @BIN@ mux "$dir"; } &&
+    @BIN@ mux "$dir" &&
     @BIN@ verify "$dir"
 }
 finish && exit 0

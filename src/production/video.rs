@@ -1,0 +1,284 @@
+//! The film's video, made by lmfilm itself (issue 56): the sRGB frames
+//! as H.264 (Cisco's OpenH264, built from its bundled source), the
+//! soundtrack as Opus (opus-rs, in Rust), in an MP4 (muxide, in Rust)
+//! that browsers and players open. No ffmpeg is needed. Every step is a
+//! function of its input alone (one encoder thread, a constant
+//! quantiser, no clock), so the same frames and soundtrack give the same
+//! bytes. docs/film.md says why these codecs.
+
+use std::io::Write;
+
+use muxide::api::{AudioCodec, MuxerBuilder, VideoCodec};
+use openh264::encoder::{
+    Complexity, Encoder, EncoderConfig, FrameRate as H264Rate, FrameType, IntraFramePeriod,
+    Profile, QpRange, RateControlMode, UsageType, VuiConfig,
+};
+use openh264::formats::YUVBuffer;
+use openh264::OpenH264API;
+
+/// The quantiser of the default video: the decoded luma of the built-in
+/// film is 43.8 dB PSNR from its PNG frames (40 dB at 24), at 3.3 Mbit/s
+/// for 480×270 at 25 frames a second (docs/film.md).
+pub const DEFAULT_QP: u8 = 20;
+
+/// OpenH264's smallest picture side: a smaller frame is padded to it.
+const MIN_SIDE: usize = 16;
+
+/// Opus's frame: 20 ms, 960 samples at 48 kHz.
+const OPUS_FRAME_SECONDS: f64 = 0.02;
+
+/// Opus bit rate per channel: transparent for music at 48 kHz.
+const OPUS_BITS_PER_CHANNEL: i32 = 96_000;
+
+/// The sample rates Opus encodes.
+pub const OPUS_RATES: [u32; 5] = [8_000, 12_000, 16_000, 24_000, 48_000];
+
+/// An image of 8-bit sRGB pixels, row after row.
+pub struct Rgb<'a> {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: &'a [u8],
+}
+
+/// A soundtrack's samples, interleaved, in [-1, 1].
+pub struct Pcm {
+    pub rate: u32,
+    pub channels: u16,
+    pub samples: Vec<f32>,
+}
+
+/// One Opus packet of the soundtrack and its time, seconds.
+pub struct OpusPacket {
+    pub time: f64,
+    pub bytes: Vec<u8>,
+}
+
+/// Why a video could not be made.
+#[derive(Debug)]
+pub enum VideoError {
+    /// A frame of another size than the first.
+    Size {
+        frame: u64,
+        got: (u32, u32),
+        want: (u32, u32),
+    },
+    /// The soundtrack cannot go into the MP4 as it is.
+    Sound(String),
+    /// The encoder or the muxer refused (their message).
+    Codec(String),
+    Io(std::io::Error),
+}
+
+impl std::fmt::Display for VideoError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            VideoError::Size { frame, got, want } => write!(
+                f,
+                "frame {frame} is {}×{}, the film's first frame {}×{}: one video has one size",
+                got.0, got.1, want.0, want.1
+            ),
+            VideoError::Sound(e) => write!(f, "the soundtrack: {e}"),
+            VideoError::Codec(e) => write!(f, "the video encoder: {e}"),
+            VideoError::Io(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for VideoError {}
+
+/// The film's frames into H.264, one at a time, in frame order.
+pub struct VideoEncoder {
+    encoder: Encoder,
+    size: (u32, u32),
+    /// The size the encoder takes: even, at least [`MIN_SIDE`] (the
+    /// frame padded, its last row or column repeated).
+    coded: (usize, usize),
+    /// Each frame's Annex B bytes, and whether it is a key frame.
+    encoded: Vec<(Vec<u8>, bool)>,
+}
+
+impl VideoEncoder {
+    /// An encoder for frames of `size` at `fps` frames a second, with the
+    /// constant quantiser `qp` (0 best … 51 smallest).
+    pub fn new(size: (u32, u32), fps: f64, qp: u8) -> Result<VideoEncoder, VideoError> {
+        let qp = qp.min(51);
+        let config = EncoderConfig::new()
+            // The quality mode with the quantiser pinned: a constant QP,
+            // no rate control that depends on anything but the frames (the
+            // bit rate is a ceiling no frame of a film reaches).
+            .rate_control_mode(RateControlMode::Quality)
+            .bitrate(openh264::encoder::BitRate::from_bps(50_000_000))
+            .qp(QpRange::new(qp, qp))
+            .usage_type(UsageType::CameraVideoRealTime)
+            .complexity(Complexity::High)
+            .skip_frames(false)
+            .scene_change_detect(false)
+            .background_detection(false)
+            .adaptive_quantization(false)
+            // A key frame every second or so: a player seeks to it.
+            .intra_frame_period(IntraFramePeriod::from_num_frames(
+                fps.round().max(1.0) as u32
+            ))
+            .max_frame_rate(H264Rate::from_hz(fps as f32))
+            .profile(Profile::Baseline)
+            .num_threads(1)
+            .vui(VuiConfig::bt709());
+        let mut encoder = Encoder::with_api_config(OpenH264API::from_source(), config)
+            .map_err(|e| VideoError::Codec(e.to_string()))?;
+        // Quiet before it initialises: it warns on stderr that a pinned
+        // quantiser leaves the bit rate uncontrolled, which is the point.
+        let mut quiet = openh264_sys2::WELS_LOG_QUIET;
+        // SAFETY: the trace level is an option OpenH264 takes before its
+        // initialisation; it only reads the integer it is given.
+        unsafe {
+            encoder.raw_api().set_option(
+                openh264_sys2::ENCODER_OPTION_TRACE_LEVEL,
+                (&raw mut quiet).cast(),
+            );
+        }
+        let side = |n: u32| (n as usize).next_multiple_of(2).max(MIN_SIDE);
+        let coded = (side(size.0), side(size.1));
+        Ok(VideoEncoder {
+            encoder,
+            size,
+            coded,
+            encoded: Vec::new(),
+        })
+    }
+
+    /// Encodes the next frame.
+    pub fn push(&mut self, frame: &Rgb) -> Result<(), VideoError> {
+        if (frame.width, frame.height) != self.size {
+            return Err(VideoError::Size {
+                frame: self.frames(),
+                got: (frame.width, frame.height),
+                want: self.size,
+            });
+        }
+        let buffer = YUVBuffer::from_vec(bt709(frame, self.coded), self.coded.0, self.coded.1);
+        let bits = self
+            .encoder
+            .encode(&buffer)
+            .map_err(|e| VideoError::Codec(e.to_string()))?;
+        let key = matches!(bits.frame_type(), FrameType::IDR | FrameType::I);
+        self.encoded.push((bits.to_vec(), key));
+        Ok(())
+    }
+
+    /// The frames encoded so far.
+    pub fn frames(&self) -> u64 {
+        self.encoded.len() as u64
+    }
+
+    /// Each frame's H.264 (Annex B) bytes, in order.
+    pub fn encoded(&self) -> impl Iterator<Item = &[u8]> {
+        self.encoded.iter().map(|(bits, _)| bits.as_slice())
+    }
+}
+
+/// sRGB `frame` as BT.709 limited-range Y′CbCr 4:2:0 (I420) of the even
+/// size `coded`: luma from each pixel, chroma from the mean of each 2×2
+/// block (of its gamma-encoded values, as cameras and ffmpeg do).
+pub fn bt709(frame: &Rgb, coded: (usize, usize)) -> Vec<u8> {
+    let (w, h) = coded;
+    let (fw, fh) = (frame.width as usize, frame.height as usize);
+    let mut out = vec![0u8; w * h * 3 / 2];
+    let px = |x: usize, y: usize| {
+        let k = 3 * (y.min(fh - 1) * fw + x.min(fw - 1));
+        let p = &frame.pixels[k..k + 3];
+        [f32::from(p[0]), f32::from(p[1]), f32::from(p[2])]
+    };
+    let luma = |[r, g, b]: [f32; 3]| 0.2126 * r + 0.7152 * g + 0.0722 * b;
+    let (y_plane, chroma) = out.split_at_mut(w * h);
+    let (u_plane, v_plane) = chroma.split_at_mut(w * h / 4);
+    for y in 0..h {
+        for x in 0..w {
+            let v = 16.0 + luma(px(x, y)) * (219.0 / 255.0);
+            y_plane[y * w + x] = v.round() as u8;
+        }
+    }
+    for y in 0..h / 2 {
+        for x in 0..w / 2 {
+            let mut m = [0.0f32; 3];
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let p = px(2 * x + dx, 2 * y + dy);
+                for c in 0..3 {
+                    m[c] += p[c] * 0.25;
+                }
+            }
+            let l = luma(m);
+            let cb = 128.0 + (m[2] - l) / 1.8556 * (224.0 / 255.0);
+            let cr = 128.0 + (m[0] - l) / 1.5748 * (224.0 / 255.0);
+            u_plane[y * (w / 2) + x] = cb.round().clamp(16.0, 240.0) as u8;
+            v_plane[y * (w / 2) + x] = cr.round().clamp(16.0, 240.0) as u8;
+        }
+    }
+    out
+}
+
+/// The soundtrack as Opus packets of 20 ms, each with its time: one or
+/// two channels at a rate Opus takes ([`OPUS_RATES`]).
+pub fn opus_packets(pcm: &Pcm) -> Result<Vec<OpusPacket>, VideoError> {
+    use opus_rs::{Application, OpusEncoder};
+    let channels = usize::from(pcm.channels);
+    let mut encoder = OpusEncoder::new(pcm.rate as i32, channels, Application::Audio)
+        .map_err(|e| VideoError::Sound(format!("Opus cannot encode it: {e}")))?;
+    encoder.bitrate_bps = OPUS_BITS_PER_CHANNEL * channels as i32;
+    encoder.complexity = 10;
+    let frame = (f64::from(pcm.rate) * OPUS_FRAME_SECONDS).round() as usize;
+    let mut packets = Vec::new();
+    let mut input = vec![0.0f32; frame * channels];
+    let mut out = vec![0u8; 4000];
+    // The last packet is completed with silence.
+    for (k, chunk) in pcm.samples.chunks(frame * channels).enumerate() {
+        input.fill(0.0);
+        input[..chunk.len()].copy_from_slice(chunk);
+        let n = encoder
+            .encode(&input, frame, &mut out)
+            .map_err(|e| VideoError::Sound(format!("Opus: {e}")))?;
+        packets.push(OpusPacket {
+            time: k as f64 * OPUS_FRAME_SECONDS,
+            bytes: out[..n].to_vec(),
+        });
+    }
+    Ok(packets)
+}
+
+/// The MP4: `video`'s frames at `rate` (`num`/`den` frames a second),
+/// and the soundtrack's packets when given, written to `out` with the
+/// index first (a browser plays it while it loads).
+pub fn write_mp4<W: Write>(
+    out: W,
+    video: &VideoEncoder,
+    (num, den): (u32, u32),
+    sound: Option<(&Pcm, &[OpusPacket])>,
+) -> Result<(), VideoError> {
+    let fps = f64::from(num) / f64::from(den);
+    let codec = |e: muxide::api::MuxerError| VideoError::Codec(e.to_string());
+    let mut builder = MuxerBuilder::new(out)
+        .video(
+            VideoCodec::H264,
+            video.coded.0 as u32,
+            video.coded.1 as u32,
+            fps,
+        )
+        .with_fast_start(true);
+    if let Some((pcm, _)) = sound {
+        builder = builder.audio(AudioCodec::Opus, 48_000, pcm.channels);
+    }
+    let mut muxer = builder.build().map_err(codec)?;
+    let mut packets = sound.map_or(&[][..], |s| s.1).iter().peekable();
+    let interval = f64::from(den) / f64::from(num);
+    for (k, (bits, key)) in video.encoded.iter().enumerate() {
+        let pts = k as f64 * interval;
+        muxer.write_video(pts, bits, *key).map_err(codec)?;
+        // The sound up to the next frame, interleaved with the pictures.
+        while let Some(p) = packets.next_if(|p| p.time < pts + interval) {
+            muxer.write_audio(p.time, &p.bytes).map_err(codec)?;
+        }
+    }
+    for p in packets {
+        muxer.write_audio(p.time, &p.bytes).map_err(codec)?;
+    }
+    muxer.finish().map_err(codec)
+}
