@@ -7,7 +7,9 @@ use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
-use super::video::{self, Pcm, Rgb, VideoEncoder, VideoError};
+use rayon::prelude::*;
+
+use super::video::{self, Pcm, Picture, Rgb, VideoEncoder, VideoError};
 use crate::atomic::temp_path;
 use crate::source::read_file;
 
@@ -120,38 +122,37 @@ pub fn mux(
     qp: u8,
 ) -> Result<Muxed, MuxError> {
     let fps = f64::from(rate.num) / f64::from(rate.den);
-    let mut encoder: Option<VideoEncoder> = None;
-    for (rel, limit) in frames {
-        let path = dir.join(rel);
-        let bytes = read_file(&path, *limit).map_err(|source| MuxError::Io {
-            path: path.clone(),
-            source,
-        })?;
-        let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-            .map_err(|e| MuxError::Input {
-                path: path.clone(),
-                why: format!("not a PNG lmfilm can read: {e}"),
-            })?
-            .into_rgb8();
-        let rgb = Rgb {
-            width: image.width(),
-            height: image.height(),
-            pixels: image.as_raw(),
-        };
-        let encoder = match &mut encoder {
-            Some(e) => e,
-            None => encoder.insert(
-                VideoEncoder::new((rgb.width, rgb.height), fps, qp).map_err(MuxError::Video)?,
-            ),
-        };
-        encoder.push(&rgb).map_err(MuxError::Video)?;
-    }
-    let Some(encoder) = encoder else {
-        return Err(MuxError::Input {
-            path: dir.to_path_buf(),
-            why: "the film has no frame to make a video of".into(),
-        });
+    let size = match frames.first() {
+        Some((rel, limit)) => read_png(dir, rel, *limit)?.dimensions(),
+        None => {
+            return Err(MuxError::Input {
+                path: dir.to_path_buf(),
+                why: "the film has no frame to make a video of".into(),
+            })
+        }
     };
+    // Each group of pictures on its own encoder, the groups in parallel
+    // (a frame is read back, converted and encoded by its group's task).
+    let len = video::group_len(fps);
+    let groups: Vec<Vec<Picture>> = frames
+        .par_chunks(len)
+        .enumerate()
+        .map(|(g, group)| {
+            let first = (g * len) as u64;
+            let mut encoder = VideoEncoder::new(first, size, fps, qp).map_err(MuxError::Video)?;
+            for (rel, limit) in group {
+                let image = read_png(dir, rel, *limit)?;
+                let rgb = Rgb {
+                    width: image.width(),
+                    height: image.height(),
+                    pixels: image.as_raw(),
+                };
+                encoder.push(&rgb).map_err(MuxError::Video)?;
+            }
+            Ok(encoder.finish())
+        })
+        .collect::<Result<_, MuxError>>()?;
+    let pictures: Vec<Picture> = groups.into_iter().flatten().collect();
     let (sound, note) = match soundtrack {
         Some(rel) => sound_of(&dir.join(rel))?,
         None => (None, None),
@@ -170,19 +171,32 @@ pub fn mux(
         .map_err(io_err)
         .and_then(|file| {
             let sound = sound.as_ref().zip(packets.as_deref());
-            video::write_mp4(
-                io::BufWriter::new(file),
-                &encoder,
-                (rate.num, rate.den),
-                sound,
-            )
-            .map_err(MuxError::Video)
+            let video = (&pictures[..], video::coded_size(size));
+            video::write_mp4(io::BufWriter::new(file), video, (rate.num, rate.den), sound)
+                .map_err(MuxError::Video)
         })
         .and_then(|()| fs::rename(&tmp, &out).map_err(io_err));
     if written.is_err() {
         let _ = fs::remove_file(&tmp);
     }
     written.map(|()| Muxed { mp4: out, note })
+}
+
+/// PNG frame `rel` of `dir` (at most `limit` bytes) as 8-bit RGB.
+fn read_png(dir: &Path, rel: &Path, limit: u64) -> Result<image::RgbImage, MuxError> {
+    let path = dir.join(rel);
+    let bytes = read_file(&path, limit).map_err(|source| MuxError::Io {
+        path: path.clone(),
+        source,
+    })?;
+    let image =
+        image::load_from_memory_with_format(&bytes, image::ImageFormat::Png).map_err(|e| {
+            MuxError::Input {
+                path: path.clone(),
+                why: format!("not a PNG lmfilm can read: {e}"),
+            }
+        })?;
+    Ok(image.into_rgb8())
 }
 
 /// The soundtrack's samples as the MP4 takes them: one or two channels

@@ -1,10 +1,13 @@
 //! The film's video, made by lmfilm itself (issue 56): the sRGB frames
 //! as H.264 (Cisco's OpenH264, built from its bundled source), the
 //! soundtrack as Opus (opus-rs, in Rust), in an MP4 (muxide, in Rust)
-//! that browsers and players open. No ffmpeg is needed. Every step is a
-//! function of its input alone (one encoder thread, a constant
-//! quantiser, no clock), so the same frames and soundtrack give the same
-//! bytes. docs/film.md says why these codecs.
+//! that browsers and players open. No ffmpeg is needed. The pictures go
+//! in groups of about a second ([`group_len`]), each opened by a key
+//! frame and encoded by an encoder of its own: the groups are encoded in
+//! parallel, and a group's bytes are a function of its frames alone (one
+//! encoder thread, a constant quantiser, no clock), so the same frames
+//! and soundtrack give the same bytes for any thread count. docs/film.md
+//! says why these codecs.
 
 use std::io::Write;
 
@@ -86,21 +89,39 @@ impl std::fmt::Display for VideoError {
 
 impl std::error::Error for VideoError {}
 
-/// The film's frames into H.264, one at a time, in frame order.
+/// One encoded picture: its Annex B bytes, and whether it is a key frame.
+pub struct Picture {
+    pub bits: Vec<u8>,
+    pub key: bool,
+}
+
+/// Frames in a group of pictures: a second's, rounded (a player seeks
+/// to the key frame that opens each).
+pub fn group_len(fps: f64) -> usize {
+    fps.round().max(1.0) as usize
+}
+
+/// The size the encoder takes for frames of `size`: even, at least
+/// [`MIN_SIDE`] (a frame is padded, its last row or column repeated).
+pub fn coded_size(size: (u32, u32)) -> (usize, usize) {
+    let side = |n: u32| (n as usize).next_multiple_of(2).max(MIN_SIDE);
+    (side(size.0), side(size.1))
+}
+
+/// One group of pictures into H.264, a frame at a time, in frame order.
 pub struct VideoEncoder {
     encoder: Encoder,
     size: (u32, u32),
-    /// The size the encoder takes: even, at least [`MIN_SIDE`] (the
-    /// frame padded, its last row or column repeated).
     coded: (usize, usize),
-    /// Each frame's Annex B bytes, and whether it is a key frame.
-    encoded: Vec<(Vec<u8>, bool)>,
+    first: u64,
+    encoded: Vec<Picture>,
 }
 
 impl VideoEncoder {
-    /// An encoder for frames of `size` at `fps` frames a second, with the
-    /// constant quantiser `qp` (0 best … 51 smallest).
-    pub fn new(size: (u32, u32), fps: f64, qp: u8) -> Result<VideoEncoder, VideoError> {
+    /// An encoder for the group that starts at frame `first`, of frames of
+    /// `size` at `fps` frames a second, with the constant quantiser `qp`
+    /// (0 best … 51 smallest).
+    pub fn new(first: u64, size: (u32, u32), fps: f64, qp: u8) -> Result<VideoEncoder, VideoError> {
         let qp = qp.min(51);
         let config = EncoderConfig::new()
             // The quality mode with the quantiser pinned: a constant QP,
@@ -115,10 +136,8 @@ impl VideoEncoder {
             .scene_change_detect(false)
             .background_detection(false)
             .adaptive_quantization(false)
-            // A key frame every second or so: a player seeks to it.
-            .intra_frame_period(IntraFramePeriod::from_num_frames(
-                fps.round().max(1.0) as u32
-            ))
+            // The group's one key frame, its first.
+            .intra_frame_period(IntraFramePeriod::from_num_frames(group_len(fps) as u32))
             .max_frame_rate(H264Rate::from_hz(fps as f32))
             .profile(Profile::Baseline)
             .num_threads(1)
@@ -136,12 +155,11 @@ impl VideoEncoder {
                 (&raw mut quiet).cast(),
             );
         }
-        let side = |n: u32| (n as usize).next_multiple_of(2).max(MIN_SIDE);
-        let coded = (side(size.0), side(size.1));
         Ok(VideoEncoder {
             encoder,
             size,
-            coded,
+            coded: coded_size(size),
+            first,
             encoded: Vec::new(),
         })
     }
@@ -150,7 +168,7 @@ impl VideoEncoder {
     pub fn push(&mut self, frame: &Rgb) -> Result<(), VideoError> {
         if (frame.width, frame.height) != self.size {
             return Err(VideoError::Size {
-                frame: self.frames(),
+                frame: self.first + self.encoded.len() as u64,
                 got: (frame.width, frame.height),
                 want: self.size,
             });
@@ -161,18 +179,16 @@ impl VideoEncoder {
             .encode(&buffer)
             .map_err(|e| VideoError::Codec(e.to_string()))?;
         let key = matches!(bits.frame_type(), FrameType::IDR | FrameType::I);
-        self.encoded.push((bits.to_vec(), key));
+        self.encoded.push(Picture {
+            bits: bits.to_vec(),
+            key,
+        });
         Ok(())
     }
 
-    /// The frames encoded so far.
-    pub fn frames(&self) -> u64 {
-        self.encoded.len() as u64
-    }
-
-    /// Each frame's H.264 (Annex B) bytes, in order.
-    pub fn encoded(&self) -> impl Iterator<Item = &[u8]> {
-        self.encoded.iter().map(|(bits, _)| bits.as_slice())
+    /// The group's pictures, in frame order.
+    pub fn finish(self) -> Vec<Picture> {
+        self.encoded
     }
 }
 
@@ -244,24 +260,19 @@ pub fn opus_packets(pcm: &Pcm) -> Result<Vec<OpusPacket>, VideoError> {
     Ok(packets)
 }
 
-/// The MP4: `video`'s frames at `rate` (`num`/`den` frames a second),
-/// and the soundtrack's packets when given, written to `out` with the
-/// index first (a browser plays it while it loads).
+/// The MP4: the `pictures` of `coded` size at `rate` (`num`/`den` frames
+/// a second), and the soundtrack's packets when given, written to `out`
+/// with the index first (a browser plays it while it loads).
 pub fn write_mp4<W: Write>(
     out: W,
-    video: &VideoEncoder,
+    (pictures, coded): (&[Picture], (usize, usize)),
     (num, den): (u32, u32),
     sound: Option<(&Pcm, &[OpusPacket])>,
 ) -> Result<(), VideoError> {
     let fps = f64::from(num) / f64::from(den);
     let codec = |e: muxide::api::MuxerError| VideoError::Codec(e.to_string());
     let mut builder = MuxerBuilder::new(out)
-        .video(
-            VideoCodec::H264,
-            video.coded.0 as u32,
-            video.coded.1 as u32,
-            fps,
-        )
+        .video(VideoCodec::H264, coded.0 as u32, coded.1 as u32, fps)
         .with_fast_start(true);
     if let Some((pcm, _)) = sound {
         builder = builder.audio(AudioCodec::Opus, 48_000, pcm.channels);
@@ -269,9 +280,9 @@ pub fn write_mp4<W: Write>(
     let mut muxer = builder.build().map_err(codec)?;
     let mut packets = sound.map_or(&[][..], |s| s.1).iter().peekable();
     let interval = f64::from(den) / f64::from(num);
-    for (k, (bits, key)) in video.encoded.iter().enumerate() {
+    for (k, p) in pictures.iter().enumerate() {
         let pts = k as f64 * interval;
-        muxer.write_video(pts, bits, *key).map_err(codec)?;
+        muxer.write_video(pts, &p.bits, p.key).map_err(codec)?;
         // The sound up to the next frame, interleaved with the pictures.
         while let Some(p) = packets.next_if(|p| p.time < pts + interval) {
             muxer.write_audio(p.time, &p.bytes).map_err(codec)?;
