@@ -21,6 +21,10 @@ use crate::lsys::options::Command;
 /// at the microphones' centre, so it is heard without delay or Doppler.
 pub const AMBIENT_SOURCE: u32 = 999_999;
 
+/// Half the distance between a listener's ears, metres (an adult head's
+/// 17.5 cm).
+pub const HALF_HEAD: f64 = 0.0875;
+
 /// One on-going sound event.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ongoing {
@@ -47,8 +51,11 @@ pub struct Air {
     fresh: usize,
     missed: Vec<Ongoing>,
     mics: BTreeMap<u32, DVec3>,
-    /// Microphones that follow the camera (none declared: microphone 0).
+    /// Microphones that follow the camera (none declared: microphone 0,
+    /// or the two ears of `INIT_ears`).
     follow_camera: bool,
+    /// The listener's ears (`INIT_ears l r`).
+    ears: Option<(u32, u32)>,
     sources: BTreeMap<u32, DVec3>,
     /// Sources whose position changed this frame.
     moved: BTreeMap<u32, DVec3>,
@@ -84,6 +91,7 @@ impl Air {
             missed: Vec::new(),
             mics: BTreeMap::new(),
             follow_camera: false,
+            ears: None,
             sources: BTreeMap::new(),
             moved: BTreeMap::new(),
             moves: BTreeMap::new(),
@@ -108,6 +116,12 @@ impl Air {
                     Event::ConstSource { n, position, orientation }
                 }
                 "INIT_DIST_MATRIX" => Event::DistMatrix,
+                "INIT_EARS" => {
+                    // Declared once the microphones are: below.
+                    let r = c.numbers.get(1).map_or(0, |&n| n as u32);
+                    air.ears = Some((n, r));
+                    continue;
+                }
                 _ => {
                     return Err(format!(
                         "Sound_event_file: `{}` is not an initialisation (INIT_mic, INIT_source, CONST_S, INIT_dist_matrix); the animation writes the rest",
@@ -120,10 +134,18 @@ impl Air {
         }
         if air.mics.is_empty() {
             air.follow_camera = true;
-            air.mics.insert(0, DVec3::ZERO);
+            let camera = air.ears.map_or(vec![0], |(l, r)| vec![l, r]);
+            for m in camera {
+                air.mics.insert(m, DVec3::ZERO);
+                air.log
+                    .declare_mic(m, DVec3::ZERO)
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        if let Some((left, right)) = air.ears {
             air.log
-                .declare_mic(0, DVec3::ZERO)
-                .map_err(|e| e.to_string())?;
+                .push(Event::Ears { left, right })
+                .map_err(|e| format!("Sound_event_file: INIT_ears {e}"))?;
         }
         Ok(air)
     }
@@ -229,11 +251,20 @@ impl Air {
     }
 
     /// Writes the frame's microphone and moved source positions; the
-    /// camera ended the frame at `eye`.
-    pub fn end_frame(&mut self, eye: DVec3) -> Result<(), String> {
+    /// camera ended the frame at `eye`, its image's right along `right`
+    /// (a unit vector: the ears on the camera are either side of `eye`
+    /// along it).
+    pub fn end_frame(&mut self, eye: DVec3, right: DVec3) -> Result<(), String> {
         self.apply_moves();
-        if self.follow_camera {
-            self.mics.insert(0, eye);
+        match (self.follow_camera, self.ears) {
+            (true, Some((l, r))) => {
+                self.mics.insert(l, eye - right * HALF_HEAD);
+                self.mics.insert(r, eye + right * HALF_HEAD);
+            }
+            (true, None) => {
+                self.mics.insert(0, eye);
+            }
+            _ => {}
         }
         if self.ongoing.iter().any(|e| e.source == AMBIENT_SOURCE) {
             let c = self.centre();

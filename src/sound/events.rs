@@ -42,6 +42,10 @@ pub enum Event {
         position: DVec3,
         orientation: DVec3,
     },
+    /// `INIT_ears l r` (lmfilm's): microphones l and r are a listener's
+    /// left and right ears; each hears in the shadow of the head between
+    /// them (docs/sound-events.md, "Ears").
+    Ears { left: u32, right: u32 },
     /// `INIT_dist_matrix`: the thesis's renderer needed it after the
     /// declarations; kept for compatibility, it has no effect.
     DistMatrix,
@@ -104,6 +108,8 @@ pub struct EventLog {
     frames: Vec<TimedEvents>,
     sources: BTreeMap<u32, SourceKind>,
     mics: BTreeSet<u32>,
+    /// The microphones that are ears.
+    ears: BTreeSet<u32>,
 }
 
 impl EventLog {
@@ -249,6 +255,9 @@ impl EventLog {
             Event::Mic { n, .. } => {
                 self.mics.insert(*n);
             }
+            Event::Ears { left, right } => {
+                self.ears.extend([*left, *right]);
+            }
             _ => {}
         }
         match self.frames.last_mut() {
@@ -336,6 +345,30 @@ impl EventLog {
                 finite(*position, 2, "position")?;
                 finite(*orientation, 5, "orientation")
             }
+            Event::Ears { left, right } => {
+                if !self.frames.is_empty() {
+                    return Err(LogError::new(
+                        0,
+                        "INIT_ears after the first TIME line: a listener's ears are declared with the microphones",
+                    ));
+                }
+                for (k, n) in [(1, left), (2, right)] {
+                    mic(*n, "INIT_ears").map_err(|e| LogError::new(k, e.message))?;
+                    if self.ears.contains(n) {
+                        return Err(LogError::new(
+                            k,
+                            format!("INIT_ears: microphone {n} is already an ear"),
+                        ));
+                    }
+                }
+                if left == right {
+                    return Err(LogError::new(
+                        2,
+                        format!("INIT_ears: microphone {left} cannot be both ears"),
+                    ));
+                }
+                Ok(())
+            }
             Event::DistMatrix => Ok(()),
             Event::SourcePosition { n, position } => {
                 in_frame("SP")?;
@@ -379,6 +412,7 @@ const KEYWORDS: &[(&str, &str)] = &[
     ("INIT_source", "n x y z ox oy oz"),
     ("CONST_S", "n x y z ox oy oz"),
     ("INIT_mic", "n x y z ox oy oz"),
+    ("INIT_ears", "l r"),
     ("INIT_dist_matrix", ""),
     ("SP", "n x y z"),
     ("SO", "n ox oy oz"),
@@ -512,6 +546,7 @@ fn write_event(out: &mut String, e: &Event) {
             position,
             orientation,
         } => writeln!(out, "INIT_mic {n} {} {}", v(position), v(orientation)),
+        Event::Ears { left, right } => writeln!(out, "INIT_ears {left} {right}"),
         Event::DistMatrix => writeln!(out, "INIT_dist_matrix"),
         Event::SourcePosition { n, position } => writeln!(out, "SP {n} {}", v(position)),
         Event::SourceOrientation { n, orientation } => writeln!(out, "SO {n} {}", v(orientation)),
@@ -580,6 +615,10 @@ fn read_line(keyword: &str, args: &[Token]) -> Result<Line, (usize, String)> {
             n: id(0)?,
             position: vec(1)?,
             orientation: vec(4)?,
+        },
+        "INIT_ears" => Event::Ears {
+            left: id(0)?,
+            right: id(1)?,
         },
         "INIT_dist_matrix" => Event::DistMatrix,
         "SP" => Event::SourcePosition {

@@ -222,6 +222,8 @@ struct Emission<'a> {
 struct World<'a> {
     sources: Vec<Trajectory>,
     mics: Vec<(u32, Trajectory)>,
+    /// For an ear, the index of the listener's other ear.
+    partner: Vec<Option<usize>>,
     emissions: Vec<Emission<'a>>,
 }
 
@@ -275,6 +277,15 @@ impl<'a> World<'a> {
         let sources: Vec<Trajectory> = sources.into_values().map(trajectory).collect();
         let mics: Vec<(u32, Trajectory)> =
             mics.into_iter().map(|(n, m)| (n, trajectory(m))).collect();
+        let at = |n: &u32| mics.iter().position(|m| m.0 == *n);
+        let mut partner = vec![None; mics.len()];
+        for e in log.init() {
+            if let Event::Ears { left, right } = e {
+                if let (Some(l), Some(r)) = (at(left), at(right)) {
+                    (partner[l], partner[r]) = (Some(r), Some(l));
+                }
+            }
+        }
 
         let c = settings.speed_of_sound;
         let end_of_track = log.duration();
@@ -318,6 +329,7 @@ impl<'a> World<'a> {
         Ok(World {
             sources,
             mics,
+            partner,
             emissions,
         })
     }
@@ -337,6 +349,16 @@ impl<'a> World<'a> {
         let mic: Vec<DVec3> = (0..out.len())
             .map(|j| self.mics[m].1.position(time(j), &mut hint))
             .collect();
+        // An ear's outward axis: from the other ear through it.
+        let axis: Option<Vec<DVec3>> = self.partner[m].map(|p| {
+            let mut hint = 0;
+            mic.iter()
+                .enumerate()
+                .map(|(j, &at)| {
+                    (at - self.mics[p].1.position(time(j), &mut hint)).normalize_or_zero()
+                })
+                .collect()
+        });
         let mut sum = vec![0.0f64; out.len()];
         let last_t = time(out.len().saturating_sub(1));
         for e in &self.emissions {
@@ -376,7 +398,11 @@ impl<'a> World<'a> {
                         ))
                     })?;
                 previous = [Some(tau), previous[0]];
-                let gain = settings.attenuation.gain(c * (t - tau));
+                let mut gain = settings.attenuation.gain(c * (t - tau));
+                if let Some(axis) = &axis {
+                    let from = (path.position(tau, &mut hint) - m_t).normalize_or_zero();
+                    gain *= head_shadow(axis[j].dot(from));
+                }
                 *acc += gain * e.signal.at((tau - e.start) * sig_rate);
             }
         }
@@ -385,6 +411,14 @@ impl<'a> World<'a> {
         }
         Ok(())
     }
+}
+
+/// The level an ear hears a sound with through the head's shadow, for
+/// `cos` the cosine between the ear's outward axis and the direction the
+/// sound comes from: 1 facing it, 1/2 (−6 dB) from the far side, ¾ from
+/// straight ahead or behind (docs/sound-events.md, "Ears").
+pub fn head_shadow(cos: f64) -> f64 {
+    0.75 + 0.25 * cos
 }
 
 /// The emission time τ in [lo, hi] with c·(t − τ) = |m − S(τ)|, where

@@ -13,6 +13,7 @@ fn sample_log() -> EventLog {
     log.declare_source(3, [0.1, 0.2, 0.3]).unwrap();
     log.declare_constant_source(7, DVec3::new(5.0, 0.0, -1e-7))
         .unwrap();
+    log.push(Event::Ears { left: 0, right: 1 }).unwrap();
     log.push(Event::DistMatrix).unwrap();
     log.frame(0.0).unwrap();
     log.play(7, "cricket.wav").unwrap();
@@ -84,6 +85,30 @@ fn error(text: &str, line: usize, column: usize, needle: &str) {
 }
 
 const HEAD: &str = "INIT_mic 0 0 0 0 0 0 0\nINIT_source 1 0 0 0 0 0 0\nTIME 0\n";
+
+/// `INIT_ears` (lmfilm's) is refused where it names a microphone not
+/// declared, one already an ear, the same one twice, or comes after the
+/// first `TIME`; each at the number at fault.
+#[test]
+fn ears_are_two_declared_microphones_before_the_first_time() {
+    let mics = "INIT_mic 0 0 0 0 0 0 0\nINIT_mic 1 1 0 0 0 0 0\nINIT_mic 2 2 0 0 0 0 0\n";
+    error(&format!("{mics}INIT_ears 0 7\n"), 4, 13, "microphone 7 is not declared");
+    error(&format!("{mics}INIT_ears 1 1\n"), 4, 13, "cannot be both ears");
+    error(
+        &format!("{mics}INIT_ears 0 1\nINIT_ears 2 1\n"),
+        5,
+        13,
+        "microphone 1 is already an ear",
+    );
+    error(
+        &format!("{mics}TIME 0\nINIT_ears 0 1\n"),
+        5,
+        1,
+        "INIT_ears after the first TIME line",
+    );
+    let log = parse(&format!("{mics}INIT_ears 0 1\nTIME 0\n"), "ok.events").unwrap();
+    assert!(log.init().contains(&Event::Ears { left: 0, right: 1 }));
+}
 
 #[test]
 fn bad_input_names_file_line_and_column() {
