@@ -92,8 +92,18 @@ const HEAD: &str = "INIT_mic 0 0 0 0 0 0 0\nINIT_source 1 0 0 0 0 0 0\nTIME 0\n"
 #[test]
 fn ears_are_two_declared_microphones_before_the_first_time() {
     let mics = "INIT_mic 0 0 0 0 0 0 0\nINIT_mic 1 1 0 0 0 0 0\nINIT_mic 2 2 0 0 0 0 0\n";
-    error(&format!("{mics}INIT_ears 0 7\n"), 4, 13, "microphone 7 is not declared");
-    error(&format!("{mics}INIT_ears 1 1\n"), 4, 13, "cannot be both ears");
+    error(
+        &format!("{mics}INIT_ears 0 7\n"),
+        4,
+        13,
+        "microphone 7 is not declared",
+    );
+    error(
+        &format!("{mics}INIT_ears 1 1\n"),
+        4,
+        13,
+        "cannot be both ears",
+    );
     error(
         &format!("{mics}INIT_ears 0 1\nINIT_ears 2 1\n"),
         5,
