@@ -145,7 +145,7 @@ impl Air {
         if let Some((left, right)) = air.ears {
             air.log
                 .push(Event::Ears { left, right })
-                .map_err(|e| format!("Sound_event_file: INIT_ears {e}"))?;
+                .map_err(|e| format!("Sound_event_file: {e}"))?;
         }
         Ok(air)
     }

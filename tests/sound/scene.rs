@@ -167,3 +167,57 @@ fn a_scene_declares_its_own_sound_file() {
     assert!(text.contains("PLAY 2 bell.wav"), "{text}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `Sound_event_file NAME INIT_ears 0 1` with no microphone puts two ears
+/// on the camera: the log declares them as ears and places them each
+/// frame 17.5 cm apart, either side of the eye along the image's right
+/// (the camera here looks down −z, so right is +x); a scene whose ears
+/// name a microphone it does not declare is refused, naming it.
+#[test]
+fn a_scene_listens_with_two_ears_on_the_camera() {
+    let dir = temp("ears");
+    let scene = dir.join("ears.lm");
+    let text = |sound: &str| {
+        format!(
+            "Camera_AnimationParameters\nobserver 1 2 10\nlookatPoint 1 2 0\n\
+             t_final_interval 0.2 0.04\nOptions\n{sound}\nAxiom\nF\nProductions\nEndProductions\n"
+        )
+    };
+    std::fs::write(&scene, text("Sound_event_file e.events INIT_ears 0 1")).unwrap();
+    let film = derive_all(&scene);
+    let log = film.events();
+    assert!(log.init().contains(&Event::Ears { left: 0, right: 1 }));
+    let at = |n: u32| {
+        log.frames()[2]
+            .events
+            .iter()
+            .find_map(|e| match e {
+                Event::MicPosition { n: m, position } if *m == n => Some(*position),
+                _ => None,
+            })
+            .unwrap()
+    };
+    let (l, r) = (at(0), at(1));
+    assert!(
+        (l - glam::DVec3::new(1.0 - 0.0875, 2.0, 10.0)).length() < 1e-6,
+        "{l}"
+    );
+    assert!(
+        (r - glam::DVec3::new(1.0 + 0.0875, 2.0, 10.0)).length() < 1e-6,
+        "{r}"
+    );
+    std::fs::write(
+        &scene,
+        text("Sound_event_file e.events INIT_mic 0 0 0 0 0 0 1 INIT_ears 0 3"),
+    )
+    .unwrap();
+    let err = Film::load(&[&scene], Options::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("INIT_ears: microphone 3 is not declared"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
