@@ -62,13 +62,18 @@ pub struct Film {
 
 /// The `Sound_event_file` initialisations of the first L-system that
 /// declares one.
-fn sound_inits(anim: &Animation) -> Vec<Command> {
+/// The first `Sound_event_file`'s items, and the definition that gives
+/// them (its errors point into it).
+fn sound_inits(anim: &Animation) -> (Vec<Command>, Option<&Source>) {
     anim.systems
         .iter()
-        .flat_map(|s| &s.def.options)
-        .find_map(|o| match o {
-            OptionItem::SoundEventFile { items, .. } => Some(items.clone()),
-            _ => None,
+        .find_map(|s| {
+            s.def.options.iter().find_map(|o| match o {
+                OptionItem::SoundEventFile { items, .. } => {
+                    Some((items.clone(), Some(&s.def.source)))
+                }
+                _ => None,
+            })
         })
         .unwrap_or_default()
 }
@@ -147,7 +152,11 @@ impl Film {
         let search = library::search_path(dir, None);
         let lib = scene_library(&anim, &search)?;
         let sound_files = files_on_disk(&lib, &search);
-        let air = Air::new(&sound_inits(&anim), lib, search).map_err(Error::input)?;
+        let (inits, file) = sound_inits(&anim);
+        let air = Air::new(&inits, lib, search).map_err(|(at, message)| match (at, file) {
+            (Some(at), Some(src)) => Error::input(src.error(at, message).to_string()),
+            _ => Error::input(message),
+        })?;
         let mut physics = Physics::new(&anim);
         physics.register(&anim).map_err(Error::input)?;
         let living = live::living(&actors, &opts.limits);

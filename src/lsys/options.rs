@@ -13,6 +13,8 @@ pub struct Command {
     pub name: String,
     pub numbers: Vec<f64>,
     pub word: Option<String>,
+    /// Where its keyword is in the definition's text, for errors.
+    pub at: usize,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -138,6 +140,7 @@ fn commands(s: &mut Scanner, specs: &[Spec]) -> Result<Vec<Command>, Diagnostic>
             name: name.to_string(),
             numbers,
             word,
+            at,
         });
     }
 }

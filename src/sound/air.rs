@@ -79,7 +79,12 @@ impl Air {
     /// A handler whose log starts with the initialisations of a
     /// `Sound_event_file` option (`INIT_mic`, `INIT_source`, `CONST_S`,
     /// `INIT_dist_matrix`); sound files are looked up along `search`.
-    pub fn new(inits: &[Command], library: Library, search: Vec<PathBuf>) -> Result<Air, String> {
+    /// An error carries where its item is in the definition's text.
+    pub fn new(
+        inits: &[Command],
+        library: Library,
+        search: Vec<PathBuf>,
+    ) -> Result<Air, (Option<usize>, String)> {
         let mut air = Air {
             log: EventLog::new(),
             library,
@@ -98,7 +103,9 @@ impl Air {
             time: 0.0,
             warnings: Vec::new(),
         };
-        let bad = |c: &Command, e: LogError| format!("Sound_event_file: {} {e}", c.name);
+        let bad =
+            |c: &Command, e: LogError| (Some(c.at), format!("Sound_event_file: {} {e}", c.name));
+        let mut ears = Vec::new();
         for c in inits {
             let n = c.numbers.first().map_or(0, |&n| n as u32);
             let (position, orientation) = (vec3(c, 1), vec3(c, 4));
@@ -119,14 +126,14 @@ impl Air {
                 "INIT_EARS" => {
                     // Declared once the microphones are: below.
                     let r = c.numbers.get(1).map_or(0, |&n| n as u32);
-                    air.ears = Some((n, r));
+                    ears.push((n, r, c.at));
                     continue;
                 }
                 _ => {
-                    return Err(format!(
-                        "Sound_event_file: `{}` is not an initialisation (INIT_mic, INIT_source, CONST_S, INIT_dist_matrix); the animation writes the rest",
+                    return Err((Some(c.at), format!(
+                        "Sound_event_file: `{}` is not an initialisation (INIT_mic, INIT_source, CONST_S, INIT_ears, INIT_dist_matrix); the animation writes the rest",
                         c.name
-                    ))
+                    )))
                 }
             };
             let r = air.log.push(event);
@@ -134,18 +141,25 @@ impl Air {
         }
         if air.mics.is_empty() {
             air.follow_camera = true;
+            if let Some(&(_, _, at)) = ears.get(1) {
+                return Err((
+                    Some(at),
+                    "Sound_event_file: INIT_ears: the camera has one pair of ears; declare microphones (INIT_mic) for more listeners".into(),
+                ));
+            }
+            air.ears = ears.first().map(|&(l, r, _)| (l, r));
             let camera = air.ears.map_or(vec![0], |(l, r)| vec![l, r]);
             for m in camera {
-                air.mics.insert(m, DVec3::ZERO);
-                air.log
-                    .declare_mic(m, DVec3::ZERO)
-                    .map_err(|e| e.to_string())?;
+                if air.mics.insert(m, DVec3::ZERO).is_none() {
+                    let declared = air.log.declare_mic(m, DVec3::ZERO);
+                    declared.map_err(|e| (None, e.to_string()))?;
+                }
             }
         }
-        if let Some((left, right)) = air.ears {
+        for (left, right, at) in ears {
             air.log
                 .push(Event::Ears { left, right })
-                .map_err(|e| format!("Sound_event_file: {e}"))?;
+                .map_err(|e| (Some(at), format!("Sound_event_file: {e}")))?;
         }
         Ok(air)
     }

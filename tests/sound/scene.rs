@@ -219,5 +219,7 @@ fn a_scene_listens_with_two_ears_on_the_camera() {
         err.contains("INIT_ears: microphone 3 is not declared"),
         "{err}"
     );
+    // Located at the item: the line and the column of `INIT_ears`.
+    assert!(err.contains("ears.lm:6:50: "), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
