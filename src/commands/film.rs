@@ -109,10 +109,21 @@ pub(crate) fn resolve_render(
 /// The film's sound settings in `dir`: `request` over the recorded
 /// ones, else the defaults; recorded when new.
 pub(crate) fn resolve_sound(dir: &Path, request: &SoundRequest) -> Result<sound::SoundSettings> {
+    resolve_recorded(dir, |s| &mut s.sound, |old| request.resolve(old))
+}
+
+/// One of the film's settings in `dir` (the `field` of settings.json):
+/// `choose` over the recorded value; recorded when new.
+fn resolve_recorded<T: Copy + PartialEq>(
+    dir: &Path,
+    field: fn(&mut settings::FilmSettings) -> &mut Option<T>,
+    choose: impl FnOnce(Option<&T>) -> T,
+) -> Result<T> {
     let mut recorded = settings::read(dir)?;
-    let chosen = request.resolve(recorded.sound.as_ref());
-    if recorded.sound != Some(chosen) {
-        recorded.sound = Some(chosen);
+    let slot = field(&mut recorded);
+    let chosen = choose(slot.as_ref());
+    if *slot != Some(chosen) {
+        *slot = Some(chosen);
         settings::write(dir, &recorded)?;
     }
     Ok(chosen)
@@ -457,13 +468,7 @@ pub fn mux(dir: &Path, video: &VideoRequest) -> Result<()> {
 /// The film's video settings in `dir`: `request` over the recorded
 /// ones, else the defaults; recorded when new.
 pub(crate) fn resolve_video(dir: &Path, request: &VideoRequest) -> Result<VideoSettings> {
-    let mut recorded = settings::read(dir)?;
-    let chosen = request.resolve(recorded.video.as_ref());
-    if recorded.video != Some(chosen) {
-        recorded.video = Some(chosen);
-        settings::write(dir, &recorded)?;
-    }
-    Ok(chosen)
+    resolve_recorded(dir, |s| &mut s.video, |old| request.resolve(old))
 }
 
 /// `lmfilm verify DIR`: each problem named, and an error (exit 1) when

@@ -210,33 +210,21 @@ fn sound_of(path: &Path) -> Result<(Option<Pcm>, Option<String>), MuxError> {
         path: path.to_path_buf(),
         source,
     })?;
-    let reader = hound::WavReader::new(io::Cursor::new(bytes))
-        .map_err(|e| input(format!("not a WAV file lmfilm can read: {e}")))?;
-    let spec = reader.spec();
-    if !video::OPUS_RATES.contains(&spec.sample_rate) {
+    // The rate from the header, before the samples are decoded.
+    let rate = hound::WavReader::new(io::Cursor::new(&bytes))
+        .map_err(|e| input(format!("not a WAV file lmfilm can read: {e}")))?
+        .spec()
+        .sample_rate;
+    if !video::OPUS_RATES.contains(&rate) {
         return Ok((
             None,
             Some(format!(
-                "the video has no sound: its soundtrack's rate, {} Hz, is none Opus encodes ({}); make the soundtrack at 48000 Hz (`lmfilm sound DIR --rate 48000`) and mux again",
-                spec.sample_rate,
+                "the video has no sound: its soundtrack's rate, {rate} Hz, is none Opus encodes ({}); make the soundtrack at 48000 Hz (`lmfilm sound DIR --rate 48000`) and mux again",
                 video::OPUS_RATES.map(|r| r.to_string()).join(", ")
             )),
         ));
     }
-    let samples: Vec<f32> = match spec.sample_format {
-        hound::SampleFormat::Float => reader
-            .into_samples::<f32>()
-            .collect::<Result<_, _>>()
-            .map_err(|e| input(e.to_string()))?,
-        hound::SampleFormat::Int => {
-            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
-            reader
-                .into_samples::<i32>()
-                .map(|s| s.map(|s| s as f32 * scale))
-                .collect::<Result<_, _>>()
-                .map_err(|e| input(e.to_string()))?
-        }
-    };
+    let (spec, samples) = crate::sound::wav::interleaved(&bytes, |_| Ok(())).map_err(input)?;
     let channels = spec.channels.max(1);
     if channels <= 2 {
         return Ok((

@@ -73,39 +73,18 @@ pub fn read(path: &Path) -> Result<Signal, String> {
 /// header's channel count, rate and length are checked against limits and
 /// against the bytes present before anything is allocated.
 pub fn decode(bytes: &[u8]) -> Result<Signal, String> {
-    let reader =
-        hound::WavReader::new(Cursor::new(bytes)).map_err(|e| format!("not a WAV file: {e}"))?;
-    let spec = reader.spec();
-    if spec.sample_rate == 0 || spec.channels == 0 {
-        return Err("the WAV header has no sample rate or no channel".into());
-    }
-    if spec.channels > MAX_CHANNELS || spec.sample_rate > MAX_RATE {
-        return Err(format!(
-            "the WAV header announces {} channels at {} Hz; sounds have 1..={MAX_CHANNELS} channels at 1..={MAX_RATE} Hz",
-            spec.channels, spec.sample_rate
-        ));
-    }
-    // A header that announces more samples than the bytes hold (a
-    // truncated file, a damaged length) is refused before decoding.
-    let announced = u64::from(reader.len()) * u64::from(spec.bits_per_sample.div_ceil(8));
-    if announced > bytes.len() as u64 {
-        return Err(format!(
-            "the WAV header announces {} samples, more than the file's {} bytes hold (a truncated file?)",
-            reader.len(),
-            bytes.len()
-        ));
-    }
-    let interleaved: Vec<f32> = match spec.sample_format {
-        hound::SampleFormat::Float => reader.into_samples::<f32>().collect::<Result<_, _>>(),
-        hound::SampleFormat::Int => {
-            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
-            reader
-                .into_samples::<i32>()
-                .map(|s| s.map(|s| s as f32 * scale))
-                .collect::<Result<_, _>>()
+    let (spec, interleaved) = interleaved(bytes, |spec| {
+        if spec.sample_rate == 0 || spec.channels == 0 {
+            return Err("the WAV header has no sample rate or no channel".into());
         }
-    }
-    .map_err(|e| format!("cannot decode the samples: {e}"))?;
+        if spec.channels > MAX_CHANNELS || spec.sample_rate > MAX_RATE {
+            return Err(format!(
+                "the WAV header announces {} channels at {} Hz; sounds have 1..={MAX_CHANNELS} channels at 1..={MAX_RATE} Hz",
+                spec.channels, spec.sample_rate
+            ));
+        }
+        Ok(())
+    })?;
     if interleaved.iter().any(|s| !s.is_finite()) {
         return Err("the file holds samples that are not finite numbers".into());
     }
@@ -118,6 +97,41 @@ pub fn decode(bytes: &[u8]) -> Result<Signal, String> {
         rate: spec.sample_rate,
         samples,
     })
+}
+
+/// The samples of WAV bytes, interleaved, integers scaled to [-1, 1),
+/// after `check` accepted the header and the header's length was checked
+/// against the bytes present (before anything is allocated).
+pub fn interleaved(
+    bytes: &[u8],
+    check: impl FnOnce(&hound::WavSpec) -> Result<(), String>,
+) -> Result<(hound::WavSpec, Vec<f32>), String> {
+    let reader =
+        hound::WavReader::new(Cursor::new(bytes)).map_err(|e| format!("not a WAV file: {e}"))?;
+    let spec = reader.spec();
+    check(&spec)?;
+    // A header that announces more samples than the bytes hold (a
+    // truncated file, a damaged length) is refused before decoding.
+    let announced = u64::from(reader.len()) * u64::from(spec.bits_per_sample.div_ceil(8));
+    if announced > bytes.len() as u64 {
+        return Err(format!(
+            "the WAV header announces {} samples, more than the file's {} bytes hold (a truncated file?)",
+            reader.len(),
+            bytes.len()
+        ));
+    }
+    let samples = match spec.sample_format {
+        hound::SampleFormat::Float => reader.into_samples::<f32>().collect::<Result<_, _>>(),
+        hound::SampleFormat::Int => {
+            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
+            reader
+                .into_samples::<i32>()
+                .map(|s| s.map(|s| s as f32 * scale))
+                .collect::<Result<_, _>>()
+        }
+    }
+    .map_err(|e| format!("cannot decode the samples: {e}"))?;
+    Ok((spec, samples))
 }
 
 /// The length in seconds of WAV bytes, from the header alone.
