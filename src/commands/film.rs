@@ -13,10 +13,12 @@ use crate::film::names::{
 };
 use crate::lsys::Limits;
 use crate::production::frames::{FrameRange, FrameSelection, Shard};
+use crate::production::mux::FrameRate;
 use crate::production::settings::{
     self, Defaults, RenderChoice, RenderRequest, SoundRequest, VideoRequest, VideoSettings,
 };
 use crate::production::timings::Timings;
+use crate::production::video_groups::GroupTap;
 use crate::production::{assemble, pipeline, record, stages, verify};
 use crate::render::Integrator;
 use crate::sound;
@@ -138,6 +140,7 @@ fn render_into(
     (frames, shard): (Option<FrameRange>, Shard),
     max_pixels: u64,
     (timings, log_frames): (&Timings, bool),
+    video: Option<&GroupTap>,
 ) -> Result<(u64, u64)> {
     let rec = record::open(dir)?;
     let selection = match frames {
@@ -152,7 +155,7 @@ fn render_into(
     let frames = selection.frames(rec.frame_count, shard);
     let mut p = FrameLog::new(log_frames);
     let tick = &mut |d| p.frame(d);
-    let n = stages::render_frames(dir, &frames, choice, max_pixels, tick, timings)?;
+    let n = stages::render_frames(dir, &frames, choice, max_pixels, (tick, timings), video)?;
     p.done();
     Ok((n, frames.len() as u64))
 }
@@ -268,6 +271,11 @@ pub fn run(
     };
     let frames = selection.frames(f.frame_count(), Shard::all());
     let max_pixels = film.limits.pixels;
+    // The video's groups encoded as the frames are written; the mux
+    // encodes the rest (a film whose Δt makes no frame rate has none).
+    let tap = FrameRate::from_dt(f.dt())
+        .ok()
+        .map(|rate| GroupTap::new(rate, video.qp, f.frame_count()));
     let (derived, streamed) = if stages::streams(&choice) {
         let mut p = FrameLog::new(work.log_frames);
         let streamed = pipeline::derive_rendering(
@@ -277,6 +285,7 @@ pub fn run(
             (&choice, &frames, max_pixels),
             &timings,
             &mut |d| p.frame(d),
+            tap.as_ref(),
         )?;
         p.done();
         streamed
@@ -297,12 +306,14 @@ pub fn run(
             (work.frames, Shard::all()),
             max_pixels,
             (&timings, work.log_frames),
+            tap.as_ref(),
         )?,
     };
     let sounded = soundtrack(&dir, &sound_settings)?;
     let complete = stages::all_rendered(&dir)?;
+    let ready = tap.map(GroupTap::groups).unwrap_or_default();
     let mp4 = if complete {
-        Some(stages::mux(&dir, video.qp)?)
+        Some(stages::mux(&dir, video.qp, &ready)?)
     } else {
         None
     };
@@ -330,9 +341,12 @@ pub fn run(
         eprint!("{}", timings.report());
     }
     match mp4 {
-        Some((path, made, note)) => {
-            println!("film: {} ({})", path.display(), now(made));
-            if let Some(note) = note {
+        Some(done) => {
+            println!("film: {} ({})", done.mp4.display(), now(done.made));
+            if done.made {
+                println!("{}", groups_line(done.groups));
+            }
+            if let Some(note) = done.note {
                 println!("note: {note}");
             }
         }
@@ -421,6 +435,7 @@ pub fn render(
         selection,
         max_pixels,
         (&timings, work.log_frames),
+        None,
     )?;
     if work.timings {
         eprint!("{}", timings.report());
@@ -448,18 +463,23 @@ pub fn render(
     Ok(())
 }
 
+/// How the video's groups of pictures were made, for the user.
+fn groups_line((ready, total): (usize, usize)) -> String {
+    format!("video: {ready} of {total} groups of pictures encoded while the frames rendered, the others from the PNG frames")
+}
+
 /// `lmfilm mux DIR`.
 pub fn mux(dir: &Path, video: &VideoRequest) -> Result<()> {
     stages::check_finishing(dir)?;
     let video = resolve_video(dir, video)?;
-    let (mp4, made, note) = stages::mux(dir, video.qp)?;
+    let done = stages::mux(dir, video.qp, &[])?;
     assemble::finish(dir)?;
     println!(
         "{}{}",
-        mp4.display(),
-        if made { "" } else { " (up to date)" }
+        done.mp4.display(),
+        if done.made { "" } else { " (up to date)" }
     );
-    if let Some(note) = note {
+    if let Some(note) = done.note {
         println!("note: {note}");
     }
     Ok(())
@@ -503,6 +523,9 @@ fn soundtrack(dir: &Path, settings: &sound::SoundSettings) -> Result<bool> {
         if let Some(w) = n.warning() {
             eprintln!("warning: {w}");
         }
+    }
+    if let Some(a) = report.as_ref().and_then(|r| r.ambix.as_ref()) {
+        super::sound::ambix_said(a);
     }
     Ok(report.is_some())
 }

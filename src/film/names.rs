@@ -65,6 +65,9 @@ pub const EVENTS_FILE: &str = "soundtrack.events";
 
 pub const SOUNDTRACK_FILE: &str = "soundtrack.wav";
 
+/// The ambisonic master (`INIT_ambix`), beside the soundtrack.
+pub const AMBIX_FILE: &str = "soundtrack.ambix.wav";
+
 /// `rel` as the records and the manifest key it: `/` separators.
 pub fn key(rel: &Path) -> String {
     rel.iter()
@@ -86,7 +89,7 @@ pub const SETTINGS_FILE: &str = "settings.json";
 pub const FARM_DIR: &str = "farm";
 
 /// The first component of every path lmfilm writes in a film folder.
-pub const OWN: [&str; 11] = [
+pub const OWN: [&str; 12] = [
     FRAMES_DIR,
     SCENE_DIR,
     SOUNDS_DIR,
@@ -97,6 +100,7 @@ pub const OWN: [&str; 11] = [
     SOUND_RECORD,
     EVENTS_FILE,
     SOUNDTRACK_FILE,
+    AMBIX_FILE,
     MANIFEST_FILE,
 ];
 

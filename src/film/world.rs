@@ -450,7 +450,8 @@ impl Film {
         self.physics.sense();
         self.air.sense();
         let eye = scene.camera.eye.as_dvec3();
-        let right = scene.camera.basis().0.as_dvec3();
+        let (right, _, forward) = scene.camera.basis();
+        let turned = (right.as_dvec3(), forward.as_dvec3());
         let mut frame = Frame::new(number, time, scene, warnings);
         // Step 3, actors: they see into the frame's BVH, then act in
         // actor order; their voices join the frame's sound events.
@@ -485,7 +486,7 @@ impl Film {
             );
         }
         // Step 5. The camera may have moved (`l`): microphone 0 follows it.
-        self.air.end_frame(eye, right).map_err(Error::input)?;
+        self.air.end_frame(eye, turned).map_err(Error::input)?;
         frame.warn(self.air.take_warnings());
         Ok(frame)
     }

@@ -104,6 +104,7 @@ const SOUND: &[Spec] = &[
     ("CONST_S", 7, 7, false),
     ("INIT_dist_matrix", 0, 0, false),
     ("INIT_ears", 2, 2, false),
+    ("INIT_ambix", 1, 1, false),
 ];
 
 const KEYWORDS: &str = "MaxPart, command_file, fConst, VLNETdeclare, AUDIOport_host, NBR_actors, iVisionWinSize, actorNbr_automata, Sound_event_file, sound_file, rs_file_path_name, rs_switch, NbrChannels_listOfNames, trace_actor, import_trace";

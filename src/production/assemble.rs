@@ -12,7 +12,7 @@ use super::manifest::Manifest;
 use super::record::open;
 use super::record::{self, DeriveRecord, FrameRecord, MuxRecord, SoundRecord};
 use crate::error::Error;
-use crate::film::names::{self, key, EVENTS_FILE, SOUNDTRACK_FILE};
+use crate::film::names::{self, key, AMBIX_FILE, EVENTS_FILE, SOUNDTRACK_FILE};
 use crate::film::names::{frame_path, snapshot_path, FRAMES_DIR, SCENE_DIR};
 use crate::film::names::{frame_record_path, mp4_paths, DERIVE_RECORD, SOUNDS_DIR, SOUND_RECORD};
 use crate::render::ImageFormat;
@@ -86,6 +86,9 @@ pub fn assemble(dir: &Path) -> Result<Manifest, Error> {
                 hash_record(dir, Path::new(SOUND_RECORD))?,
             );
             m.files.insert(SOUNDTRACK_FILE.into(), s.soundtrack.clone());
+            if let Some(h) = &s.ambix {
+                m.files.insert(AMBIX_FILE.into(), h.clone());
+            }
             for (k, v) in s.sound {
                 m.options.insert(format!("sound.{k}"), v);
             }

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use crate::error::Error;
 use crate::film::names::{
-    self, ACTORS_DIR, DERIVE_RECORD, EVENTS_FILE, FRAMES_DIR, MANIFEST_FILE, SCENE_DIR,
+    self, ACTORS_DIR, AMBIX_FILE, DERIVE_RECORD, EVENTS_FILE, FRAMES_DIR, MANIFEST_FILE, SCENE_DIR,
     SETTINGS_FILE, SOUNDS_DIR, SOUNDTRACK_FILE, SOUND_RECORD,
 };
 use crate::lsys::Limits;
@@ -80,7 +80,7 @@ impl Bounds {
             MAX_MANIFEST
         } else if rel == EVENTS_FILE {
             MAX_EVENTS_BYTES
-        } else if rel == SOUNDTRACK_FILE {
+        } else if rel == SOUNDTRACK_FILE || rel == AMBIX_FILE {
             MAX_SOUNDTRACK_BYTES
         } else if under(SCENE_DIR) {
             MAX_SNAPSHOT_BYTES
@@ -118,7 +118,7 @@ pub fn way_out(dir: &Path, rel: &str) -> String {
         "remove it (the film's defaults apply again) or run with --clean".into()
     } else if rel == MANIFEST_FILE {
         format!("remove it; `lmfilm sound {d}` writes it again from the records")
-    } else if rel == SOUNDTRACK_FILE || rel == SOUND_RECORD {
+    } else if rel == SOUNDTRACK_FILE || rel == AMBIX_FILE || rel == SOUND_RECORD {
         again(&format!("lmfilm sound {d}"))
     } else if rel.ends_with(".mp4") || rel.ends_with(".mp4.json") {
         again(&format!("lmfilm mux {d}"))

@@ -19,3 +19,4 @@ pub mod stages;
 pub mod timings;
 pub mod verify;
 pub mod video;
+pub mod video_groups;

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::video::{self, Pcm, Picture, Rgb, VideoEncoder, VideoError};
+use super::video_groups::EncodedGroup;
 use crate::atomic::temp_path;
 use crate::source::read_file;
 
@@ -22,6 +23,11 @@ pub struct FrameRate {
 }
 
 impl FrameRate {
+    /// Frames a second.
+    pub fn fps(self) -> f64 {
+        f64::from(self.num) / f64::from(self.den)
+    }
+
     /// 1/Δt as the simplest fraction with a denominator up to 1001 that
     /// matches to floating-point rounding (25/1 for 0.04, 30000/1001 for
     /// 0.033366…), else the nearest multiple of 1/1000 (24/1 for a Δt
@@ -101,29 +107,43 @@ impl std::error::Error for MuxError {
 /// The largest soundtrack the MP4 takes: far beyond a film's.
 const MAX_SOUNDTRACK_BYTES: u64 = 4 << 30;
 
-/// What [`mux`] made: the MP4, and what it had to leave out, said.
+/// What [`mux`] made: the MP4, how many of its groups of pictures were
+/// encoded while the frames rendered (of how many), and what it had to
+/// leave out, said.
 #[derive(Debug)]
 pub struct Muxed {
     pub mp4: PathBuf,
+    pub groups: (usize, usize),
     pub note: Option<String>,
 }
 
-/// Encodes the PNG `frames` (paths relative to `dir`, in frame order,
-/// each with the most bytes it may have) at `rate` with the quantiser `qp`, and `soundtrack` (relative to `dir`)
-/// as Opus when given, into `dir/<name>.mp4`. The video goes to a
-/// temporary name first and is renamed when complete, so a killed mux
-/// never leaves a broken MP4.
+/// A frame's PNG as the mux reads it: its number, its path relative to
+/// the folder, the most bytes it may have and its hash.
+pub struct FramePng {
+    pub frame: u64,
+    pub rel: PathBuf,
+    pub limit: u64,
+    pub hash: String,
+}
+
+/// Encodes the PNG `frames` (in frame order) at `rate` with the
+/// quantiser `qp`, and `soundtrack` (relative to `dir`, with the channels
+/// of the listener's left and right ears when it has them) as Opus when
+/// given, into `dir/<name>.mp4`. A group of pictures in `ready` made of
+/// the same frames (numbers and PNG hashes) and size is taken as it is.
+/// The video goes to a temporary name first and is renamed when
+/// complete, so a killed mux never leaves a broken MP4.
 pub fn mux(
     dir: &Path,
     name: &str,
-    rate: FrameRate,
-    frames: &[(PathBuf, u64)],
-    soundtrack: Option<&Path>,
-    qp: u8,
+    (rate, qp): (FrameRate, u8),
+    frames: &[FramePng],
+    ready: &[EncodedGroup],
+    soundtrack: Option<(&Path, Option<[usize; 2]>)>,
 ) -> Result<Muxed, MuxError> {
-    let fps = f64::from(rate.num) / f64::from(rate.den);
+    let fps = rate.fps();
     let size = match frames.first() {
-        Some((rel, limit)) => read_png(dir, rel, *limit)?.dimensions(),
+        Some(f) => read_png(dir, &f.rel, f.limit)?.dimensions(),
         None => {
             return Err(MuxError::Input {
                 path: dir.to_path_buf(),
@@ -134,14 +154,26 @@ pub fn mux(
     // Each group of pictures on its own encoder, the groups in parallel
     // (a frame is read back, converted and encoded by its group's task).
     let len = video::group_len(fps);
-    let groups: Vec<Vec<Picture>> = frames
+    let taken = |group: &[FramePng]| {
+        ready.iter().find(|r| {
+            r.size == size
+                && r.frames.len() == group.len()
+                && r.frames
+                    .iter()
+                    .zip(group)
+                    .all(|((k, h), f)| *k == f.frame && *h == f.hash)
+        })
+    };
+    let groups: Vec<(Vec<Picture>, bool)> = frames
         .par_chunks(len)
-        .enumerate()
-        .map(|(g, group)| {
-            let first = (g * len) as u64;
-            let mut encoder = VideoEncoder::new(first, size, fps, qp).map_err(MuxError::Video)?;
-            for (rel, limit) in group {
-                let image = read_png(dir, rel, *limit)?;
+        .map(|group| {
+            if let Some(r) = taken(group) {
+                return Ok((r.pictures.clone(), true));
+            }
+            let mut encoder =
+                VideoEncoder::new(group[0].frame, size, fps, qp).map_err(MuxError::Video)?;
+            for f in group {
+                let image = read_png(dir, &f.rel, f.limit)?;
                 let rgb = Rgb {
                     width: image.width(),
                     height: image.height(),
@@ -149,12 +181,13 @@ pub fn mux(
                 };
                 encoder.push(&rgb).map_err(MuxError::Video)?;
             }
-            Ok(encoder.finish())
+            Ok((encoder.finish(), false))
         })
         .collect::<Result<_, MuxError>>()?;
-    let pictures: Vec<Picture> = groups.into_iter().flatten().collect();
+    let counts = (groups.iter().filter(|g| g.1).count(), groups.len());
+    let pictures: Vec<Picture> = groups.into_iter().flat_map(|g| g.0).collect();
     let (sound, note) = match soundtrack {
-        Some(rel) => sound_of(&dir.join(rel))?,
+        Some((rel, ears)) => sound_of(&dir.join(rel), ears)?,
         None => (None, None),
     };
     let packets = match &sound {
@@ -179,7 +212,11 @@ pub fn mux(
     if written.is_err() {
         let _ = fs::remove_file(&tmp);
     }
-    written.map(|()| Muxed { mp4: out, note })
+    written.map(|()| Muxed {
+        mp4: out,
+        groups: counts,
+        note,
+    })
 }
 
 /// PNG frame `rel` of `dir` (at most `limit` bytes) as 8-bit RGB.
@@ -199,9 +236,14 @@ fn read_png(dir: &Path, rel: &Path, limit: u64) -> Result<image::RgbImage, MuxEr
     Ok(image.into_rgb8())
 }
 
-/// The soundtrack's samples as the MP4 takes them: one or two channels
-/// (of more, microphone 0's), at a rate Opus encodes; else none, and why.
-fn sound_of(path: &Path) -> Result<(Option<Pcm>, Option<String>), MuxError> {
+/// The soundtrack's samples as the MP4 takes them, at a rate Opus
+/// encodes (else none, and why): the listener's `ears` as left and
+/// right; without ears, one or two channels as they are, of more the
+/// first microphone's.
+fn sound_of(
+    path: &Path,
+    ears: Option<[usize; 2]>,
+) -> Result<(Option<Pcm>, Option<String>), MuxError> {
     let input = |why: String| MuxError::Input {
         path: path.to_path_buf(),
         why,
@@ -226,6 +268,24 @@ fn sound_of(path: &Path) -> Result<(Option<Pcm>, Option<String>), MuxError> {
     }
     let (spec, samples) = crate::sound::wav::interleaved(&bytes, |_| Ok(())).map_err(input)?;
     let channels = spec.channels.max(1);
+    let width = usize::from(channels);
+    if let Some([l, r]) = ears.filter(|e| e.iter().all(|&c| c < width)) {
+        let stereo = samples
+            .chunks_exact(width)
+            .flat_map(|s| [s[l], s[r]])
+            .collect();
+        let note = (channels > 2).then(|| format!(
+            "the video's sound is the listener's ears (channels {l} and {r}); soundtrack.wav keeps all {channels} microphones"
+        ));
+        return Ok((
+            Some(Pcm {
+                rate: spec.sample_rate,
+                channels: 2,
+                samples: stereo,
+            }),
+            note,
+        ));
+    }
     if channels <= 2 {
         return Ok((
             Some(Pcm {

@@ -8,6 +8,7 @@ use super::record;
 use super::settings::RenderChoice;
 use super::stages::{self, FrameDone};
 use super::timings::Timings;
+use super::video_groups::GroupTap;
 use crate::error::Error;
 use crate::film::Film;
 
@@ -16,7 +17,8 @@ use crate::film::Film;
 /// returns whether it derived and, when it did, how many frames were
 /// rendered (none are announced when the folder was up to date: the
 /// caller renders what is missing then). `on_frame` hears of each frame
-/// as it is done, from the render stage's thread.
+/// as it is done, from the render stage's thread; `video` takes each
+/// frame written.
 pub fn derive_rendering(
     film: &mut Film,
     inputs: record::Inputs,
@@ -24,6 +26,7 @@ pub fn derive_rendering(
     (choice, frames, max_pixels): (&RenderChoice, &[u64], u64),
     timings: &Timings,
     on_frame: &mut (dyn FnMut(FrameDone) + Send),
+    video: Option<&GroupTap>,
 ) -> Result<(bool, Option<u64>), Error> {
     let name = inputs.name.clone();
     let (tx, rx) = std::sync::mpsc::channel::<(u64, String)>();
@@ -35,8 +38,8 @@ pub fn derive_rendering(
                 (frames, rx),
                 choice,
                 max_pixels,
-                on_frame,
-                timings,
+                (on_frame, timings),
+                video,
             )
         });
         let mut announce = move |k: u64, hash: &str| {

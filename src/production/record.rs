@@ -191,6 +191,14 @@ pub struct SoundRecord {
     pub sound: BTreeMap<String, String>,
     /// sha256 of `soundtrack.wav`.
     pub soundtrack: String,
+    /// The channels of the listener's left and right ears, the video's
+    /// stereo (none: no ears).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ears: Option<[usize; 2]>,
+    /// sha256 of `soundtrack.ambix.wav`, the ambisonic master (none: the
+    /// scene asks for none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ambix: Option<String>,
 }
 
 /// `<name>.mp4.json`.

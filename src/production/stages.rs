@@ -16,7 +16,7 @@
 //! it again. Every file is written atomically.
 
 use super::record::open;
-use crate::film::names::{self, key, EVENTS_FILE, SOUNDTRACK_FILE};
+use crate::film::names::{self, key, AMBIX_FILE, EVENTS_FILE, SOUNDTRACK_FILE};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -32,6 +32,7 @@ use super::record::{
 };
 use super::settings::RenderChoice;
 use super::timings::{Stage, Timings};
+use super::video_groups::{EncodedGroup, GroupTap, TappedFrame};
 use super::{assemble, mux as video_mux};
 use crate::actors::live::Living;
 use crate::atomic::{remove_stale_temps, write_atomic};
@@ -533,8 +534,8 @@ pub fn render_frames(
     frames: &[u64],
     choice: &RenderChoice,
     max_pixels: u64,
-    progress: FrameProgress,
-    timings: &Timings,
+    (progress, timings): (FrameProgress, &Timings),
+    video: Option<&GroupTap>,
 ) -> Result<u64, Error> {
     let rec = open(dir)?;
     let insets = match choice.inset {
@@ -570,6 +571,7 @@ pub fn render_frames(
         insets: &insets,
         max_pixels,
         timings,
+        video,
     };
     job.run(source, frames.len() as u64, progress)
 }
@@ -585,8 +587,8 @@ pub fn render_announced(
     (frames, announced): (&[u64], Receiver<(u64, String)>),
     choice: &RenderChoice,
     max_pixels: u64,
-    progress: FrameProgress,
-    timings: &Timings,
+    (progress, timings): (FrameProgress, &Timings),
+    video: Option<&GroupTap>,
 ) -> Result<u64, Error> {
     let wanted: std::collections::BTreeSet<u64> = frames.iter().copied().collect();
     let source = announced
@@ -601,6 +603,7 @@ pub fn render_announced(
         insets: &insets,
         max_pixels,
         timings,
+        video,
     };
     job.run(source, frames.len() as u64, progress)
 }
@@ -654,6 +657,8 @@ struct FrameJob<'a> {
     insets: &'a BTreeMap<u64, FileHash>,
     max_pixels: u64,
     timings: &'a Timings,
+    /// The video's groups, encoded as the frames are written.
+    video: Option<&'a GroupTap>,
 }
 
 impl FrameJob<'_> {
@@ -687,6 +692,19 @@ impl FrameJob<'_> {
                 Ok(())
             });
             let renderer = scope.spawn(move || self.render_in_flight(prepared, &to_write));
+            // The video stage: each written frame into its group of
+            // pictures, on its own thread, in frame order.
+            let (to_video, written_frames) = sync_channel::<Option<TappedFrame>>(2);
+            if let Some(tap) = self.video {
+                scope.spawn(move || {
+                    for f in written_frames {
+                        match f {
+                            Some(f) => self.timings.time(Stage::Video, || tap.frame(f)),
+                            None => tap.skip(),
+                        }
+                    }
+                });
+            }
             // The writer's own pool for the EXR's blocks: in the
             // renderer's, they waited behind whole frames' rows.
             let pool = own_pool("write")?;
@@ -695,8 +713,11 @@ impl FrameJob<'_> {
             for p in rendered {
                 let (frame, started) = (p.frame, p.started);
                 match pool.install(|| self.write(p)) {
-                    Ok((i, made)) => {
+                    Ok((i, made, tapped)) => {
                         written += u64::from(made);
+                        if self.video.is_some() {
+                            let _ = to_video.send(tapped);
+                        }
                         progress(FrameDone {
                             done: i as u64 + 1,
                             total: count,
@@ -711,7 +732,8 @@ impl FrameJob<'_> {
                     }
                 }
             }
-            // The earliest stage's error: a later one stopped because of it.
+            drop(to_video); // the video stage ends with the frames
+                            // The earliest stage's error: a later one stopped because of it.
             let joined = |h: std::thread::ScopedJoinHandle<'_, Result<(), Error>>| {
                 h.join()
                     .unwrap_or_else(|_| Err(Error::other("a frame stage panicked")))
@@ -833,13 +855,14 @@ impl FrameJob<'_> {
     }
 
     /// Writes a rendered frame's images and then its record; returns its
-    /// index and whether it was made now. The EXR and the PNG are encoded
+    /// index, whether it was made now and, when the video is encoded as
+    /// frames are written, the frame as its PNG holds it. The EXR and the PNG are encoded
     /// at once (the EXR's blocks on the writer's pool beside the PNG) and
     /// hashed from memory: on many cores this one thread a frame would
     /// otherwise keep pace with the render.
-    fn write(&self, mut p: Prepared) -> Result<(usize, bool), Error> {
+    fn write(&self, mut p: Prepared) -> Result<(usize, bool, Option<TappedFrame>), Error> {
         let Some(img) = p.image.take() else {
-            return Ok((p.index, false));
+            return Ok((p.index, false, None));
         };
         let (dir, name, k) = (self.dir, self.name, p.frame);
         let formats = self.choice.formats.formats();
@@ -889,7 +912,14 @@ impl FrameJob<'_> {
         self.timings
             .time(Stage::Record, || record::write(&rp, &p.want))
             .map_err(|e| Error::io(&rp, e))?;
-        Ok((p.index, true))
+        let png = p.want.outputs.get(&key(&frame_path(name, k, PNG)));
+        let tapped = self.video.zip(png).map(|(_, png)| TappedFrame {
+            frame: k,
+            png: png.clone(),
+            size: (img.width, img.height),
+            rgb: output::srgb8_pixels(&img),
+        });
+        Ok((p.index, true, tapped))
     }
 }
 
@@ -924,7 +954,7 @@ pub fn soundtrack(
     // What the soundtrack reads and writes, before it is rendered.
     refuse_odd_files(
         dir,
-        [EVENTS_FILE, SOUNDTRACK_FILE, SOUND_RECORD]
+        [EVENTS_FILE, SOUNDTRACK_FILE, AMBIX_FILE, SOUND_RECORD]
             .map(String::from)
             .into_iter()
             .chain(rec.sounds.keys().cloned()),
@@ -943,13 +973,27 @@ pub fn soundtrack(
         lmfilm_version: record::version(),
         sound: sound_record(settings),
         soundtrack: String::new(),
+        ears: None,
+        ambix: None,
     };
+    let master = Path::new(AMBIX_FILE);
     if let Some(old) = record::read_made::<SoundRecord>(dir, Path::new(SOUND_RECORD))? {
+        // What the render made (the files, which channels are ears) is
+        // the record's; the rest must be the same.
         let same = SoundRecord {
             soundtrack: old.soundtrack.clone(),
+            ears: old.ears,
+            ambix: old.ambix.clone(),
             ..want.clone()
         };
-        if old == same && intact(dir, Path::new(SOUNDTRACK_FILE), &old.soundtrack, &bounds)? {
+        let master_intact = match &old.ambix {
+            Some(h) => intact(dir, master, h, &bounds)?,
+            None => true,
+        };
+        if old == same
+            && master_intact
+            && intact(dir, Path::new(SOUNDTRACK_FILE), &old.soundtrack, &bounds)?
+        {
             return Ok(None);
         }
     }
@@ -958,15 +1002,40 @@ pub fn soundtrack(
     let report = sound::render_file(&dir.join(EVENTS_FILE), &wav, settings, library, &|_, _| {})?;
     want.soundtrack =
         sha256_file(&wav, bounds.limit(SOUNDTRACK_FILE)).map_err(|e| Error::io(&wav, e))?;
+    want.ears = report.ears.map(|(l, r)| [l, r]);
+    let master = dir.join(master);
+    want.ambix = match &report.ambix {
+        Some(_) => Some(
+            sha256_file(&master, bounds.limit(AMBIX_FILE)).map_err(|e| Error::io(&master, e))?,
+        ),
+        None => {
+            // A master of an earlier log that asked for one.
+            if master.exists() {
+                std::fs::remove_file(&master).map_err(|e| Error::io(&master, e))?;
+            }
+            None
+        }
+    };
     record::write(&record_path, &want).map_err(|e| Error::io(&record_path, e))?;
     Ok(Some(report))
 }
 
+/// What [`mux`] did: the MP4, whether it was made now, how many groups
+/// of pictures were encoded while the frames rendered (of how many), and
+/// what it had to leave out.
+pub struct MuxDone {
+    pub mp4: PathBuf,
+    pub made: bool,
+    pub groups: (usize, usize),
+    pub note: Option<String>,
+}
+
 /// Frames and soundtrack into `<name>.mp4` (H.264 at the quantiser
 /// `qp`, Opus), unless its record shows the same frames, soundtrack,
-/// rate and quantiser and the MP4 is intact. Returns the MP4's path,
-/// whether it was made now, and what it had to leave out.
-pub fn mux(dir: &Path, qp: u8) -> Result<(PathBuf, bool, Option<String>), Error> {
+/// rate and quantiser and the MP4 is intact. The groups of pictures in
+/// `ready` (encoded while the frames rendered) are taken where their
+/// frames are the folder's.
+pub fn mux(dir: &Path, qp: u8, ready: &[EncodedGroup]) -> Result<MuxDone, Error> {
     let rec = open(dir)?;
     let name = &rec.inputs.name;
     let (mp4, record_path) = mp4_paths(name);
@@ -1008,8 +1077,12 @@ pub fn mux(dir: &Path, qp: u8) -> Result<(PathBuf, bool, Option<String>), Error>
                 dir.display()
             )));
         }
-        let limit = bounds.limit(&key(&png));
-        pngs.push((png, limit));
+        pngs.push(video_mux::FramePng {
+            frame: *k,
+            limit: bounds.limit(&key(&png)),
+            rel: png,
+            hash: h.clone(),
+        });
     }
     let bounds = Bounds::new(0, rec.frame_count);
     let sound = match record::read_made::<SoundRecord>(dir, Path::new(SOUND_RECORD))? {
@@ -1026,7 +1099,7 @@ pub fn mux(dir: &Path, qp: u8) -> Result<(PathBuf, bool, Option<String>), Error>
         lmfilm_version: record::version(),
         mp4: String::new(),
         rate: rate.to_string(),
-        soundtrack: sound.map(|s| s.soundtrack),
+        soundtrack: sound.as_ref().map(|s| s.soundtrack.clone()),
         video_qp: Some(qp),
     };
     if let Some(old) = record::read_made::<MuxRecord>(dir, &record_path)? {
@@ -1035,14 +1108,16 @@ pub fn mux(dir: &Path, qp: u8) -> Result<(PathBuf, bool, Option<String>), Error>
             ..want.clone()
         };
         if old == same && intact(dir, &mp4, &old.mp4, &bounds)? {
-            return Ok((dir.join(mp4), false, None));
+            return Ok(MuxDone {
+                mp4: dir.join(mp4),
+                made: false,
+                groups: (0, 0),
+                note: None,
+            });
         }
     }
-    let track = want
-        .soundtrack
-        .is_some()
-        .then_some(Path::new(SOUNDTRACK_FILE));
-    let made = video_mux::mux(dir, name, rate, &pngs, track, qp).map_err(|e| match e {
+    let track = sound.map(|s| (Path::new(SOUNDTRACK_FILE), s.ears));
+    let made = video_mux::mux(dir, name, (rate, qp), &pngs, ready, track).map_err(|e| match e {
         video_mux::MuxError::Io { .. } | video_mux::MuxError::Input { .. } => {
             Error::input(e.to_string())
         }
@@ -1052,7 +1127,12 @@ pub fn mux(dir: &Path, qp: u8) -> Result<(PathBuf, bool, Option<String>), Error>
     want.mp4 = sha256_file(&out, bounds.limit(&key(&mp4))).map_err(|e| Error::io(&out, e))?;
     let rp = dir.join(&record_path);
     record::write(&rp, &want).map_err(|e| Error::io(&rp, e))?;
-    Ok((out, true, made.note))
+    Ok(MuxDone {
+        mp4: out,
+        made: true,
+        groups: made.groups,
+        note: made.note,
+    })
 }
 
 /// The PNG, the format an MP4 is made of.

@@ -32,10 +32,12 @@ pub enum Stage {
     EncodePng,
     /// Output files hashed and the frame's record written.
     Record,
+    /// The video's groups of pictures encoded as the frames are written.
+    Video,
 }
 
 /// Every stage, in the order of the enum (its index) and of the report.
-const STAGES: [Stage; 9] = [
+const STAGES: [Stage; 10] = [
     Stage::Derive,
     Stage::Snapshot,
     Stage::ActorImages,
@@ -45,6 +47,7 @@ const STAGES: [Stage; 9] = [
     Stage::EncodeExr,
     Stage::EncodePng,
     Stage::Record,
+    Stage::Video,
 ];
 
 impl Stage {
@@ -67,6 +70,7 @@ impl Stage {
             Stage::EncodeExr => "encode EXR",
             Stage::EncodePng => "encode PNG",
             Stage::Record => "hash and record",
+            Stage::Video => "encode video (while writing)",
         }
     }
 }

@@ -90,6 +90,7 @@ impl std::fmt::Display for VideoError {
 impl std::error::Error for VideoError {}
 
 /// One encoded picture: its Annex B bytes, and whether it is a key frame.
+#[derive(Clone)]
 pub struct Picture {
     pub bits: Vec<u8>,
     pub key: bool,

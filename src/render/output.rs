@@ -250,15 +250,21 @@ pub fn write_exr(img: &Image, path: &Path) -> io::Result<()> {
 /// pixels alone, as before.
 pub fn encode_png(img: &Image) -> io::Result<Vec<u8>> {
     validate(img)?;
-    let mut pixels = Vec::with_capacity(img.len() * 3);
-    for &[r, g, b, _] in &img.rgba {
-        pixels.extend_from_slice(&[srgb8(r), srgb8(g), srgb8(b)]);
-    }
+    let pixels = srgb8_pixels(img);
     let mut bytes = Vec::new();
     PngEncoder::new_with_quality(&mut bytes, CompressionType::Fast, FilterType::Adaptive)
         .write_image(&pixels, img.width, img.height, ExtendedColorType::Rgb8)
         .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e.to_string()))?;
     Ok(bytes)
+}
+
+/// The frame's colour as 8-bit sRGB, three bytes a pixel, row after row:
+/// what its PNG holds (and the video is made of).
+pub fn srgb8_pixels(img: &Image) -> Vec<u8> {
+    img.rgba
+        .iter()
+        .flat_map(|&[r, g, b, _]| [srgb8(r), srgb8(g), srgb8(b)])
+        .collect()
 }
 
 /// Writes the frame as an 8-bit sRGB RGB PNG (see `encode_png`), atomically.

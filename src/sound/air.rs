@@ -56,6 +56,9 @@ pub struct Air {
     follow_camera: bool,
     /// The listener's ears (`INIT_ears l r`).
     ears: Option<(u32, u32)>,
+    /// The ambisonic microphone (`INIT_ambix n`), when it follows the
+    /// camera: it faces where the camera looks (`MO` each frame).
+    ambix: Option<u32>,
     sources: BTreeMap<u32, DVec3>,
     /// Sources whose position changed this frame.
     moved: BTreeMap<u32, DVec3>,
@@ -97,6 +100,7 @@ impl Air {
             mics: BTreeMap::new(),
             follow_camera: false,
             ears: None,
+            ambix: None,
             sources: BTreeMap::new(),
             moved: BTreeMap::new(),
             moves: BTreeMap::new(),
@@ -106,6 +110,7 @@ impl Air {
         let bad =
             |c: &Command, e: LogError| (Some(c.at), format!("Sound_event_file: {} {e}", c.name));
         let mut ears = Vec::new();
+        let mut ambix = Vec::new();
         for c in inits {
             let n = c.numbers.first().map_or(0, |&n| n as u32);
             let (position, orientation) = (vec3(c, 1), vec3(c, 4));
@@ -129,9 +134,13 @@ impl Air {
                     ears.push((n, r, c.at));
                     continue;
                 }
+                "INIT_AMBIX" => {
+                    ambix.push((n, c.at));
+                    continue;
+                }
                 _ => {
                     return Err((Some(c.at), format!(
-                        "Sound_event_file: `{}` is not an initialisation (INIT_mic, INIT_source, CONST_S, INIT_ears, INIT_dist_matrix); the animation writes the rest",
+                        "Sound_event_file: `{}` is not an initialisation (INIT_mic, INIT_source, CONST_S, INIT_ears, INIT_ambix, INIT_dist_matrix); the animation writes the rest",
                         c.name
                     )))
                 }
@@ -147,8 +156,18 @@ impl Air {
                     "Sound_event_file: INIT_ears: the camera has one pair of ears; declare microphones (INIT_mic) for more listeners".into(),
                 ));
             }
+            if let Some(&(n, at)) = ambix.get(1) {
+                return Err((
+                    Some(at),
+                    format!("Sound_event_file: INIT_ambix {n}: microphone {} already makes the ambisonic master; a film has one", ambix[0].0),
+                ));
+            }
             air.ears = ears.first().map(|&(l, r, _)| (l, r));
-            let camera = air.ears.map_or(vec![0], |(l, r)| vec![l, r]);
+            air.ambix = ambix.first().map(|&(n, _)| n);
+            let mut camera = air.ears.map_or(vec![0], |(l, r)| vec![l, r]);
+            // The ambisonic microphone at the eye: the camera's own
+            // microphone 0 when there are no ears, else one more.
+            camera.extend(air.ambix.filter(|n| !camera.contains(n)));
             for m in camera {
                 if air.mics.insert(m, DVec3::ZERO).is_none() {
                     let declared = air.log.declare_mic(m, DVec3::ZERO);
@@ -159,6 +178,11 @@ impl Air {
         for (left, right, at) in ears {
             air.log
                 .push(Event::Ears { left, right })
+                .map_err(|e| (Some(at), format!("Sound_event_file: {e}")))?;
+        }
+        for (n, at) in ambix {
+            air.log
+                .push(Event::Ambix { n })
                 .map_err(|e| (Some(at), format!("Sound_event_file: {e}")))?;
         }
         Ok(air)
@@ -266,9 +290,14 @@ impl Air {
 
     /// Writes the frame's microphone and moved source positions; the
     /// camera ended the frame at `eye`, its image's right along `right`
-    /// (a unit vector: the ears on the camera are either side of `eye`
-    /// along it).
-    pub fn end_frame(&mut self, eye: DVec3, right: DVec3) -> Result<(), String> {
+    /// and looking along `forward` (unit vectors: the ears on the camera
+    /// are either side of `eye` along `right`, its ambisonic microphone
+    /// faces `forward`).
+    pub fn end_frame(
+        &mut self,
+        eye: DVec3,
+        (right, forward): (DVec3, DVec3),
+    ) -> Result<(), String> {
         self.apply_moves();
         match (self.follow_camera, self.ears) {
             (true, Some((l, r))) => {
@@ -280,12 +309,23 @@ impl Air {
             }
             _ => {}
         }
+        let facing = self.ambix.filter(|_| self.follow_camera);
+        if let Some(n) = facing {
+            self.mics.insert(n, eye);
+        }
         if self.ongoing.iter().any(|e| e.source == AMBIENT_SOURCE) {
             let c = self.centre();
             self.place(AMBIENT_SOURCE, c)?;
         }
         for (&m, &p) in &self.mics {
             self.log.mic_position(m, p).map_err(|e| e.to_string())?;
+        }
+        if let Some(n) = facing {
+            let turned = Event::MicOrientation {
+                n,
+                orientation: forward,
+            };
+            self.log.push(turned).map_err(|e| e.to_string())?;
         }
         for (s, p) in std::mem::take(&mut self.moved) {
             self.log.source_position(s, p).map_err(|e| e.to_string())?;

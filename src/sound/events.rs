@@ -46,6 +46,11 @@ pub enum Event {
     /// left and right ears; each hears in the shadow of the head between
     /// them (docs/sound-events.md, "Ears").
     Ears { left: u32, right: u32 },
+    /// `INIT_ambix n` (lmfilm's): microphone n is also heard as a
+    /// first-order ambisonic master (AmbiX), turned as its orientation
+    /// (`INIT_mic`'s, then each `MO`) says (docs/sound-events.md,
+    /// "The ambisonic master").
+    Ambix { n: u32 },
     /// `INIT_dist_matrix`: the thesis's renderer needed it after the
     /// declarations; kept for compatibility, it has no effect.
     DistMatrix,
@@ -55,7 +60,8 @@ pub enum Event {
     SourceOrientation { n: u32, orientation: DVec3 },
     /// `MP n x y z`.
     MicPosition { n: u32, position: DVec3 },
-    /// `MO n ox oy oz` (recorded; microphones are omnidirectional).
+    /// `MO n ox oy oz`: where microphone n faces (its ambisonic master's
+    /// front; the other microphones are omnidirectional).
     MicOrientation { n: u32, orientation: DVec3 },
     /// `PLAY n FILE`: source n starts emitting FILE at the frame's time.
     Play { n: u32, file: String },
@@ -110,6 +116,8 @@ pub struct EventLog {
     mics: BTreeSet<u32>,
     /// The microphones that are ears.
     ears: BTreeSet<u32>,
+    /// The microphone of the ambisonic master.
+    ambix: Option<u32>,
 }
 
 impl EventLog {
@@ -135,6 +143,11 @@ impl EventLog {
             .iter()
             .flat_map(|f| f.events.iter().map(move |e| (Some(f.time), e)));
         init.chain(framed)
+    }
+
+    /// The microphone of the ambisonic master (`INIT_ambix`).
+    pub fn ambix(&self) -> Option<u32> {
+        self.ambix
     }
 
     /// Declared microphone numbers, ascending: the soundtrack's channel order.
@@ -258,6 +271,7 @@ impl EventLog {
             Event::Ears { left, right } => {
                 self.ears.extend([*left, *right]);
             }
+            Event::Ambix { n } => self.ambix = Some(*n),
             _ => {}
         }
         match self.frames.last_mut() {
@@ -360,11 +374,39 @@ impl EventLog {
                             format!("INIT_ears: microphone {n} is already an ear"),
                         ));
                     }
+                    if self.ambix == Some(*n) {
+                        return Err(LogError::new(
+                            k,
+                            format!("INIT_ears: microphone {n} makes the ambisonic master; an ear needs a microphone of its own"),
+                        ));
+                    }
                 }
                 if left == right {
                     return Err(LogError::new(
                         2,
                         format!("INIT_ears: microphone {left} cannot be both ears"),
+                    ));
+                }
+                Ok(())
+            }
+            Event::Ambix { n } => {
+                if !self.frames.is_empty() {
+                    return Err(LogError::new(
+                        0,
+                        "INIT_ambix after the first TIME line: the ambisonic microphone is declared with the microphones",
+                    ));
+                }
+                mic(*n, "INIT_ambix")?;
+                if let Some(m) = self.ambix {
+                    return Err(LogError::new(
+                        1,
+                        format!("INIT_ambix: microphone {m} already makes the ambisonic master; a film has one"),
+                    ));
+                }
+                if self.ears.contains(n) {
+                    return Err(LogError::new(
+                        1,
+                        format!("INIT_ambix: microphone {n} is an ear; the ambisonic master needs a microphone of its own"),
                     ));
                 }
                 Ok(())
@@ -413,6 +455,7 @@ const KEYWORDS: &[(&str, &str)] = &[
     ("CONST_S", "n x y z ox oy oz"),
     ("INIT_mic", "n x y z ox oy oz"),
     ("INIT_ears", "l r"),
+    ("INIT_ambix", "n"),
     ("INIT_dist_matrix", ""),
     ("SP", "n x y z"),
     ("SO", "n ox oy oz"),
@@ -547,6 +590,7 @@ fn write_event(out: &mut String, e: &Event) {
             orientation,
         } => writeln!(out, "INIT_mic {n} {} {}", v(position), v(orientation)),
         Event::Ears { left, right } => writeln!(out, "INIT_ears {left} {right}"),
+        Event::Ambix { n } => writeln!(out, "INIT_ambix {n}"),
         Event::DistMatrix => writeln!(out, "INIT_dist_matrix"),
         Event::SourcePosition { n, position } => writeln!(out, "SP {n} {}", v(position)),
         Event::SourceOrientation { n, orientation } => writeln!(out, "SO {n} {}", v(orientation)),
@@ -620,6 +664,7 @@ fn read_line(keyword: &str, args: &[Token]) -> Result<Line, (usize, String)> {
             left: id(0)?,
             right: id(1)?,
         },
+        "INIT_ambix" => Event::Ambix { n: id(0)? },
         "INIT_dist_matrix" => Event::DistMatrix,
         "SP" => Event::SourcePosition {
             n: id(0)?,

@@ -210,10 +210,24 @@ pub fn check_target(target: f64) -> Result<(), String> {
 /// the limited mix meets the target (or the limiter cuts
 /// [`MAX_LIMITING`]). A silent mix is left silent.
 pub fn normalize(channels: &mut [Vec<f32>], rate: u32, target: f64) -> Normalization {
+    normalize_weighted(channels, rate, target, &[])
+}
+
+/// [`normalize`] with the loudness measured with BS.1770 channel
+/// `weights` (a channel without one weighs 1.0): one gain and one
+/// limiter for every channel, so their balance is kept. The ambisonic
+/// master is measured on W alone (`[1, 0, 0, 0]`).
+pub fn normalize_weighted(
+    channels: &mut [Vec<f32>],
+    rate: u32,
+    target: f64,
+    weights: &[f64],
+) -> Normalization {
+    let integrated = |channels: &[Vec<f32>]| integrated_weighted(channels, rate, weights);
     fade(channels, rate);
     let mut envelope = peak_envelope(channels);
     let peak = decibels(envelope.iter().copied().fold(0.0, f64::max));
-    let Some(measured) = integrated(channels, rate) else {
+    let Some(measured) = integrated(channels) else {
         return Normalization {
             target,
             measured: None,
@@ -260,7 +274,7 @@ pub fn normalize(channels: &mut [Vec<f32>], rate: u32, target: f64) -> Normaliza
                 *o = (f64::from(x) * a * k) as f32;
             }
         });
-        let l = integrated(out, rate).unwrap_or(measured + g);
+        let l = integrated(out).unwrap_or(measured + g);
         (l - target, cut)
     };
     // For each limiter in turn, a safeguarded secant search on the
@@ -326,7 +340,7 @@ pub fn normalize(channels: &mut [Vec<f32>], rate: u32, target: f64) -> Normaliza
             }
         });
         gain += limit - true_peak;
-        miss = integrated(&out, rate).map_or(miss, |l| l - target);
+        miss = integrated(&out).map_or(miss, |l| l - target);
         true_peak = limit;
     }
     for (ch, o) in channels.iter_mut().zip(out) {
@@ -468,11 +482,27 @@ fn step_energies(x: &[f32], rate: u32, step: usize) -> Vec<f64> {
 /// above the absolute gate. A channel shorter than the others is silent
 /// after its end.
 pub fn integrated(channels: &[Vec<f32>], rate: u32) -> Option<f64> {
+    integrated_weighted(channels, rate, &[])
+}
+
+/// [`integrated`] with each channel's energy weighted by BS.1770's
+/// channel `weights` (1.0 for a channel without one; a channel of weight
+/// 0 is left out).
+pub fn integrated_weighted(channels: &[Vec<f32>], rate: u32, weights: &[f64]) -> Option<f64> {
     let len = channels.iter().map(Vec::len).max()?;
     let step = step_length(len, rate);
+    let weight = |k: usize| weights.get(k).copied().unwrap_or(1.0);
     let per_channel: Vec<Vec<f64>> = channels
         .par_iter()
-        .map(|ch| step_energies(ch, rate, step))
+        .enumerate()
+        .filter(|(k, _)| weight(*k) != 0.0)
+        .map(|(k, ch)| {
+            let mut e = step_energies(ch, rate, step);
+            if weight(k) != 1.0 {
+                e.iter_mut().for_each(|x| *x *= weight(k));
+            }
+            e
+        })
         .collect();
     // Mean squares of each block, summed over channels in order.
     let steps_per_block = if len < 4 * step { 1 } else { 4 };

@@ -46,6 +46,26 @@ pub struct SoundtrackReport {
     pub clipped: u64,
     /// What loudness normalisation did (`None`: it was off).
     pub loudness: Option<loudness::Normalization>,
+    /// The channels of the listener's left and right ears.
+    pub ears: Option<(usize, usize)>,
+    /// The ambisonic master written ([`ambix_path`]), its clipped samples
+    /// and what its normalisation did.
+    pub ambix: Option<AmbixReport>,
+}
+
+/// The ambisonic master [`render_file`] wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AmbixReport {
+    pub path: PathBuf,
+    pub clipped: u64,
+    pub loudness: Option<loudness::Normalization>,
+}
+
+/// Where the ambisonic master of the soundtrack `wav` goes: beside it,
+/// `NAME.ambix.wav` (the folder's `soundtrack.ambix.wav`).
+pub fn ambix_path(wav: &Path) -> PathBuf {
+    let stem = wav.file_stem().unwrap_or_default().to_string_lossy();
+    wav.with_file_name(format!("{stem}.ambix.wav"))
 }
 
 /// Largest sound event log read: a bound on what a wrong path costs.
@@ -74,6 +94,20 @@ pub fn render_file(
             Error::other(format!("{}: cannot create the folder: {e}", dir.display()))
         })?;
     }
+    let ambix = match &track.ambix {
+        Some(a) => {
+            let (bytes, clipped) =
+                wav::encode(&a.channels, track.rate, settings.format).map_err(Error::other)?;
+            let path = ambix_path(output);
+            write_atomic(&path, &bytes).map_err(|e| Error::other(e.to_string()))?;
+            Some(AmbixReport {
+                path,
+                clipped,
+                loudness: a.loudness,
+            })
+        }
+        None => None,
+    };
     write_atomic(output, &bytes).map_err(|e| Error::other(e.to_string()))?;
     Ok(SoundtrackReport {
         channels: track.channels.len(),
@@ -81,5 +115,7 @@ pub fn render_file(
         rate: track.rate,
         clipped,
         loudness: track.loudness,
+        ears: track.ears,
+        ambix,
     })
 }

@@ -108,8 +108,37 @@ pub struct Soundtrack {
     pub rate: u32,
     pub mics: Vec<u32>,
     pub channels: Vec<Vec<f32>>,
+    /// The channels of a listener's left and right ears (`INIT_ears`),
+    /// the first pair declared.
+    pub ears: Option<(usize, usize)>,
     /// What loudness normalisation did (`None`: it was off).
     pub loudness: Option<Normalization>,
+    /// The ambisonic master (`INIT_ambix`).
+    pub ambix: Option<Ambisonic>,
+}
+
+/// A first-order ambisonic master in AmbiX's layout: ACN channel order
+/// (W, Y, Z, X) and SN3D normalisation (W the pressure, X, Y, Z the
+/// pressure times the cosine of the sound's direction with the front,
+/// left and up axes: a sound from the front has X = W).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ambisonic {
+    /// The microphone it is heard from.
+    pub mic: u32,
+    pub channels: [Vec<f32>; 4],
+    /// What loudness normalisation did, the loudness measured on W
+    /// (`None`: it was off).
+    pub loudness: Option<Normalization>,
+}
+
+/// What an output channel takes of the sound arriving at its
+/// microphone: all of it (an ear, the head's shadow too), or one
+/// component of the ambisonic master.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Pickup {
+    Pressure,
+    /// ACN channel 0–3: W, Y, Z, X.
+    Ambisonic(usize),
 }
 
 /// The soundtrack's length in samples: round((last TIME + frame interval)
@@ -170,36 +199,80 @@ pub fn render_with(
         )));
     }
     let n = sample_count(log, settings.rate);
-    let mut channels = vec![vec![0.0f32; n]; world.mics.len()];
-    let tasks: Vec<(usize, usize, &mut [f32])> = channels
+    // Each microphone's channel, then the ambisonic master's four.
+    let outputs: Vec<(usize, Pickup)> = (0..world.mics.len())
+        .map(|m| (m, Pickup::Pressure))
+        .chain(
+            world
+                .facing
+                .iter()
+                .flat_map(|(m, _)| (0..4).map(|c| (*m, Pickup::Ambisonic(c)))),
+        )
+        .collect();
+    let mut channels = vec![vec![0.0f32; n]; outputs.len()];
+    let tasks: Vec<(usize, Pickup, usize, &mut [f32])> = channels
         .iter_mut()
-        .enumerate()
-        .flat_map(|(m, ch)| {
+        .zip(&outputs)
+        .flat_map(|(ch, &(m, pickup))| {
             ch.chunks_mut(BLOCK)
                 .enumerate()
-                .map(move |(b, out)| (m, b * BLOCK, out))
+                .map(move |(b, out)| (m, pickup, b * BLOCK, out))
         })
         .collect();
     let total = tasks.len();
     let done = AtomicUsize::new(0);
     let results: Vec<Result<(), Error>> = tasks
         .into_par_iter()
-        .map(|(m, first, out)| {
-            let r = world.render_block(m, first, out, settings);
+        .map(|(m, pickup, first, out)| {
+            let r = world.render_block((m, pickup), first, out, settings);
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
             r
         })
         .collect();
     // The first error in task order, whichever thread met it first.
     results.into_iter().collect::<Result<(), Error>>()?;
+    let mut master: Vec<Vec<f32>> = channels.split_off(world.mics.len());
+    // A listener's ears are the stereo the film is heard in: its
+    // loudness is theirs (BS.1770's stereo weights), the other
+    // microphones taking the same gain.
+    let weights: Vec<f64> = match world.ears {
+        Some((l, r)) => (0..channels.len())
+            .map(|k| if k == l || k == r { 1.0 } else { 0.0 })
+            .collect(),
+        None => Vec::new(),
+    };
     let loudness = settings
         .loudness
-        .map(|target| loudness::normalize(&mut channels, settings.rate, target));
+        .map(|target| loudness::normalize_weighted(&mut channels, settings.rate, target, &weights));
+    let ambix = match &world.facing {
+        Some((m, _)) => {
+            // Measured on W alone (the pressure), one gain for all four
+            // so that the directions keep their balance.
+            let loudness = settings.loudness.map(|target| {
+                loudness::normalize_weighted(
+                    &mut master,
+                    settings.rate,
+                    target,
+                    &[1.0, 0.0, 0.0, 0.0],
+                )
+            });
+            let channels = <[Vec<f32>; 4]>::try_from(master)
+                .map_err(|_| Error::other("the ambisonic master lost a channel"))?;
+            Some(Ambisonic {
+                mic: world.mics[*m].0,
+                channels,
+                loudness,
+            })
+        }
+        None => None,
+    };
     Ok(Soundtrack {
         rate: settings.rate,
         mics: world.mics.iter().map(|m| m.0).collect(),
         channels,
+        ears: world.ears,
         loudness,
+        ambix,
     })
 }
 
@@ -224,6 +297,11 @@ struct World<'a> {
     mics: Vec<(u32, Trajectory)>,
     /// For an ear, the index of the listener's other ear.
     partner: Vec<Option<usize>>,
+    /// The first listener's (left, right) ears.
+    ears: Option<(usize, usize)>,
+    /// The ambisonic microphone and where it faces (a direction, not of
+    /// unit length between keys).
+    facing: Option<(usize, Trajectory)>,
     emissions: Vec<Emission<'a>>,
 }
 
@@ -234,13 +312,22 @@ impl<'a> World<'a> {
         let times: Vec<f64> = log.frames().iter().map(|f| f.time).collect();
         let mut sources: BTreeMap<u32, (DVec3, Vec<DVec3>)> = BTreeMap::new();
         let mut mics: BTreeMap<u32, (DVec3, Vec<DVec3>)> = BTreeMap::new();
+        // The ambisonic microphone's orientation, held from key to key.
+        let mut facing = log.ambix().map(|n| (n, (DVec3::ZERO, Vec::new())));
         for (_, e) in log.events() {
             match e {
                 Event::Source { n, position, .. } | Event::ConstSource { n, position, .. } => {
                     sources.insert(*n, (*position, Vec::new()));
                 }
-                Event::Mic { n, position, .. } => {
+                Event::Mic {
+                    n,
+                    position,
+                    orientation,
+                } => {
                     mics.insert(*n, (*position, Vec::new()));
+                    if let Some((_, (o, _))) = facing.as_mut().filter(|f| f.0 == *n) {
+                        *o = *orientation;
+                    }
                 }
                 _ => {}
             }
@@ -258,10 +345,16 @@ impl<'a> World<'a> {
                             m.0 = *position;
                         }
                     }
+                    Event::MicOrientation { n, orientation } => {
+                        if let Some((_, (o, _))) = facing.as_mut().filter(|f| f.0 == *n) {
+                            *o = *orientation;
+                        }
+                    }
                     _ => {}
                 }
             }
-            for (now, keys) in sources.values_mut().chain(mics.values_mut()) {
+            let turned = facing.iter_mut().map(|f| &mut f.1);
+            for (now, keys) in sources.values_mut().chain(mics.values_mut()).chain(turned) {
                 keys.push(*now);
             }
         }
@@ -279,13 +372,19 @@ impl<'a> World<'a> {
             mics.into_iter().map(|(n, m)| (n, trajectory(m))).collect();
         let at = |n: &u32| mics.iter().position(|m| m.0 == *n);
         let mut partner = vec![None; mics.len()];
+        let mut ears = None;
         for e in log.init() {
             if let Event::Ears { left, right } = e {
                 if let (Some(l), Some(r)) = (at(left), at(right)) {
                     (partner[l], partner[r]) = (Some(r), Some(l));
+                    ears = ears.or(Some((l, r)));
                 }
             }
         }
+        let facing = match facing {
+            Some((n, keys)) => at(&n).map(|m| (m, trajectory(keys))),
+            None => None,
+        };
 
         let c = settings.speed_of_sound;
         let end_of_track = log.duration();
@@ -330,14 +429,17 @@ impl<'a> World<'a> {
             sources,
             mics,
             partner,
+            ears,
+            facing,
             emissions,
         })
     }
 
-    /// Microphone `m`'s samples `first..first + out.len()`.
+    /// Microphone `m`'s samples `first..first + out.len()`, as `pickup`
+    /// takes them.
     fn render_block(
         &self,
-        m: usize,
+        (m, pickup): (usize, Pickup),
         first: usize,
         out: &mut [f32],
         settings: &SoundSettings,
@@ -350,7 +452,8 @@ impl<'a> World<'a> {
             .map(|j| self.mics[m].1.position(time(j), &mut hint))
             .collect();
         // An ear's outward axis: from the other ear through it.
-        let axis: Option<Vec<DVec3>> = self.partner[m].map(|p| {
+        let ear = self.partner[m].filter(|_| pickup == Pickup::Pressure);
+        let axis: Option<Vec<DVec3>> = ear.map(|p| {
             let mut hint = 0;
             mic.iter()
                 .enumerate()
@@ -359,6 +462,16 @@ impl<'a> World<'a> {
                 })
                 .collect()
         });
+        // The ambisonic component's axis: front (X), left (Y) or up (Z).
+        let component: Option<Vec<DVec3>> = match (pickup, &self.facing) {
+            (Pickup::Ambisonic(c @ 1..=3), Some((_, facing))) => {
+                let mut hint = 0;
+                let axes =
+                    (0..out.len()).map(|j| ambisonic_axes(facing.position(time(j), &mut hint)));
+                Some(axes.map(|[x, y, z]| [y, z, x][c - 1]).collect())
+            }
+            _ => None,
+        };
         let mut sum = vec![0.0f64; out.len()];
         let last_t = time(out.len().saturating_sub(1));
         for e in &self.emissions {
@@ -399,9 +512,14 @@ impl<'a> World<'a> {
                     })?;
                 previous = [Some(tau), previous[0]];
                 let mut gain = settings.attenuation.gain(c * (t - tau));
-                if let Some(axis) = &axis {
+                let direction = axis.as_ref().or(component.as_ref()).map(|axes| {
                     let from = (path.position(tau, &mut hint) - m_t).normalize_or_zero();
-                    gain *= head_shadow(axis[j].dot(from));
+                    axes[j].dot(from)
+                });
+                match (direction, &axis) {
+                    (Some(cos), Some(_)) => gain *= head_shadow(cos),
+                    (Some(cos), None) => gain *= cos,
+                    (None, _) => {}
                 }
                 *acc += gain * e.signal.at((tau - e.start) * sig_rate);
             }
@@ -411,6 +529,22 @@ impl<'a> World<'a> {
         }
         Ok(())
     }
+}
+
+/// The ambisonic microphone's axes, front, left and up (AmbiX's X, Y and
+/// Z), for a microphone facing `front`: up is the world's up (+y) made
+/// square to it, +z when it faces straight up or down (as the camera's
+/// frame); a microphone facing nowhere (0 0 0) faces −z, as a camera
+/// does by default.
+pub fn ambisonic_axes(front: DVec3) -> [DVec3; 3] {
+    let f = front.try_normalize().unwrap_or(DVec3::NEG_Z);
+    let world_up = if f.cross(DVec3::Y).length_squared() < 1e-12 {
+        DVec3::Z
+    } else {
+        DVec3::Y
+    };
+    let left = world_up.cross(f).normalize();
+    [f, left, f.cross(left)]
 }
 
 /// The level an ear hears a sound with through the head's shadow, for

@@ -215,12 +215,47 @@ pub fn encode(
         }
     }
     w.finalize().map_err(err)?;
+    unpositioned(&mut bytes);
     Ok((bytes, clipped))
+}
+
+/// Clears the loudspeaker positions (`dwChannelMask`) of a
+/// WAVE_FORMAT_EXTENSIBLE header, which hound fills for more than two
+/// channels (front left, right, centre, LFE …): lmfilm's channels are
+/// microphones or ambisonic components, never loudspeakers, and a player
+/// that took channel 4 for an LFE would filter it (the AMB and AmbiX
+/// practice: a mask of 0). A file of one or two channels has no mask.
+fn unpositioned(bytes: &mut [u8]) {
+    // RIFF header (12), `fmt ` chunk header (8), then the format tag.
+    const TAG: usize = 20;
+    const MASK: usize = TAG + 20;
+    if bytes.get(12..16) == Some(b"fmt ") && bytes.get(TAG..TAG + 2) == Some(&[0xfe, 0xff]) {
+        if let Some(mask) = bytes.get_mut(MASK..MASK + 4) {
+            mask.fill(0);
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Four channels (an ambisonic master) carry no loudspeaker
+    /// positions: hound reads the file back, and its mask is 0, where
+    /// hound alone wrote FL FR FC LFE (0x0f).
+    #[test]
+    fn many_channels_name_no_loudspeakers() {
+        let x = vec![vec![0.25f32; 10]; 4];
+        for format in [SampleFormat::Pcm16, SampleFormat::Float32] {
+            let (bytes, _) = encode(&x, 48_000, format).unwrap();
+            assert_eq!(&bytes[20..22], &[0xfe, 0xff], "WAVE_FORMAT_EXTENSIBLE");
+            assert_eq!(&bytes[40..44], &[0, 0, 0, 0], "{format:?}");
+            let r = hound::WavReader::new(Cursor::new(&bytes)).unwrap();
+            assert_eq!((r.spec().channels, r.len()), (4, 40));
+        }
+        let (mono, _) = encode(&x[..1], 48_000, SampleFormat::Pcm16).unwrap();
+        assert_eq!(&mono[20..22], &[1, 0], "plain PCM, untouched");
+    }
 
     #[test]
     fn sixteen_bits_round_to_the_nearest_step_and_clamp_at_full_scale() {

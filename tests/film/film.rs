@@ -64,9 +64,19 @@ fn any_thread_count_and_any_shard_split_give_the_same_film() {
     let root = temp("same");
     let scene = scene_in(&root);
     let (one, two, split) = (root.join("one"), root.join("two"), root.join("split"));
-    ok(&["run", &scene, "-o", s(&one), "--threads", "1"]);
+    let said = ok(&["run", &scene, "-o", s(&one), "--threads", "1"]);
     ok(&["run", &scene, "-o", s(&two), "--threads", "2"]);
     assert_eq!(manifest(&one), manifest(&two));
+    // The video encoded while the frames rendered, every group of it;
+    // the split film's `mux` below encodes it from the PNGs.
+    let said = String::from_utf8_lossy(&said.stdout).to_string();
+    let groups = said
+        .lines()
+        .find_map(|l| l.strip_prefix("video: "))
+        .unwrap_or_else(|| panic!("{said}"));
+    let words: Vec<&str> = groups.split(' ').collect();
+    assert_eq!((words[0], words[1]), (words[2], "of"), "{said}");
+    assert!(words[0].parse::<u32>().unwrap() > 0, "{said}");
     // derive + two shards (in any order) + sound = run.
     ok(&["derive", &scene, "-o", s(&split)]);
     ok(&["render", s(&split), "--shard", "2/2"]);

@@ -51,6 +51,8 @@ pub struct Track {
     pub codec: [u8; 4],
     pub width: u32,
     pub height: u32,
+    /// An audio track's channels (0 for video).
+    pub channels: u16,
     pub timescale: u32,
     pub duration: u64,
     /// Each sample's (offset in the file, size).
@@ -111,6 +113,11 @@ fn read_track(trak: &[u8]) -> Track {
     let stsd = path(stbl, &[b"stsd"]);
     let entry = &boxes(&stsd[8..])[0];
     let mut parameter_sets = Vec::new();
+    // An audio sample entry: 8 bytes, then 8 reserved, then its channels.
+    let channels = match &hdlr[8..12] {
+        b"soun" => u16::from_be_bytes([entry.1[16], entry.1[17]]),
+        _ => 0,
+    };
     if &entry.0 == b"avc1" {
         // The visual sample entry is 78 bytes before its boxes.
         let avcc = path(&entry.1[78..], &[b"avcC"]);
@@ -185,6 +192,7 @@ fn read_track(trak: &[u8]) -> Track {
         codec: entry.0,
         width: w >> 16,
         height: h >> 16,
+        channels,
         timescale,
         duration,
         samples,

@@ -452,6 +452,63 @@ fn the_mp4_is_made_from_its_frames_and_soundtrack() {
     std::fs::remove_dir_all(&root).unwrap();
 }
 
+/// A scene with ears and an ambisonic microphone (the aeroplane, cut
+/// short): the film's MP4 takes the ears as its stereo, the ambisonic
+/// master `soundtrack.ambix.wav` (4 channels, no loudspeaker positions)
+/// is listed in the manifest and checked by verify, remade by `sound`
+/// when damaged, and removed when the scene no longer asks for it.
+#[test]
+fn the_ambisonic_master_is_one_of_the_film_s_files() {
+    let root = temp("ambix");
+    let airplane = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/examples/airplane.lm");
+    let text = std::fs::read_to_string(airplane)
+        .unwrap()
+        .replace("t_final_interval 6 0.04", "t_final_interval 1.2 0.04");
+    let scene = write(&root, "air.lm", &text);
+    let dir = root.join("out");
+    let out = lmfilm(&["run", &scene, "-o", s(&dir), "--preset", "preview"]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{said}");
+    assert!(
+        said.contains(
+            "soundtrack.ambix.wav: the ambisonic master (AmbiX: W Y Z X, SN3D), W: -16.0 LUFS"
+        ),
+        "{said}"
+    );
+    let master = dir.join("soundtrack.ambix.wav");
+    let bytes = read(&master);
+    assert_eq!(&bytes[40..44], &[0; 4], "no loudspeaker positions");
+    let wav = hound::WavReader::open(&master).unwrap();
+    assert_eq!(wav.spec().channels, 4);
+    assert_eq!(wav.duration(), 31 * 1920, "as long as the soundtrack");
+    let movie = crate::mp4::Movie::read(&read(&dir.join("air.mp4")));
+    assert_eq!(
+        movie.track(b"soun").channels,
+        2,
+        "the ears, of three microphones"
+    );
+    let manifest = std::fs::read_to_string(dir.join("manifest.json")).unwrap();
+    assert!(manifest.contains("soundtrack.ambix.wav"), "{manifest}");
+    ok(&["verify", s(&dir)]);
+    let mut damaged = bytes.clone();
+    let mid = damaged.len() / 2;
+    damaged[mid] ^= 0x55;
+    std::fs::write(&master, &damaged).unwrap();
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(err.contains("soundtrack.ambix.wav"), "{err}");
+    ok(&["sound", s(&dir)]);
+    assert_eq!(read(&master), bytes, "made again, the same bytes");
+    ok(&["verify", s(&dir)]);
+    // Without INIT_ambix: no master, none left behind.
+    write(&root, "air.lm", &text.replace(" INIT_ambix 2", ""));
+    run(&[&scene], &dir, &[]);
+    assert!(!master.exists(), "a master of other inputs was kept");
+    let manifest = std::fs::read_to_string(dir.join("manifest.json")).unwrap();
+    assert!(!manifest.contains("soundtrack.ambix.wav"), "{manifest}");
+    ok(&["verify", s(&dir)]);
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
 /// A scene's own sound file is copied into the folder at derive, so the
 /// finishing stage renders the soundtrack without the scene's folder.
 #[test]

@@ -16,8 +16,9 @@ use lmfilm::lsys::options::OptionItem;
 use lmfilm::production::digest::{sha256_bytes, sha256_file};
 use lmfilm::production::frames::{FrameRange, FrameSelection, RangeError, Shard, ShardError};
 use lmfilm::production::manifest::{Error, Manifest};
-use lmfilm::production::mux::{mux, FrameRate, MuxError};
+use lmfilm::production::mux::{mux, FramePng, FrameRate, MuxError};
 use lmfilm::production::verify::verify;
+use lmfilm::production::video_groups::{GroupTap, TappedFrame};
 
 fn temp_dir(name: &str) -> PathBuf {
     common::fresh_dir("film-support", name)
@@ -320,15 +321,105 @@ fn frame_rates_are_exact_fractions() {
 fn mux_refuses_a_missing_frame_or_soundtrack() {
     let rate = FrameRate { num: 25, den: 1 };
     let nowhere = std::env::temp_dir().join("lmfilm-film-no-such-folder");
-    let frame = (frame_path("f", 0, "png"), 1 << 20);
-    let err = mux(&nowhere, "f", rate, std::slice::from_ref(&frame), None, 20).unwrap_err();
+    let frame = png("f", 0, String::new());
+    let err = mux(
+        &nowhere,
+        "f",
+        (rate, 20),
+        std::slice::from_ref(&frame),
+        &[],
+        None,
+    )
+    .unwrap_err();
     assert!(matches!(err, MuxError::Io { .. }), "{err}");
     assert!(err.to_string().contains("f.0000.png"), "{err}");
     let dir = temp_dir("mux-nosound");
     tiny_film(&dir);
-    let frames = [(frame_path("tiny", 0, "png"), 1 << 20)];
-    let err = mux(&dir, "tiny", rate, &frames, Some(Path::new("gone.wav")), 20).unwrap_err();
+    let frames = [png("tiny", 0, String::new())];
+    let gone = Some((Path::new("gone.wav"), None));
+    let err = mux(&dir, "tiny", (rate, 20), &frames, &[], gone).unwrap_err();
     assert!(err.to_string().contains("gone.wav"), "{err}");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Frame `k` of film `name` as the mux reads it, with the PNG hash `hash`.
+fn png(name: &str, k: u64, hash: String) -> FramePng {
+    FramePng {
+        frame: k,
+        rel: frame_path(name, k, "png"),
+        limit: 1 << 20,
+        hash,
+    }
+}
+
+/// The tiny film's three PNG frames, with their hashes.
+fn tiny_pngs(dir: &Path) -> Vec<FramePng> {
+    (0..3)
+        .map(|k| {
+            let hash = sha256_file(&dir.join(frame_path("tiny", k, "png")), 1 << 20).unwrap();
+            png("tiny", k, hash)
+        })
+        .collect()
+}
+
+/// The video's groups encoded as the frames come (the tap of `run`) and
+/// the mux's own from the PNGs are the same bytes: at 2 frames a second
+/// (groups of 2) the tiny film's first group is taken from the tap, its
+/// second (frame 2 alone, the film's last) too; a group whose frames'
+/// PNG hashes are not the folder's is not taken, nor one that missed a
+/// frame.
+#[test]
+fn groups_encoded_as_frames_come_make_the_mp4_of_the_pngs() {
+    let dir = temp_dir("tap");
+    tiny_film(&dir);
+    let rate = FrameRate::from_dt(0.5).unwrap();
+    let frames = tiny_pngs(&dir);
+    let sound = Some((Path::new("soundtrack.wav"), None));
+    let from_pngs = mux(&dir, "tiny", (rate, 20), &frames, &[], sound).unwrap();
+    assert_eq!(from_pngs.groups, (0, 2));
+    let reference = fs::read(&from_pngs.mp4).unwrap();
+    let tapped = |hash_of: &dyn Fn(u64) -> String, skip: Option<u64>| {
+        let tap = GroupTap::new(rate, 20, 3);
+        for k in 0..3 {
+            if skip == Some(k) {
+                tap.skip();
+                continue;
+            }
+            let image = image::open(dir.join(frame_path("tiny", k, "png")))
+                .unwrap()
+                .into_rgb8();
+            tap.frame(TappedFrame {
+                frame: k,
+                png: hash_of(k),
+                size: image.dimensions(),
+                rgb: image.into_raw(),
+            });
+        }
+        tap.groups()
+    };
+    let same = tapped(&|k| frames[k as usize].hash.clone(), None);
+    let out = mux(&dir, "tiny", (rate, 20), &frames, &same, sound).unwrap();
+    assert_eq!(out.groups, (2, 2));
+    assert_eq!(
+        fs::read(&out.mp4).unwrap(),
+        reference,
+        "the tap's groups, other bytes"
+    );
+    let other = tapped(
+        &|k| match k {
+            1 => "0".repeat(64),
+            _ => frames[k as usize].hash.clone(),
+        },
+        None,
+    );
+    let out = mux(&dir, "tiny", (rate, 20), &frames, &other, sound).unwrap();
+    assert_eq!(out.groups, (1, 2), "a group of other frames was taken");
+    assert_eq!(fs::read(&out.mp4).unwrap(), reference);
+    let missed = tapped(&|k| frames[k as usize].hash.clone(), Some(1));
+    assert_eq!(missed.len(), 1, "a group that missed a frame was kept");
+    let out = mux(&dir, "tiny", (rate, 20), &frames, &missed, sound).unwrap();
+    assert_eq!(out.groups, (1, 2));
+    assert_eq!(fs::read(&out.mp4).unwrap(), reference);
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -366,11 +457,9 @@ fn mux_makes_an_mp4_that_decodes_back_to_the_frames() {
     let dir = temp_dir("mux");
     tiny_film(&dir);
     let rate = FrameRate::from_dt(0.04).unwrap();
-    let frames: Vec<(PathBuf, u64)> = (0..3)
-        .map(|k| (frame_path("tiny", k, "png"), 1 << 20))
-        .collect();
-    let sound = Some(Path::new("soundtrack.wav"));
-    let out = mux(&dir, "tiny", rate, &frames, sound, 20).unwrap_or_else(|e| panic!("{e}"));
+    let frames = tiny_pngs(&dir);
+    let sound = Some((Path::new("soundtrack.wav"), None));
+    let out = mux(&dir, "tiny", (rate, 20), &frames, &[], sound).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.mp4, dir.join("tiny.mp4"));
     assert!(out.note.is_none(), "{:?}", out.note);
     let bytes = fs::read(&out.mp4).unwrap();
@@ -400,7 +489,7 @@ fn mux_makes_an_mp4_that_decodes_back_to_the_frames() {
             y[0]
         );
     }
-    let again = mux(&dir, "tiny", rate, &frames, sound, 20).unwrap();
+    let again = mux(&dir, "tiny", (rate, 20), &frames, &[], sound).unwrap();
     assert_eq!(
         fs::read(&again.mp4).unwrap(),
         bytes,

@@ -120,6 +120,53 @@ fn ears_are_two_declared_microphones_before_the_first_time() {
     assert!(log.init().contains(&Event::Ears { left: 0, right: 1 }));
 }
 
+/// `INIT_ambix` (lmfilm's) names one declared microphone, not an ear,
+/// before the first `TIME`, once; an ear cannot be the ambisonic one.
+#[test]
+fn the_ambisonic_microphone_is_one_declared_microphone_not_an_ear() {
+    let mics = "INIT_mic 0 0 0 0 0 0 0\nINIT_mic 1 1 0 0 0 0 0\nINIT_mic 2 2 0 0 0 0 0\n";
+    error(
+        &format!("{mics}INIT_ambix 7\n"),
+        4,
+        12,
+        "INIT_ambix: microphone 7 is not declared",
+    );
+    error(
+        &format!("{mics}INIT_ambix 2\nINIT_ambix 1\n"),
+        5,
+        12,
+        "microphone 2 already makes the ambisonic master",
+    );
+    error(
+        &format!("{mics}INIT_ears 0 1\nINIT_ambix 1\n"),
+        5,
+        12,
+        "microphone 1 is an ear",
+    );
+    error(
+        &format!("{mics}INIT_ambix 1\nINIT_ears 0 1\n"),
+        5,
+        13,
+        "microphone 1 makes the ambisonic master",
+    );
+    error(
+        &format!("{mics}TIME 0\nINIT_ambix 1\n"),
+        5,
+        1,
+        "INIT_ambix after the first TIME line",
+    );
+    error(
+        &format!("{mics}INIT_ambix\n"),
+        4,
+        1,
+        "INIT_ambix takes 1 argument",
+    );
+    let text = format!("{mics}INIT_ambix 2\nTIME 0\nMO 2 0 0 -1\n");
+    let log = parse(&text, "ok.events").unwrap();
+    assert_eq!(log.ambix(), Some(2));
+    assert_eq!(write(&log), text, "written back as read");
+}
+
 #[test]
 fn bad_input_names_file_line_and_column() {
     error(

@@ -652,3 +652,94 @@ fn two_ears_hear_the_nearer_side_first_and_louder() {
         }
     }
 }
+
+/// The ambisonic master (`INIT_ambix`): for sources placed at random
+/// around a microphone facing at random (and turned by `MO` on the way),
+/// each of AmbiX's channels is W times the cosine of the sound's direction
+/// with the microphone's front (X), left (Y) and up (Z), SN3D, in ACN
+/// order W Y Z X. The axes here come from Gram–Schmidt on the world's up
+/// (+y), not from the renderer's cross products; the cardinal directions
+/// of a microphone facing −z are checked by name.
+#[test]
+fn the_ambisonic_master_points_each_channel_along_its_axis() {
+    use lmfilm::sound::Event;
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut unit = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let sigma = 2e-4;
+    let axes = |front: DVec3| {
+        let f = front.normalize();
+        let up = (DVec3::Y - DVec3::Y.dot(f) * f).normalize();
+        let left = up.cross(f); // z × x = y in AmbiX's right-handed frame
+        (f, left, up)
+    };
+    let mut cases: Vec<(DVec3, DVec3, DVec3)> = vec![
+        // (front, where the source is from the microphone, [X, Y, Z]/W)
+        (DVec3::NEG_Z, DVec3::NEG_Z, DVec3::X),
+        (DVec3::NEG_Z, DVec3::NEG_X, DVec3::Y),
+        (DVec3::NEG_Z, DVec3::X, DVec3::NEG_Y),
+        (DVec3::NEG_Z, DVec3::Y, DVec3::Z),
+        (DVec3::ZERO, DVec3::NEG_X, DVec3::Y),
+    ];
+    for _ in 0..16 {
+        let yaw = unit() * 2.0 * PI;
+        let pitch = (unit() - 0.5) * 2.4;
+        let front = DVec3::new(
+            yaw.cos() * pitch.cos(),
+            pitch.sin(),
+            yaw.sin() * pitch.cos(),
+        );
+        let dir = DVec3::new(unit() - 0.5, unit() - 0.5, unit() - 0.5).normalize();
+        let (f, l, u) = axes(front);
+        cases.push((front, dir, DVec3::new(dir.dot(f), dir.dot(l), dir.dot(u))));
+    }
+    for (case, (front, dir, want)) in cases.into_iter().enumerate() {
+        let mic = DVec3::new(unit() * 10.0, 1.0, unit() * 10.0);
+        let source = mic + dir * (3.0 + unit() * 20.0);
+        let mut log = EventLog::new();
+        // Declared facing elsewhere, turned to `front` by MO from the
+        // first frame: the orientation the master follows is the log's.
+        log.push(Event::Mic {
+            n: 0,
+            position: mic,
+            orientation: DVec3::X,
+        })
+        .unwrap();
+        log.push(Event::Ambix { n: 0 }).unwrap();
+        log.declare_source(5, source).unwrap();
+        frames(&mut log, 0.2, |log, t| {
+            log.push(Event::MicOrientation {
+                n: 0,
+                orientation: front,
+            })
+            .unwrap();
+            if t == 0.0 {
+                log.play(5, "p.wav").unwrap();
+            }
+        });
+        let out = run(
+            &log,
+            &sounds(&[("p.wav", pulse(sigma))]),
+            Attenuation::Inverse,
+        );
+        let master = out.ambix.as_ref().expect("an ambisonic master");
+        assert_eq!(master.mic, 0);
+        let [w, y, z, x] = &master.channels;
+        assert_eq!(
+            w, &out.channels[0],
+            "case {case}: W is the microphone's pressure"
+        );
+        let i = (0..w.len())
+            .max_by(|&a, &b| w[a].abs().total_cmp(&w[b].abs()))
+            .unwrap();
+        let got = DVec3::new(x[i] as f64, y[i] as f64, z[i] as f64) / w[i] as f64;
+        assert!(
+            (got - want).length() < 1e-4,
+            "case {case}: [X Y Z]/W = {got}, the geometry's {want} (front {front}, from {dir})"
+        );
+    }
+}

@@ -223,3 +223,60 @@ fn a_scene_listens_with_two_ears_on_the_camera() {
     assert!(err.contains("ears.lm:6:50: "), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `Sound_event_file NAME INIT_ears 0 1 INIT_ambix 2` with no microphone:
+/// the ambisonic microphone is at the eye, facing where the camera looks
+/// (`MO` each frame), beside the ears; without ears `INIT_ambix 0` is the
+/// camera's own microphone. A second on the camera is refused.
+#[test]
+fn a_scene_s_ambisonic_microphone_faces_where_the_camera_looks() {
+    let dir = temp("ambix");
+    let scene = dir.join("ambix.lm");
+    let text = |sound: &str| {
+        format!(
+            "Camera_AnimationParameters\nobserver 1 2 10\nlookatPoint 4 2 6\n\
+             t_final_interval 0.2 0.04\nOptions\n{sound}\nAxiom\nF\nProductions\nEndProductions\n"
+        )
+    };
+    for (sound, mics, n) in [
+        (
+            "Sound_event_file e.events INIT_ears 0 1 INIT_ambix 2",
+            vec![0, 1, 2],
+            2,
+        ),
+        ("Sound_event_file e.events INIT_ambix 0", vec![0], 0),
+    ] {
+        std::fs::write(&scene, text(sound)).unwrap();
+        let film = derive_all(&scene);
+        let log = film.events();
+        assert_eq!(log.mic_numbers(), mics, "{sound}");
+        assert_eq!(log.ambix(), Some(n));
+        let frame = &log.frames()[2].events;
+        let found = |f: &dyn Fn(&Event) -> Option<glam::DVec3>| frame.iter().find_map(f).unwrap();
+        let facing = found(&|e| match e {
+            Event::MicOrientation { n: m, orientation } if *m == n => Some(*orientation),
+            _ => None,
+        });
+        let want = glam::DVec3::new(3.0, 0.0, -4.0) / 5.0;
+        assert!((facing - want).length() < 1e-6, "{sound}: {facing}");
+        let at = found(&|e| match e {
+            Event::MicPosition { n: m, position } if *m == n => Some(*position),
+            _ => None,
+        });
+        assert!(
+            (at - glam::DVec3::new(1.0, 2.0, 10.0)).length() < 1e-6,
+            "{at}"
+        );
+    }
+    std::fs::write(
+        &scene,
+        text("Sound_event_file e.events INIT_ambix 0 INIT_ambix 3"),
+    )
+    .unwrap();
+    let err = Film::load(&[&scene], Options::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("already makes the ambisonic master"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
