@@ -275,7 +275,7 @@ pub fn run(
     // encodes the rest (a film whose Δt makes no frame rate has none).
     let tap = FrameRate::from_dt(f.dt())
         .ok()
-        .map(|rate| GroupTap::new(rate, video.qp, f.frame_count()));
+        .map(|rate| GroupTap::new(rate.fps(), video.qp, f.frame_count()));
     let (derived, streamed) = if stages::streams(&choice) {
         let mut p = FrameLog::new(work.log_frames);
         let streamed = pipeline::derive_rendering(
@@ -525,7 +525,7 @@ fn soundtrack(dir: &Path, settings: &sound::SoundSettings) -> Result<bool> {
         }
     }
     if let Some(a) = report.as_ref().and_then(|r| r.ambix.as_ref()) {
-        super::sound::ambix_said(a);
+        ambix_said(a);
     }
     Ok(report.is_some())
 }
@@ -545,4 +545,22 @@ pub fn sound_dir(dir: &Path, request: &SoundRequest) -> Result<()> {
         dir.join(names::MANIFEST_FILE).display()
     );
     Ok(())
+}
+
+/// What the ambisonic master is and what its normalisation did.
+pub fn ambix_said(a: &sound::AmbixReport) {
+    let level = a.loudness.map_or("levels as rendered".into(), |n| {
+        format!("W: {}", n.summary())
+    });
+    eprintln!(
+        "{}: the ambisonic master (AmbiX: W Y Z X, SN3D), {level}",
+        a.path.display()
+    );
+    if a.clipped > 0 {
+        eprintln!(
+            "warning: {}: {} samples beyond full scale were clipped; try --float",
+            a.path.display(),
+            a.clipped
+        );
+    }
 }

@@ -95,7 +95,7 @@ pub fn sound(input: &SoundInput, args: &SoundArgs) -> Result<()> {
         None => eprintln!("{}", output.display()),
     }
     if let Some(a) = &report.ambix {
-        ambix_said(a);
+        film::ambix_said(a);
     }
     if report.clipped > 0 {
         eprintln!(
@@ -105,22 +105,4 @@ pub fn sound(input: &SoundInput, args: &SoundArgs) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// What the ambisonic master is and what its normalisation did.
-pub fn ambix_said(a: &sound::AmbixReport) {
-    let level = a.loudness.map_or("levels as rendered".into(), |n| {
-        format!("W: {}", n.summary())
-    });
-    eprintln!(
-        "{}: the ambisonic master (AmbiX: W Y Z X, SN3D), {level}",
-        a.path.display()
-    );
-    if a.clipped > 0 {
-        eprintln!(
-            "warning: {}: {} samples beyond full scale were clipped; try --float",
-            a.path.display(),
-            a.clipped
-        );
-    }
 }

@@ -33,7 +33,7 @@ use super::record::{
 use super::settings::RenderChoice;
 use super::timings::{Stage, Timings};
 use super::video_groups::{EncodedGroup, GroupTap, TappedFrame};
-use super::{assemble, mux as video_mux};
+use super::{assemble, mux as video_mux, video};
 use crate::actors::live::Living;
 use crate::atomic::{remove_stale_temps, write_atomic};
 use crate::error::Error;
@@ -696,14 +696,7 @@ impl FrameJob<'_> {
             // pictures, on its own thread, in frame order.
             let (to_video, written_frames) = sync_channel::<Option<TappedFrame>>(2);
             if let Some(tap) = self.video {
-                scope.spawn(move || {
-                    for f in written_frames {
-                        match f {
-                            Some(f) => self.timings.time(Stage::Video, || tap.frame(f)),
-                            None => tap.skip(),
-                        }
-                    }
-                });
+                scope.spawn(move || tap.encode(written_frames, self.timings));
             }
             // The writer's own pool for the EXR's blocks: in the
             // renderer's, they waited behind whole frames' rows.
@@ -1107,7 +1100,9 @@ pub fn mux(dir: &Path, qp: u8, ready: &[EncodedGroup]) -> Result<MuxDone, Error>
             mp4: old.mp4.clone(),
             ..want.clone()
         };
-        if old == same && intact(dir, &mp4, &old.mp4, &bounds)? {
+        // Its bytes the record's, and a player reads the film in them.
+        let whole = || video::check_shape(&dir.join(&mp4), rec.frame_count, rec.dt).is_ok();
+        if old == same && intact(dir, &mp4, &old.mp4, &bounds)? && whole() {
             return Ok(MuxDone {
                 mp4: dir.join(mp4),
                 made: false,

@@ -131,12 +131,17 @@ pub fn verify(dir: &Path) -> Result<Report, manifest::Error> {
         .iter()
         .filter_map(|(k, v)| Some((k.strip_prefix("render.")?, v.as_str())));
     let bounds = Bounds::of_settings(render, stored.frame_count);
-    problems.extend(
-        stored
-            .files
-            .iter()
-            .filter_map(|(file, expected)| check(dir, file, expected, &bounds)),
-    );
+    let files: Vec<Problem> = stored
+        .files
+        .iter()
+        .filter_map(|(file, expected)| check(dir, file, expected, &bounds))
+        .collect();
+    // The MP4 whose bytes are its record's, read back as a player would.
+    let mp4 = names::key(&mp4_paths(&stored.name).0);
+    if stored.files.contains_key(&mp4) && !files.iter().any(|p| p.file() == mp4) {
+        problems.extend(video(dir, &mp4, &stored));
+    }
+    problems.extend(files);
     Ok(Report {
         checked: stored.files.len(),
         problems,
@@ -239,6 +244,16 @@ fn chain(dir: &Path, rec: &DeriveRecord, assembled: &Manifest) -> Vec<Problem> {
         });
     }
     out
+}
+
+/// What is wrong with the film's MP4 as a player reads it
+/// ([`super::video::check_shape`]).
+fn video(dir: &Path, mp4: &str, film: &Manifest) -> Option<Problem> {
+    let shape = super::video::check_shape(&dir.join(mp4), film.frame_count, film.dt);
+    shape.err().map(|why| Problem::Stale {
+        file: mp4.to_string(),
+        why: format!("{why}: `lmfilm mux DIR` makes it again"),
+    })
 }
 
 /// The problem with one listed file, if any. It is read as a regular

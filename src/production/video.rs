@@ -261,6 +261,68 @@ pub fn opus_packets(pcm: &Pcm) -> Result<Vec<OpusPacket>, VideoError> {
     Ok(packets)
 }
 
+/// What an MP4 holds, as a player reads its index.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shape {
+    /// Pictures in its video track.
+    pub pictures: u32,
+    /// Its video track's duration, seconds.
+    pub seconds: f64,
+    /// Its sound track's duration, seconds, when it has one.
+    pub sound_seconds: Option<f64>,
+}
+
+/// The MP4 at `path` read back by the `mp4` crate (an index reader that
+/// is not the muxer that wrote it): its video track's pictures and
+/// duration, its sound track's duration.
+pub fn shape(path: &std::path::Path) -> Result<Shape, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let size = file.metadata().map_err(|e| e.to_string())?.len();
+    let reader = mp4::Mp4Reader::read_header(std::io::BufReader::new(file), size)
+        .map_err(|e| format!("not an MP4 a player can read: {e}"))?;
+    let track = |kind: mp4::TrackType| {
+        let mut tracks = reader.tracks().values();
+        tracks.find(|t| t.track_type().ok() == Some(kind))
+    };
+    let video = track(mp4::TrackType::Video).ok_or("no video track")?;
+    Ok(Shape {
+        pictures: video.sample_count(),
+        seconds: video.duration().as_secs_f64(),
+        sound_seconds: track(mp4::TrackType::Audio).map(|t| t.duration().as_secs_f64()),
+    })
+}
+
+/// An Opus packet's length in the MP4, seconds.
+const OPUS_PACKET: f64 = 0.02;
+
+/// Whether the MP4 at `path` is a film of `frames` frames every `dt`
+/// seconds as a player reads it: a picture for each frame, the film's
+/// duration (within half a frame), and a sound track, if any, as long
+/// (its last 20 ms packet may run past the end); else what is wrong.
+pub fn check_shape(path: &std::path::Path, frames: u64, dt: f64) -> Result<(), String> {
+    let shape = shape(path)?;
+    let seconds = frames as f64 * dt;
+    let half = 0.5 * dt;
+    if u64::from(shape.pictures) != frames {
+        return Err(format!(
+            "holds {} pictures, the film {frames} frames",
+            shape.pictures
+        ));
+    }
+    if (shape.seconds - seconds).abs() > half {
+        return Err(format!(
+            "lasts {:.3} s, the film {seconds:.3} s",
+            shape.seconds
+        ));
+    }
+    match shape.sound_seconds {
+        Some(s) if s < seconds - half || s > seconds + OPUS_PACKET + half => {
+            Err(format!("its sound lasts {s:.3} s, the film {seconds:.3} s"))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// The MP4: the `pictures` of `coded` size at `rate` (`num`/`den` frames
 /// a second), and the soundtrack's packets when given, written to `out`
 /// with the index first (a browser plays it while it loads).

@@ -1,15 +1,25 @@
 //! The video encoded while the frames render (issue 56): each group of
 //! pictures ([`video::group_len`] frames from a multiple of it) is encoded
-//! as its frames are written, in frame order, on a thread of its own, and
-//! kept with the frames and PNG hashes it was made of. The mux takes a
-//! group whose frames are still those of the folder and encodes only the
-//! others from their PNGs; a group's bytes are a function of its frames,
-//! so the MP4 is the same whichever way each group was made.
+//! as its frames are written, in frame order, by a worker of its own, and
+//! kept with the frames and PNG hashes it was made of. Several groups
+//! encode at once ([`WORKERS`]), so on many cores the encoder keeps up
+//! with the renderer. The mux takes a group whose frames are still those
+//! of the folder and encodes only the others from their PNGs; a group's
+//! bytes are a function of its frames, so the MP4 is the same whichever
+//! way each group was made.
 
+use std::collections::VecDeque;
+use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::Mutex;
+use std::thread::ScopedJoinHandle;
 
-use super::mux::FrameRate;
+use super::timings::{Stage, Timings};
 use super::video::{self, Picture, Rgb, VideoEncoder};
+
+/// Groups encoding at once: a group takes about as long to encode on one
+/// core as its frames take to render on eight, so four keep up with 32
+/// cores; a fifth group waits for the oldest (the frames wait on it).
+const WORKERS: usize = 4;
 
 /// A group of pictures encoded as its frames were written.
 pub struct EncodedGroup {
@@ -29,21 +39,7 @@ pub struct TappedFrame {
     pub rgb: Vec<u8>,
 }
 
-/// The group being encoded: its encoder and what it was given.
-struct Open {
-    encoder: VideoEncoder,
-    frames: Vec<(u64, String)>,
-    size: (u32, u32),
-}
-
-/// What the tap holds between frames.
-#[derive(Default)]
-struct State {
-    open: Option<Open>,
-    done: Vec<EncodedGroup>,
-}
-
-/// Encodes the groups of a film of `frame_count` frames at `rate` with
+/// Encodes the groups of a film of `frame_count` frames at `fps` with
 /// the quantiser `qp` as their frames come, in frame order; a group one
 /// of whose frames does not come (up to date, not selected, another
 /// shard's) is left to the mux.
@@ -52,86 +48,116 @@ pub struct GroupTap {
     len: u64,
     frame_count: u64,
     qp: u8,
-    state: Mutex<State>,
+    done: Mutex<Vec<EncodedGroup>>,
+}
+
+/// The group being filled: where its frames go, the frame it wants
+/// next, and the frame after its last.
+struct Open {
+    to_worker: SyncSender<TappedFrame>,
+    next: u64,
+    end: u64,
+    size: (u32, u32),
 }
 
 impl GroupTap {
-    pub fn new(rate: FrameRate, qp: u8, frame_count: u64) -> GroupTap {
-        let fps = rate.fps();
+    pub fn new(fps: f64, qp: u8, frame_count: u64) -> GroupTap {
         GroupTap {
             fps,
             len: video::group_len(fps) as u64,
             frame_count,
             qp,
-            state: Mutex::default(),
+            done: Mutex::default(),
         }
     }
 
-    /// Takes the next frame written: opens its group at the group's first
-    /// frame, encodes it into the open group when it follows the last,
-    /// and closes the group at its last frame. A frame out of sequence
-    /// drops the open group (the mux encodes it).
-    pub fn frame(&self, f: TappedFrame) {
-        let Ok(mut state) = self.state.lock() else {
-            return;
+    /// Encodes the frames `written` gives, in frame order (`None`: a
+    /// frame not written now, which leaves its group to the mux): a frame
+    /// at a group's start opens the group on a worker of its own, the
+    /// frames that follow go to it, and one out of sequence drops it.
+    /// Returns when every worker has finished.
+    pub fn encode(&self, written: Receiver<Option<TappedFrame>>, timings: &Timings) {
+        std::thread::scope(|scope| {
+            let mut workers: VecDeque<ScopedJoinHandle<'_, ()>> = VecDeque::new();
+            let mut open: Option<Open> = None;
+            for f in written {
+                let Some(f) = f else {
+                    open = None;
+                    continue;
+                };
+                let follows = open
+                    .as_ref()
+                    .is_some_and(|o| o.next == f.frame && o.size == f.size);
+                if !follows {
+                    open = None; // its worker sees the group cut short
+                    if !f.frame.is_multiple_of(self.len) {
+                        continue;
+                    }
+                    if workers.len() == WORKERS {
+                        let _ = workers.pop_front().map(ScopedJoinHandle::join);
+                    }
+                    let (to_worker, frames) = sync_channel(self.len as usize);
+                    let first = (f.frame, f.size);
+                    workers.push_back(scope.spawn(move || self.worker(first, frames, timings)));
+                    open = Some(Open {
+                        to_worker,
+                        next: f.frame,
+                        end: (f.frame + self.len).min(self.frame_count),
+                        size: f.size,
+                    });
+                }
+                if let Some(o) = open.as_mut() {
+                    o.next = f.frame + 1;
+                    // Closed after its last frame, or when the worker
+                    // gave up (an encoder error).
+                    if o.to_worker.send(f).is_err() || o.next == o.end {
+                        open = None;
+                    }
+                }
+            }
+        });
+    }
+
+    /// Encodes the group that starts at `first` with frames of `size`
+    /// from `frames`, and keeps it when all its frames came.
+    fn worker(
+        &self,
+        (first, size): (u64, (u32, u32)),
+        frames: Receiver<TappedFrame>,
+        timings: &Timings,
+    ) {
+        let Ok(mut encoder) = VideoEncoder::new(first, size, self.fps, self.qp) else {
+            return; // the mux encodes it, and says why not
         };
-        let expected = state
-            .open
-            .as_ref()
-            .and_then(|o| o.frames.last())
-            .map(|(k, _)| k + 1);
-        let follows =
-            expected == Some(f.frame) && state.open.as_ref().is_some_and(|o| o.size == f.size);
-        if !follows {
-            state.open = None;
-            if !f.frame.is_multiple_of(self.len) {
+        let want = self.len.min(self.frame_count.saturating_sub(first));
+        let mut made = Vec::new();
+        for f in frames {
+            let rgb = Rgb {
+                width: f.size.0,
+                height: f.size.1,
+                pixels: &f.rgb,
+            };
+            if timings.time(Stage::Video, || encoder.push(&rgb)).is_err() {
                 return;
             }
-            match VideoEncoder::new(f.frame, f.size, self.fps, self.qp) {
-                Ok(encoder) => {
-                    state.open = Some(Open {
-                        encoder,
-                        frames: Vec::new(),
-                        size: f.size,
-                    })
-                }
-                Err(_) => return, // the mux encodes it, and says why not
-            }
+            made.push((f.frame, f.png));
         }
-        let Some(open) = state.open.as_mut() else {
-            return;
-        };
-        let rgb = Rgb {
-            width: f.size.0,
-            height: f.size.1,
-            pixels: &f.rgb,
-        };
-        if open.encoder.push(&rgb).is_err() {
-            state.open = None;
-            return;
-        }
-        open.frames.push((f.frame, f.png));
-        let last = (f.frame / self.len + 1) * self.len;
-        if f.frame + 1 == last.min(self.frame_count) {
-            if let Some(o) = state.open.take() {
-                state.done.push(EncodedGroup {
-                    frames: o.frames,
-                    size: o.size,
-                    pictures: o.encoder.finish(),
-                });
+        if made.len() as u64 == want {
+            let group = EncodedGroup {
+                frames: made,
+                size,
+                pictures: encoder.finish(),
+            };
+            if let Ok(mut done) = self.done.lock() {
+                done.push(group);
             }
         }
     }
 
-    /// A frame that was not written now: its group is left to the mux.
-    pub fn skip(&self) {
-        if let Ok(mut state) = self.state.lock() {
-            state.open = None;
-        }
-    }
-
-    /// The groups complete so far.
+    /// The groups complete, in frame order.
     pub fn groups(self) -> Vec<EncodedGroup> {
-        self.state.into_inner().map(|s| s.done).unwrap_or_default()
+        let mut done = self.done.into_inner().unwrap_or_default();
+        done.sort_by_key(|g| g.frames.first().map(|f| f.0));
+        done
     }
 }

@@ -67,6 +67,10 @@ pub(crate) fn write(dir: &Path, name: &str, text: &str) -> String {
     s(&p).to_string()
 }
 
+fn sha256_hex(bytes: &[u8]) -> String {
+    lmfilm::production::digest::sha256_bytes(bytes)
+}
+
 fn read(p: &Path) -> Vec<u8> {
     std::fs::read(p).unwrap()
 }
@@ -443,6 +447,28 @@ fn the_mp4_is_made_from_its_frames_and_soundtrack() {
     assert!(err.contains("film.mp4"), "{err}");
     ok(&["mux", s(&dir)]);
     assert_eq!(read(&mp4), whole, "made again, the same bytes");
+    // An MP4 whose record names its bytes but which is not the film's:
+    // a shorter film's video, its hash written into the record (a muxer
+    // that lost frames would leave that). verify reads the MP4 back as a
+    // player does and names the count and the length.
+    let short = root.join("short");
+    let shorter = write(&root, "short.lm", &SCENE.replace("0.4 0.04", "0.2 0.04"));
+    run(&[&shorter], &short, &[]);
+    let other = read(&short.join("short.mp4"));
+    std::fs::write(&mp4, &other).unwrap();
+    let record = dir.join("film.mp4.json");
+    let text = std::fs::read_to_string(&record).unwrap();
+    let old_hash = sha256_hex(&whole);
+    assert!(text.contains(&old_hash), "{text}");
+    std::fs::write(&record, text.replace(&old_hash, &sha256_hex(&other))).unwrap();
+    ok(&["sound", s(&dir)]); // the manifest assembled again from the records
+    let err = fails(&["verify", s(&dir)], 1);
+    assert!(
+        err.contains("film.mp4: holds 6 pictures, the film 11 frames"),
+        "{err}"
+    );
+    ok(&["mux", s(&dir)]);
+    ok(&["verify", s(&dir)]);
     // New frames: the old MP4 no longer matches them.
     ok(&["render", s(&dir), "--spp", "2"]);
     let err = fails(&["verify", s(&dir)], 1);

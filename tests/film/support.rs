@@ -17,6 +17,7 @@ use lmfilm::production::digest::{sha256_bytes, sha256_file};
 use lmfilm::production::frames::{FrameRange, FrameSelection, RangeError, Shard, ShardError};
 use lmfilm::production::manifest::{Error, Manifest};
 use lmfilm::production::mux::{mux, FramePng, FrameRate, MuxError};
+use lmfilm::production::timings::Timings;
 use lmfilm::production::verify::verify;
 use lmfilm::production::video_groups::{GroupTap, TappedFrame};
 
@@ -379,22 +380,27 @@ fn groups_encoded_as_frames_come_make_the_mp4_of_the_pngs() {
     assert_eq!(from_pngs.groups, (0, 2));
     let reference = fs::read(&from_pngs.mp4).unwrap();
     let tapped = |hash_of: &dyn Fn(u64) -> String, skip: Option<u64>| {
-        let tap = GroupTap::new(rate, 20, 3);
+        let tap = GroupTap::new(rate.fps(), 20, 3);
+        let (written, frames) = std::sync::mpsc::sync_channel(3);
         for k in 0..3 {
             if skip == Some(k) {
-                tap.skip();
+                written.send(None).unwrap();
                 continue;
             }
             let image = image::open(dir.join(frame_path("tiny", k, "png")))
                 .unwrap()
                 .into_rgb8();
-            tap.frame(TappedFrame {
-                frame: k,
-                png: hash_of(k),
-                size: image.dimensions(),
-                rgb: image.into_raw(),
-            });
+            written
+                .send(Some(TappedFrame {
+                    frame: k,
+                    png: hash_of(k),
+                    size: image.dimensions(),
+                    rgb: image.into_raw(),
+                }))
+                .unwrap();
         }
+        drop(written);
+        tap.encode(frames, &Timings::start());
         tap.groups()
     };
     let same = tapped(&|k| frames[k as usize].hash.clone(), None);
