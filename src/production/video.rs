@@ -208,10 +208,12 @@ pub fn bt709(frame: &Rgb, coded: (usize, usize)) -> Vec<u8> {
     let luma = |[r, g, b]: [f32; 3]| 0.2126 * r + 0.7152 * g + 0.0722 * b;
     let (y_plane, chroma) = out.split_at_mut(w * h);
     let (u_plane, v_plane) = chroma.split_at_mut(w * h / 4);
+    // `(v + 0.5) as u8` is `v.round()` for these values (in [0, 256),
+    // where adding a half is exact), without a call to `roundf`.
     for y in 0..h {
         for x in 0..w {
             let v = 16.0 + luma(px(x, y)) * (219.0 / 255.0);
-            y_plane[y * w + x] = v.round() as u8;
+            y_plane[y * w + x] = (v + 0.5) as u8;
         }
     }
     for y in 0..h / 2 {
@@ -226,8 +228,9 @@ pub fn bt709(frame: &Rgb, coded: (usize, usize)) -> Vec<u8> {
             let l = luma(m);
             let cb = 128.0 + (m[2] - l) / 1.8556 * (224.0 / 255.0);
             let cr = 128.0 + (m[0] - l) / 1.5748 * (224.0 / 255.0);
-            u_plane[y * (w / 2) + x] = cb.round().clamp(16.0, 240.0) as u8;
-            v_plane[y * (w / 2) + x] = cr.round().clamp(16.0, 240.0) as u8;
+            // Clamped, then truncated: `round().clamp(16, 240)`.
+            u_plane[y * (w / 2) + x] = (cb + 0.5).clamp(16.0, 240.0) as u8;
+            v_plane[y * (w / 2) + x] = (cr + 0.5).clamp(16.0, 240.0) as u8;
         }
     }
     out
@@ -355,4 +358,37 @@ pub fn write_mp4<W: Write>(
         muxer.write_audio(p.time, &p.bytes).map_err(codec)?;
     }
     muxer.finish().map_err(codec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The conversion's rounding without `roundf` is BT.709's formula
+    /// rounded to nearest, for every colour on a grid of steps of 3 (a
+    /// 2×2 block of one colour: luma and chroma of the same pixel).
+    #[test]
+    fn bt709_rounds_to_nearest() {
+        let luma = |r: f32, g: f32, b: f32| 0.2126 * r + 0.7152 * g + 0.0722 * b;
+        for r in (0..=255u8).step_by(3) {
+            for g in (0..=255u8).step_by(3) {
+                for b in (0..=255u8).step_by(3) {
+                    let pixels = [r, g, b].repeat(4);
+                    let frame = Rgb {
+                        width: 2,
+                        height: 2,
+                        pixels: &pixels,
+                    };
+                    let out = bt709(&frame, (2, 2));
+                    let (rf, gf, bf) = (f32::from(r), f32::from(g), f32::from(b));
+                    let l = luma(rf, gf, bf);
+                    let y = (16.0 + l * (219.0 / 255.0)).round() as u8;
+                    let cb = 128.0 + (bf - l) / 1.8556 * (224.0 / 255.0);
+                    let cr = 128.0 + (rf - l) / 1.5748 * (224.0 / 255.0);
+                    let chroma = |c: f32| c.round().clamp(16.0, 240.0) as u8;
+                    assert_eq!(out, [y, y, y, y, chroma(cb), chroma(cr)], "{r} {g} {b}");
+                }
+            }
+        }
+    }
 }
