@@ -221,7 +221,7 @@ macro_rules! sampling_options {
                     width: self.width,
                     height: self.height,
                     $( $name: self.$name, )*
-                    layers: self.formats != Formats::Png,
+                    layers: self.formats != Formats::Png || self.denoise,
                     frame: 0,
                 }
             }
@@ -281,6 +281,11 @@ sampling_options! {
     /// (default 0.5, a film camera's 180°): the path tracer blurs what
     /// moves between a frame and the next over it; 0 freezes.
     shutter: f32, preset false, arg(value_name = "F", value_parser = shutter), #[serde(default = "default_shutter")];
+    /// Denoise each frame (on|off, default off), guided by its albedo,
+    /// normals and depth: the path tracer's look at few samples. The EXR
+    /// keeps the colour as rendered beside it (docs/rendering.md).
+    // Recorded only when on: a frame of before the choice was not.
+    denoise: bool, preset true, arg(value_name = "on|off", value_parser = on_off(), hide_possible_values = true), #[serde(default, skip_serializing_if = "std::ops::Not::not")];
 }
 
 impl RenderChoice {

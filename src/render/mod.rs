@@ -6,6 +6,7 @@
 pub mod accel;
 pub mod batch;
 pub mod camera;
+pub mod denoise;
 mod integrator;
 pub mod motion;
 pub mod output;
@@ -103,6 +104,8 @@ pub fn render_with(
         .zip(img.depth.par_chunks_mut(row))
         .zip(img.normal.par_chunks_mut(row))
         .zip(img.object.par_chunks_mut(row))
+        .zip(img.albedo.par_chunks_mut(row))
+        .zip(img.variance.par_chunks_mut(row))
         .enumerate()
         // A row per task. Otherwise rayon hands each thread runs of rows
         // it does not split once started (a quarter of the frame with
@@ -110,13 +113,20 @@ pub fn render_with(
         // one thread sat idle at the end. Forest, two threads: 1.65 of
         // 2 cores busy, 1.80 this way.
         .with_max_len(1)
-        .for_each(|(y, (((rgba, depth), normal), object))| {
-            let mut integrator = integrator::start(settings.integrator);
-            integrator.row(accel, &cam, settings, y as u32, &mut |x, p| {
-                let i = x as usize;
-                (rgba[i], depth[i], normal[i], object[i]) = (p.rgba, p.depth, p.normal, p.object);
-            });
-            progress(done.fetch_add(1, Ordering::Relaxed) + 1, h);
-        });
+        .for_each(
+            |(y, (((((rgba, depth), normal), object), albedo), variance))| {
+                let mut integrator = integrator::start(settings.integrator);
+                integrator.row(accel, &cam, settings, y as u32, &mut |x, p| {
+                    let i = x as usize;
+                    (rgba[i], depth[i], normal[i], object[i]) =
+                        (p.rgba, p.depth, p.normal, p.object);
+                    (albedo[i], variance[i]) = (p.albedo, p.variance);
+                });
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1, h);
+            },
+        );
+    if settings.denoise {
+        denoise::denoise(&mut img);
+    }
     img
 }

@@ -39,6 +39,12 @@ pub const ID_CHANNEL: &str = "id";
 pub const DEPTH_CHANNEL: &str = "Z";
 /// EXR channels holding the world-space normal (f32).
 pub const NORMAL_CHANNELS: [&str; 3] = ["N.X", "N.Y", "N.Z"];
+/// EXR channels of a denoised frame's albedo (the names OIDN's tools
+/// and compositors look for).
+pub const ALBEDO_CHANNELS: [&str; 3] = ["albedo.R", "albedo.G", "albedo.B"];
+/// EXR channels of a denoised frame's colour as rendered, before the
+/// denoiser (the master keeps both).
+pub const NOISY_CHANNELS: [&str; 4] = ["noisy.R", "noisy.G", "noisy.B", "noisy.A"];
 
 /// A rendered frame: linear RGBA plus the AOV layers.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,6 +61,15 @@ pub struct Image {
     pub normal: Vec<[f32; 3]>,
     /// Object id of the nearest hit, `u32::MAX` for none.
     pub object: Vec<u32>,
+    /// The reflectance of the surface the pixel's centre ray meets (its
+    /// BSDF's albedo, textures included), 1 for none: what the denoiser
+    /// divides the light by.
+    pub albedo: Vec<[f32; 3]>,
+    /// The variance of the pixel's mean luminance over its samples (0
+    /// for one sample): how noisy the pixel is.
+    pub variance: Vec<f32>,
+    /// The colour as rendered, when the denoiser replaced it.
+    pub noisy: Option<Vec<[f32; 4]>>,
 }
 
 impl Image {
@@ -70,6 +85,9 @@ impl Image {
             depth: vec![f32::INFINITY; n],
             normal: vec![[0.0; 3]; n],
             object: vec![u32::MAX; n],
+            albedo: vec![[1.0; 3]; n],
+            variance: vec![0.0; n],
+            noisy: None,
         }
     }
 
@@ -112,6 +130,9 @@ fn validate(img: &Image) -> io::Result<()> {
         ("depth", img.depth.len()),
         ("normal", img.normal.len()),
         ("object", img.object.len()),
+        ("albedo", img.albedo.len()),
+        ("variance", img.variance.len()),
+        ("noisy", img.noisy.as_ref().map_or(n, Vec::len)),
     ];
     for (name, len) in lens {
         if len != n {
@@ -154,7 +175,7 @@ pub fn encode_exr(img: &Image) -> io::Result<Vec<u8>> {
     let f32_channel = |name: &str, f: &dyn Fn(usize) -> f32| {
         AnyChannel::new(name, FlatSamples::F32((0..img.len()).map(f).collect()))
     };
-    let channels = vec![
+    let mut channels = vec![
         f32_channel("R", &|i| img.rgba[i][0]),
         f32_channel("G", &|i| img.rgba[i][1]),
         f32_channel("B", &|i| img.rgba[i][2]),
@@ -165,6 +186,16 @@ pub fn encode_exr(img: &Image) -> io::Result<Vec<u8>> {
         f32_channel(NORMAL_CHANNELS[2], &|i| img.normal[i][2]),
         AnyChannel::new(ID_CHANNEL, FlatSamples::U32(img.object.clone())),
     ];
+    // A denoised frame keeps what the denoiser read: the colour as
+    // rendered and the albedo (a frame not denoised, its bytes as before).
+    if let Some(noisy) = &img.noisy {
+        for (c, name) in NOISY_CHANNELS.iter().enumerate() {
+            channels.push(f32_channel(name, &|i| noisy[i][c]));
+        }
+        for (c, name) in ALBEDO_CHANNELS.iter().enumerate() {
+            channels.push(f32_channel(name, &|i| img.albedo[i][c]));
+        }
+    }
     let encoding = Encoding {
         compression: Compression::ZIP16,
         blocks: Blocks::ScanLines,
@@ -398,7 +429,8 @@ pub fn max_file_bytes(pixels: u64) -> u64 {
 }
 
 /// Reads a frame written by `write_exr` back: R, G, B required; A (default
-/// 1), Z (∞), N.X/N.Y/N.Z (0) and `id` (u32::MAX) optional. The first layer
+/// 1), Z (∞), N.X/N.Y/N.Z (0), `id` (u32::MAX), albedo.R/G/B (1) and
+/// noisy.R/G/B/A (none) optional. The first layer
 /// is used; RGB/Z/N may be stored as f16, f32 or u32, `id` must be u32.
 /// Only a regular file is read, of at most [`max_file_bytes`] of the
 /// default `--max-pixels` (`source::read_file`: a pipe or a device is
@@ -470,6 +502,23 @@ pub fn read_exr_layers(path: &Path) -> io::Result<Image> {
                 px[k] = x;
             }
         }
+    }
+    for (k, name) in ALBEDO_CHANNELS.into_iter().enumerate() {
+        if let Some(v) = floats(name, false)? {
+            for (px, x) in img.albedo.iter_mut().zip(v) {
+                px[k] = x;
+            }
+        }
+    }
+    if floats(NOISY_CHANNELS[0], false)?.is_some() {
+        let mut noisy = vec![[0.0f32; 4]; n];
+        for (k, name) in NOISY_CHANNELS.into_iter().enumerate() {
+            let v = floats(name, true)?.unwrap_or_default();
+            for (px, x) in noisy.iter_mut().zip(v) {
+                px[k] = x;
+            }
+        }
+        img.noisy = Some(noisy);
     }
     match find(ID_CHANNEL) {
         None => {}

@@ -6,7 +6,9 @@ use glam::Vec3;
 
 use super::accel::{Accel, Hit};
 use super::camera::CameraRays;
+use super::path::bsdf::Bsdf;
 use super::settings::{Filter, Settings};
+use super::shade;
 use crate::random::{self, Stream};
 
 /// One pixel's values.
@@ -15,6 +17,30 @@ pub struct PixelOut {
     pub depth: f32,
     pub normal: [f32; 3],
     pub object: u32,
+    /// The albedo of the surface the centre ray meets (1 for none).
+    pub albedo: [f32; 3],
+    /// The variance of the pixel's mean luminance (0 for one sample).
+    pub variance: f32,
+}
+
+/// What the ray through a pixel's centre meets: the layers' surface.
+#[derive(Clone, Copy)]
+pub struct Centre {
+    pub hit: Hit,
+    /// Its BSDF's albedo, textures included.
+    pub albedo: Vec3,
+}
+
+impl Centre {
+    /// The centre ray's `hit` of pixel (x, y), with its surface's albedo.
+    pub fn of(accel: &Accel, cam: &CameraRays, hit: Hit, (x, y): (u32, u32)) -> Centre {
+        let d = cam.dir(x as f32 + 0.5, y as f32 + 0.5);
+        let albedo = shade::point(accel, &hit, cam.eye(), d).map_or(Vec3::ZERO, |pt| {
+            let m = &accel.scene.materials[pt.material];
+            Bsdf::new(m, pt.diffuse, pt.n, pt.outside).albedo()
+        });
+        Centre { hit, albedo }
+    }
 }
 
 /// The offsets of `n` samples within the pixel of key `key` into `out`:
@@ -109,31 +135,36 @@ impl Samples {
     }
 }
 
-/// The hit of the ray through pixel (x, y)'s centre, where the layers
+/// What the ray through pixel (x, y)'s centre meets, where the layers
 /// are wanted.
-pub fn centre(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> Option<Hit> {
+pub fn centre(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) -> Option<Centre> {
     if !st.layers {
         return None;
     }
-    accel.cast(
+    let hit = accel.cast(
         cam.eye(),
         cam.dir(x as f32 + 0.5, y as f32 + 0.5),
         0.0,
         f32::INFINITY,
-    )
+    )?;
+    Some(Centre::of(accel, cam, hit, (x, y)))
 }
 
 /// A pixel from its samples, as (offset in the pixel, colour, whether
-/// the ray met a surface), weighted by the filter, and the centre ray's
-/// hit.
+/// the ray met a surface), weighted by the filter, and what the centre
+/// ray met.
 pub fn filtered(
     st: &Settings,
     samples: impl Iterator<Item = ((f32, f32), Vec3, bool)>,
-    centre: Option<Hit>,
+    centre: Option<Centre>,
 ) -> PixelOut {
     let mut sum = [0.0f32; 4];
     let mut wsum = 0.0f32;
+    // The samples' luminance moments, for the variance of their mean.
+    let (mut l1, mut l2, mut n) = (0.0f32, 0.0f32, 0u32);
     for ((ox, oy), c, hit) in samples {
+        let l = luminance(c);
+        (l1, l2, n) = (l1 + l, l2 + l * l, n + 1);
         let w = match st.filter {
             Filter::Box => 1.0,
             Filter::Gaussian => {
@@ -147,10 +178,23 @@ pub fn filtered(
         sum[3] += w * f32::from(u8::from(hit));
         wsum += w;
     }
+    let variance = if n > 1 {
+        let mean = l1 / n as f32;
+        ((l2 / n as f32 - mean * mean) / (n - 1) as f32).max(0.0)
+    } else {
+        0.0
+    };
     PixelOut {
         rgba: sum.map(|v| v / wsum),
-        depth: centre.map_or(f32::INFINITY, |h| h.t),
-        normal: centre.map_or([0.0; 3], |h| h.normal.to_array()),
-        object: centre.map_or(u32::MAX, |h| h.object),
+        depth: centre.map_or(f32::INFINITY, |c| c.hit.t),
+        normal: centre.map_or([0.0; 3], |c| c.hit.normal.to_array()),
+        object: centre.map_or(u32::MAX, |c| c.hit.object),
+        albedo: centre.map_or([1.0; 3], |c| c.albedo.to_array()),
+        variance,
     }
+}
+
+/// Rec. 709 luminance of a linear colour.
+pub fn luminance(c: Vec3) -> f32 {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }

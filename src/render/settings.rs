@@ -84,6 +84,9 @@ pub struct Settings {
     /// The fraction of the frame interval the shutter stays open (the
     /// path tracer's motion blur; 0 freezes the frame).
     pub shutter: f32,
+    /// Whether the frame is denoised (`render::denoise`), guided by its
+    /// layers (which it then computes whatever the format).
+    pub denoise: bool,
     /// Whether the depth, normal and object id layers are wanted (EXR):
     /// they cost one more ray through each pixel centre.
     pub layers: bool,
@@ -119,6 +122,7 @@ impl Settings {
             light_samples: 1,
             integrator: Integrator::Whitted,
             shutter: SHUTTER,
+            denoise: false,
             layers: true,
             frame: 0,
         }
@@ -136,6 +140,7 @@ impl Settings {
             light_samples: 4,
             integrator: Integrator::Whitted,
             shutter: SHUTTER,
+            denoise: false,
             layers: true,
             frame: 0,
         }

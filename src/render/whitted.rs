@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::accel::{Accel, Hit, Query};
 use super::camera::CameraRays;
-use super::sample::{filtered, Integrate, PixelOut, Samples};
+use super::sample::{filtered, Centre, Integrate, PixelOut, Samples};
 use super::settings::Settings;
 use super::{batch, shade};
 use crate::random::{self, Stream};
@@ -208,7 +208,10 @@ impl Integrate for Whitted {
                     .iter()
                     .zip(&lit[..n])
                     .map(|(lane, &(c, hit))| (lane.offset, c, hit.is_some()));
-                let centre = if st.layers { lit[per - 1].1 } else { None };
+                let centre = match lit[per - 1].1 {
+                    Some(hit) if st.layers => Some(Centre::of(accel, cam, hit, (x, y))),
+                    _ => None,
+                };
                 put(x, filtered(st, samples, centre));
             }
         }

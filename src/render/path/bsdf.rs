@@ -103,6 +103,12 @@ impl Bsdf {
     }
 
     /// The unit shading normal, facing the incoming ray.
+    /// The fraction of light it scatters, all lobes together (each at
+    /// most 1): the albedo a denoiser divides the light by.
+    pub fn albedo(&self) -> Vec3 {
+        (self.diffuse + self.glossy + Vec3::splat(self.mirror + self.glass)).min(Vec3::ONE)
+    }
+
     pub fn normal(&self) -> Vec3A {
         self.n
     }

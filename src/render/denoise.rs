@@ -1,0 +1,256 @@
+//! The denoiser (issue 57): an edge-avoiding à-trous wavelet filter
+//! (Dammertz et al. 2010) guided by the frame's own layers, with the
+//! luminance edge-stopping of SVGF (Schied et al. 2017) driven by each
+//! pixel's sample variance. The light is filtered, not the colour: each
+//! pixel's colour is divided by its surface's albedo before and
+//! multiplied after, so textures stay sharp while the light's noise is
+//! smoothed. Five passes of a 5×5 B3-spline kernel, its taps 1, 2, 4, 8
+//! and 16 pixels apart, each tap weighted by how alike the two pixels'
+//! normals, depths and light are (the light's likeness measured against
+//! its noise). Every pixel of a pass is a function of the last pass's
+//! image alone, summed in a fixed order: the same bytes for any thread
+//! count.
+
+use rayon::prelude::*;
+
+use super::output::Image;
+
+/// The B3 spline's taps.
+const TAPS: [f32; 5] = [1.0 / 16.0, 1.0 / 4.0, 3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0];
+
+/// Passes of the filter: a footprint of 2⁵ · 4 + 1 = 129 pixels.
+const PASSES: u32 = 5;
+
+/// How many standard deviations of its noise two pixels' light may
+/// differ by and still be averaged (SVGF's σ_l).
+const SIGMA_LIGHT: f32 = 4.0;
+
+/// The exponent on the cosine between two normals (SVGF's σ_n).
+const SIGMA_NORMAL: i32 = 128;
+
+/// Depth tolerance in units of the depth's change along the tap's
+/// offset (SVGF's σ_z).
+const SIGMA_DEPTH: f32 = 1.0;
+
+/// An albedo below this is not divided by (a black surface's light is
+/// its colour).
+const LEAST_ALBEDO: f32 = 1e-3;
+
+/// What each pixel's weights are computed from.
+struct Guide {
+    /// Whether the centre ray met a surface.
+    hit: Vec<bool>,
+    depth: Vec<f32>,
+    normal: Vec<[f32; 3]>,
+    /// The depth's change per pixel across and down (0 where unknown).
+    slope: Vec<[f32; 2]>,
+    /// The albedo divided by, per channel (1 where too dark).
+    albedo: Vec<[f32; 3]>,
+}
+
+/// Replaces the frame's colour by its denoised colour, keeping the colour
+/// as rendered in `img.noisy`. Needs the layers (depth, normal, albedo)
+/// and the per-pixel variance the renderer fills.
+pub fn denoise(img: &mut Image) {
+    if img.is_empty() {
+        return;
+    }
+    let (w, h) = (img.width as usize, img.height as usize);
+    let guide = Guide::of(img, w, h);
+    let mut light: Vec<[f32; 3]> = img
+        .rgba
+        .iter()
+        .zip(&guide.albedo)
+        .map(|(c, a)| [c[0] / a[0], c[1] / a[1], c[2] / a[2]])
+        .collect();
+    let mut variance = light_variance(img, &guide, &light, w, h);
+    for pass in 0..PASSES {
+        (light, variance) = filter_pass(&guide, (&light, &variance), (w, h), 1 << pass);
+    }
+    let noisy = img.rgba.clone();
+    for ((out, l), a) in img.rgba.iter_mut().zip(&light).zip(&guide.albedo) {
+        out[0] = l[0] * a[0];
+        out[1] = l[1] * a[1];
+        out[2] = l[2] * a[2];
+    }
+    img.noisy = Some(noisy);
+}
+
+impl Guide {
+    fn of(img: &Image, w: usize, h: usize) -> Guide {
+        let hit: Vec<bool> = img.depth.iter().map(|d| d.is_finite()).collect();
+        let at = |x: usize, y: usize| hit[y * w + x].then(|| img.depth[y * w + x]);
+        // Central differences where both neighbours are surfaces, else
+        // one-sided: the depth's slope along x and y.
+        let slope_along = |x: usize, y: usize, dx: usize, dy: usize| -> f32 {
+            let here = at(x, y).unwrap_or(0.0);
+            let before = (x >= dx && y >= dy).then(|| at(x - dx, y - dy)).flatten();
+            let after = (x + dx < w && y + dy < h)
+                .then(|| at(x + dx, y + dy))
+                .flatten();
+            match (before, after) {
+                (Some(b), Some(a)) => 0.5 * (a - b).abs(),
+                (Some(b), None) => (here - b).abs(),
+                (None, Some(a)) => (a - here).abs(),
+                (None, None) => 0.0,
+            }
+        };
+        let slope = (0..w * h)
+            .into_par_iter()
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                if hit[i] {
+                    [slope_along(x, y, 1, 0), slope_along(x, y, 0, 1)]
+                } else {
+                    [0.0; 2]
+                }
+            })
+            .collect();
+        let albedo = img
+            .albedo
+            .iter()
+            .zip(&hit)
+            .map(|(a, &hit)| {
+                a.map(|v| {
+                    if hit && v.is_finite() && v > LEAST_ALBEDO {
+                        v
+                    } else {
+                        1.0
+                    }
+                })
+            })
+            .collect();
+        Guide {
+            hit,
+            depth: img.depth.clone(),
+            normal: img.normal.clone(),
+            slope,
+            albedo,
+        }
+    }
+
+    /// How much pixel `q` (at `offset` pixels from `p`) counts for `p`'s
+    /// light, its light's distance to `p`'s measured in `p`'s noise
+    /// `sigma`: 0 across a surface's edge (a surface and the sky, normals
+    /// apart, depths apart beyond the surface's slope).
+    fn weight(&self, p: usize, q: usize, offset: (f32, f32), light: f32, sigma: f32) -> f32 {
+        if self.hit[p] != self.hit[q] {
+            return 0.0;
+        }
+        let mut w = (-light / sigma).exp();
+        if self.hit[p] {
+            let (np, nq) = (self.normal[p], self.normal[q]);
+            let cos = np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2];
+            w *= cos.max(0.0).powi(SIGMA_NORMAL);
+            let s = self.slope[p];
+            let expected = s[0] * offset.0.abs() + s[1] * offset.1.abs();
+            let gap = (self.depth[p] - self.depth[q]).abs();
+            w *= (-gap / (SIGMA_DEPTH * expected + 1e-3 * self.depth[p])).exp();
+        }
+        w
+    }
+}
+
+/// Luminance of a linear colour (Rec. 709).
+fn luminance(c: [f32; 3]) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+/// The variance of each pixel's light: its samples' (divided by its
+/// albedo's luminance, squared), or where a frame has one sample a
+/// pixel, the spread of the light over its 5×5 neighbours on its own
+/// surface.
+fn light_variance(img: &Image, guide: &Guide, light: &[[f32; 3]], w: usize, h: usize) -> Vec<f32> {
+    let sampled = img.variance.iter().any(|&v| v > 0.0);
+    (0..w * h)
+        .into_par_iter()
+        .map(|i| {
+            if sampled {
+                let a = luminance(guide.albedo[i]).max(LEAST_ALBEDO);
+                return img.variance[i] / (a * a);
+            }
+            let (x, y) = ((i % w) as isize, (i / w) as isize);
+            let (mut m1, mut m2, mut n) = (0.0f32, 0.0f32, 0.0f32);
+            for dy in -2..=2isize {
+                for dx in -2..=2isize {
+                    let (qx, qy) = (x + dx, y + dy);
+                    if qx < 0 || qy < 0 || qx >= w as isize || qy >= h as isize {
+                        continue;
+                    }
+                    let q = qy as usize * w + qx as usize;
+                    if guide.hit[q] != guide.hit[i] {
+                        continue;
+                    }
+                    let l = luminance(light[q]);
+                    (m1, m2, n) = (m1 + l, m2 + l * l, n + 1.0);
+                }
+            }
+            let mean = m1 / n;
+            (m2 / n - mean * mean).max(0.0)
+        })
+        .collect()
+}
+
+/// One pass of the filter with its taps `step` pixels apart: each
+/// pixel's light and its variance (weights squared) from the last pass's.
+fn filter_pass(
+    guide: &Guide,
+    (light, variance): (&[[f32; 3]], &[f32]),
+    (w, h): (usize, usize),
+    step: isize,
+) -> (Vec<[f32; 3]>, Vec<f32>) {
+    // The variance seen through a 3×3 Gaussian: one pixel's estimate is
+    // itself noisy.
+    let blurred: Vec<f32> = (0..w * h)
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = ((i % w) as isize, (i / w) as isize);
+            let (mut sum, mut wsum) = (0.0f32, 0.0f32);
+            for dy in -1..=1isize {
+                for dx in -1..=1isize {
+                    let (qx, qy) = (x + dx, y + dy);
+                    if qx < 0 || qy < 0 || qx >= w as isize || qy >= h as isize {
+                        continue;
+                    }
+                    let k =
+                        [0.25, 0.5, 0.25][(dx + 1) as usize] * [0.25, 0.5, 0.25][(dy + 1) as usize];
+                    sum += k * variance[qy as usize * w + qx as usize];
+                    wsum += k;
+                }
+            }
+            sum / wsum
+        })
+        .collect();
+    (0..w * h)
+        .into_par_iter()
+        .map(|p| {
+            let (x, y) = ((p % w) as isize, (p / w) as isize);
+            let lp = luminance(light[p]);
+            let sigma = SIGMA_LIGHT * blurred[p].sqrt() + 1e-6;
+            let (mut sum, mut wsum, mut vsum) = ([0.0f32; 3], 0.0f32, 0.0f32);
+            for (j, ky) in TAPS.iter().enumerate() {
+                for (i, kx) in TAPS.iter().enumerate() {
+                    let (dx, dy) = ((i as isize - 2) * step, (j as isize - 2) * step);
+                    let (qx, qy) = (x + dx, y + dy);
+                    if qx < 0 || qy < 0 || qx >= w as isize || qy >= h as isize {
+                        continue;
+                    }
+                    let q = qy as usize * w + qx as usize;
+                    let similar = if q == p {
+                        1.0
+                    } else {
+                        let gap = (lp - luminance(light[q])).abs();
+                        guide.weight(p, q, (dx as f32, dy as f32), gap, sigma)
+                    };
+                    let k = kx * ky * similar;
+                    for c in 0..3 {
+                        sum[c] += k * light[q][c];
+                    }
+                    wsum += k;
+                    vsum += k * k * variance[q];
+                }
+            }
+            (sum.map(|s| s / wsum), vsum / (wsum * wsum))
+        })
+        .unzip()
+}
