@@ -254,3 +254,111 @@ fn filter_pass(
         })
         .unzip()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random;
+
+    /// A `w`×`h` frame of one surface facing the camera at depth 5, its
+    /// albedo `albedo(x, y)`, lit by `light` with noise of standard
+    /// deviation `noise` (a hash of the pixel), the samples' variance
+    /// said.
+    fn frame(w: u32, h: u32, albedo: impl Fn(u32, u32) -> f32, light: f32, noise: f32) -> Image {
+        let mut img = Image::new(w, h);
+        for y in 0..h {
+            for x in 0..w {
+                let i = (y * w + x) as usize;
+                let u = random::unit(random::key(0, random::Stream::Pixel, i as u64, 0), 0) as f32;
+                // Uniform noise of that deviation: ±√3·σ.
+                let l = light + noise * 3f32.sqrt() * (2.0 * u - 1.0);
+                let a = albedo(x, y);
+                img.rgba[i] = [a * l, a * l, a * l, 1.0];
+                img.depth[i] = 5.0;
+                img.normal[i] = [0.0, 0.0, 1.0];
+                img.albedo[i] = [a; 3];
+                img.variance[i] = a * a * noise * noise;
+            }
+        }
+        img
+    }
+
+    fn rmse(img: &Image, want: impl Fn(usize) -> f32) -> f32 {
+        let sum: f32 = img
+            .rgba
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (c[0] - want(i)).powi(2))
+            .sum();
+        (sum / img.len() as f32).sqrt()
+    }
+
+    /// A flat surface's noise falls tenfold, and a checkerboard albedo
+    /// (a texture) comes through sharp: the light is filtered, not the
+    /// colour. The colour as rendered is kept.
+    #[test]
+    fn noise_falls_and_texture_stays() {
+        let checker = |x: u32, y: u32| if (x / 4 + y / 4) % 2 == 0 { 0.8 } else { 0.2 };
+        let mut img = frame(64, 48, checker, 0.5, 0.2);
+        let truth = |i: usize| checker(i as u32 % 64, i as u32 / 64) * 0.5;
+        let before = rmse(&img, truth);
+        let noisy = img.rgba.clone();
+        denoise(&mut img);
+        let after = rmse(&img, truth);
+        assert!(after < before / 10.0, "RMSE {before} → {after}");
+        assert_eq!(img.noisy.as_deref(), Some(&noisy[..]));
+    }
+
+    /// Two surfaces meeting at a crease (their normals apart) and a
+    /// surface against the sky do not bleed into each other.
+    #[test]
+    fn edges_hold() {
+        let mut img = frame(64, 48, |_, _| 0.5, 0.5, 0.1);
+        for y in 0..48 {
+            for x in 32..64 {
+                let i = y * 64 + x;
+                if y < 24 {
+                    // A wall facing sideways, lit at 0.1.
+                    img.normal[i] = [1.0, 0.0, 0.0];
+                    img.rgba[i] = [0.05, 0.05, 0.05, 1.0];
+                    img.variance[i] = 0.0;
+                } else {
+                    // The sky, 2.0 and noise-free.
+                    img.depth[i] = f32::INFINITY;
+                    img.normal[i] = [0.0; 3];
+                    img.rgba[i] = [2.0, 2.0, 2.0, 1.0];
+                    img.albedo[i] = [1.0; 3];
+                    img.variance[i] = 0.0;
+                }
+            }
+        }
+        denoise(&mut img);
+        for y in 0..48 {
+            let (left, right) = (img.rgba[y * 64 + 31][0], img.rgba[y * 64 + 32][0]);
+            assert!(
+                (left - 0.25).abs() < 0.05,
+                "row {y}: the lit surface at {left}"
+            );
+            let want = if y < 24 { 0.05 } else { 2.0 };
+            assert!(
+                (right - want).abs() < 1e-3,
+                "row {y}: across the edge {right}"
+            );
+        }
+    }
+
+    /// The same bits on one thread and on four.
+    #[test]
+    fn the_same_bits_on_any_number_of_threads() {
+        let run = |threads: usize| {
+            let mut img = frame(97, 61, |x, _| 0.1 + (x % 7) as f32 / 10.0, 0.7, 0.3);
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| denoise(&mut img));
+            img.rgba
+        };
+        assert_eq!(run(1), run(4));
+    }
+}

@@ -101,6 +101,49 @@ fn any_thread_count_and_any_shard_split_give_the_same_film() {
     std::fs::remove_dir_all(&root).unwrap();
 }
 
+/// A denoised film (issue 57): the same bytes at 1 and 2 threads and in
+/// shards; its frames' records say so (a film not denoised records
+/// nothing new); its EXR masters keep the colour as rendered and the
+/// albedo beside the denoised colour.
+#[test]
+fn a_denoised_film_is_the_same_for_any_split() {
+    let root = temp("denoised");
+    let scene = scene_in(&root);
+    let (one, two, split) = (root.join("one"), root.join("two"), root.join("split"));
+    let look = ["--integrator", "path", "--spp", "2", "--denoise", "on"];
+    fn with<'a>(args: &[&'a str], look: &[&'a str]) -> Vec<&'a str> {
+        [args, look].concat()
+    }
+    ok(&with(
+        &["run", &scene, "-o", s(&one), "--threads", "1"],
+        &look,
+    ));
+    ok(&with(
+        &["run", &scene, "-o", s(&two), "--threads", "2"],
+        &look,
+    ));
+    assert_eq!(manifest(&one), manifest(&two));
+    ok(&["derive", &scene, "-o", s(&split)]);
+    ok(&with(&["render", s(&split), "--shard", "2/2"], &look));
+    ok(&with(&["render", s(&split), "--shard", "1/2"], &look));
+    ok(&["sound", s(&split)]);
+    ok(&["mux", s(&split)]);
+    assert_eq!(manifest(&one), manifest(&split));
+    let record = std::fs::read_to_string(one.join("frames/flight.0003.json")).unwrap();
+    assert!(record.contains("\"denoise\": \"true\""), "{record}");
+    let exr = lmfilm::render::output::read_exr_layers(&one.join("frames/flight.0003.exr")).unwrap();
+    let noisy = exr.noisy.expect("the colour as rendered");
+    assert_ne!(noisy, exr.rgba, "denoised");
+    assert!(exr.albedo.iter().any(|a| *a != [1.0; 3]), "the albedo");
+    ok(&["verify", s(&one)]);
+    // Without the denoiser, nothing of it in the records.
+    let plain = root.join("plain");
+    ok(&["run", &scene, "-o", s(&plain), "--preset", "preview"]);
+    let record = std::fs::read_to_string(plain.join("frames/flight.0003.json")).unwrap();
+    assert!(!record.contains("denoise"), "{record}");
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
 /// `--timings` says where the time went (issue 45): each stage of the
 /// pipeline, and under the frame loop each actor's vision; `derive`
 /// gives its own part.

@@ -44,9 +44,14 @@ fn golden_images() {
         max_depth: 3,
         ..gallery
     };
+    let denoised = Settings {
+        denoise: true,
+        ..path
+    };
     let cases = [
         ("gallery_final", image("gallery.lm", 0.0, gallery)),
         ("gallery_path", image("gallery.lm", 0.0, path)),
+        ("gallery_path_denoised", image("gallery.lm", 0.0, denoised)),
         (
             "gallery_preview",
             image("gallery.lm", 0.0, Settings::preview(160, 90)),
