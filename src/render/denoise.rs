@@ -298,7 +298,13 @@ mod tests {
     /// colour. The colour as rendered is kept.
     #[test]
     fn noise_falls_and_texture_stays() {
-        let checker = |x: u32, y: u32| if (x / 4 + y / 4) % 2 == 0 { 0.8 } else { 0.2 };
+        let checker = |x: u32, y: u32| {
+            if (x / 4 + y / 4).is_multiple_of(2) {
+                0.8
+            } else {
+                0.2
+            }
+        };
         let mut img = frame(64, 48, checker, 0.5, 0.2);
         let truth = |i: usize| checker(i as u32 % 64, i as u32 / 64) * 0.5;
         let before = rmse(&img, truth);
