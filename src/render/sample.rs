@@ -7,7 +7,7 @@ use glam::Vec3;
 use super::accel::{Accel, Hit};
 use super::camera::CameraRays;
 use super::path::bsdf::Bsdf;
-use super::settings::{Filter, Settings};
+use super::settings::{Filter, Integrator, Settings};
 use super::shade;
 use crate::random::{self, Stream};
 
@@ -97,14 +97,17 @@ pub struct Samples {
 }
 
 impl Samples {
-    /// Pixel (x, y)'s samples' offsets; returns the pixel's key.
+    /// Pixel (x, y)'s samples' offsets; returns the pixel's key. The
+    /// path tracer's keys are the same every frame (as Cycles' default,
+    /// unanimated seed): a region that does not change renders the same
+    /// samples, so its noise, and what the denoiser leaves of it, stays
+    /// still rather than flickering from frame to frame.
     pub fn at(&mut self, st: &Settings, x: u32, y: u32) -> u64 {
-        let key = random::key(
-            st.frame,
-            Stream::Pixel,
-            (u64::from(y) << 32) | u64::from(x),
-            0,
-        );
+        let frame = match st.integrator {
+            Integrator::Path => 0,
+            Integrator::Whitted => st.frame,
+        };
+        let key = random::key(frame, Stream::Pixel, (u64::from(y) << 32) | u64::from(x), 0);
         let n = st.spp.max(1);
         if self.slots.len() != 2 * n as usize {
             self.slots = (0..2 * u64::from(n)).map(random::slot_hash).collect();

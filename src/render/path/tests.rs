@@ -375,3 +375,20 @@ fn motion_blur_spreads_a_point_over_its_screen_motion() {
         }
     }
 }
+
+/// The path tracer's samples are the same every frame: a scene that does
+/// not change renders the same bits at frames 3 and 8 (its noise does not
+/// flicker), where the Whitted look's jitter is the frame's own.
+#[test]
+fn a_still_scene_renders_the_same_noise_every_frame() {
+    let at = |frame: u64, integrator: Integrator| {
+        let st = Settings {
+            frame,
+            integrator,
+            ..path(24, 4, 3)
+        };
+        crate::render::render(gallery(), &st).rgba
+    };
+    assert_eq!(at(3, Integrator::Path), at(8, Integrator::Path));
+    assert_ne!(at(3, Integrator::Whitted), at(8, Integrator::Whitted));
+}
