@@ -141,17 +141,22 @@ impl Guide {
         if self.hit[p] != self.hit[q] {
             return 0.0;
         }
-        let mut w = (-light / sigma).exp();
+        // The light's and the depth's stopping in one exponential.
+        let mut exponent = light / sigma;
+        let mut w = 1.0;
         if self.hit[p] {
             let (np, nq) = (self.normal[p], self.normal[q]);
             let cos = np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2];
-            w *= cos.max(0.0).powi(SIGMA_NORMAL);
+            if cos <= 0.0 {
+                return 0.0;
+            }
+            w = cos.powi(SIGMA_NORMAL);
             let s = self.slope[p];
             let expected = s[0] * offset.0.abs() + s[1] * offset.1.abs();
             let gap = (self.depth[p] - self.depth[q]).abs();
-            w *= (-gap / (SIGMA_DEPTH * expected + 1e-3 * self.depth[p])).exp();
+            exponent += gap / (SIGMA_DEPTH * expected + 1e-3 * self.depth[p]);
         }
-        w
+        w * (-exponent).exp()
     }
 }
 
@@ -225,11 +230,12 @@ fn filter_pass(
             sum / wsum
         })
         .collect();
+    let lum: Vec<f32> = light.par_iter().map(|&c| luminance(c)).collect();
     (0..w * h)
         .into_par_iter()
         .map(|p| {
             let (x, y) = ((p % w) as isize, (p / w) as isize);
-            let lp = luminance(light[p]);
+            let lp = lum[p];
             let sigma = SIGMA_LIGHT * blurred[p].sqrt() + 1e-6;
             let (mut sum, mut wsum, mut vsum) = ([0.0f32; 3], 0.0f32, 0.0f32);
             for (j, ky) in TAPS.iter().enumerate() {
@@ -243,7 +249,7 @@ fn filter_pass(
                     let similar = if q == p {
                         1.0
                     } else {
-                        let gap = (lp - luminance(light[q])).abs();
+                        let gap = (lp - lum[q]).abs();
                         guide.weight(p, q, (dx as f32, dy as f32), gap, sigma)
                     };
                     let k = kx * ky * similar;
