@@ -1,7 +1,7 @@
 # lmfilm — the main job and the checks. `make help` lists the targets.
 CARGO ?= cargo
 
-.PHONY: film check-video test test-worlds check lint bench bench-render bench-path bench-film bench-farm readable clean help
+.PHONY: film check-video test test-worlds check lint bench bench-render bench-path bench-denoise bench-film bench-farm readable clean help
 
 help:
 	@echo "make film   the built-in film (14 s of the tennis match on its set): frames, soundtrack, manifest and the video renders/lmfilm/lmfilm.mp4"
@@ -12,6 +12,7 @@ help:
 	@echo "make bench  criterion benchmarks of the step function and the turtle"
 	@echo "make bench-render  the forest against Embree and Mitsuba 3 (../shared/anchors)"
 	@echo "make bench-path  the path tracer against Mitsuba 3's path integrator: agreement, equal samples, equal error"
+	@echo "make bench-denoise  the denoiser against Open Image Denoise, and Mitsuba in equal time (W=320 for docs/performance.md)"
 	@echo "make bench-film  the film pipeline: the built-in film at 1 and 2 threads, serial fraction, CPU busy, stage breakdown, a 1080p frame per sample against the forest still"
 	@echo "make bench-farm  the Slurm chain on the two-node test cluster (scripts/slurm_up.sh), healthy and with one node broken"
 	@echo "make readable  spell every scene in the readable form again (scenes/**/*.lmr, after a scene's .lm changed)"
@@ -48,6 +49,9 @@ bench-render:
 
 bench-path:
 	sh scripts/bench_path.sh
+
+bench-denoise:
+	sh scripts/bench_denoise.sh
 
 bench-film:
 	sh scripts/bench_film.sh
