@@ -13,7 +13,10 @@
 
 use rayon::prelude::*;
 
+use glam::Vec3;
+
 use super::output::Image;
+use super::sample;
 
 /// The B3 spline's taps.
 const TAPS: [f32; 5] = [1.0 / 16.0, 1.0 / 4.0, 3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0];
@@ -40,12 +43,13 @@ const SIGMA_DEPTH: f32 = 1.0;
 /// its colour).
 const LEAST_ALBEDO: f32 = 1e-3;
 
-/// What each pixel's weights are computed from.
-struct Guide {
+/// What each pixel's weights are computed from: the frame's layers and
+/// what is derived from them.
+struct Guide<'a> {
     /// Whether the centre ray met a surface.
     hit: Vec<bool>,
-    depth: Vec<f32>,
-    normal: Vec<[f32; 3]>,
+    depth: &'a [f32],
+    normal: &'a [[f32; 3]],
     /// The depth's change per pixel across and down (0 where unknown).
     slope: Vec<[f32; 2]>,
     /// The albedo divided by, per channel (1 where too dark).
@@ -71,17 +75,19 @@ pub fn denoise(img: &mut Image) {
     for pass in 0..PASSES {
         (light, variance) = filter_pass(&guide, (&light, &variance), (w, h), 1 << pass);
     }
-    let noisy = img.rgba.clone();
-    for ((out, l), a) in img.rgba.iter_mut().zip(&light).zip(&guide.albedo) {
-        out[0] = l[0] * a[0];
-        out[1] = l[1] * a[1];
-        out[2] = l[2] * a[2];
-    }
-    img.noisy = Some(noisy);
+    // The light times the albedo again; the coverage (alpha) as rendered.
+    let denoised = img
+        .rgba
+        .iter()
+        .zip(&light)
+        .zip(&guide.albedo)
+        .map(|((c, l), a)| [l[0] * a[0], l[1] * a[1], l[2] * a[2], c[3]])
+        .collect();
+    img.noisy = Some(std::mem::replace(&mut img.rgba, denoised));
 }
 
-impl Guide {
-    fn of(img: &Image, w: usize, h: usize) -> Guide {
+impl<'a> Guide<'a> {
+    fn of(img: &'a Image, w: usize, h: usize) -> Guide<'a> {
         let hit: Vec<bool> = img.depth.iter().map(|d| d.is_finite()).collect();
         let at = |x: usize, y: usize| hit[y * w + x].then(|| img.depth[y * w + x]);
         // Central differences where both neighbours are surfaces, else
@@ -126,8 +132,8 @@ impl Guide {
             .collect();
         Guide {
             hit,
-            depth: img.depth.clone(),
-            normal: img.normal.clone(),
+            depth: &img.depth,
+            normal: &img.normal,
             slope,
             albedo,
         }
@@ -173,8 +179,8 @@ fn exp_neg(x: f32) -> f32 {
     }
     let t = x.max(0.0) * std::f32::consts::LOG2_E;
     let n = t as u32; // floor, t ≥ 0
-    let g = (t - n as f32) * std::f32::consts::LN_2; // in [0, ln 2)
-                                                     // Horner's form of Σ (−g)^k / k!, k ≤ 8.
+                      // g in [0, ln 2); then Horner's form of Σ (−g)^k / k!, k ≤ 8.
+    let g = (t - n as f32) * std::f32::consts::LN_2;
     let p = 1.0 / 5_040.0 - g * (1.0 / 40_320.0);
     let p = 1.0 / 720.0 - g * p;
     let p = 1.0 / 120.0 - g * p;
@@ -189,7 +195,7 @@ fn exp_neg(x: f32) -> f32 {
 
 /// Luminance of a linear colour (Rec. 709).
 fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+    sample::luminance(Vec3::from(c))
 }
 
 /// The variance of each pixel's light: its samples' (divided by its

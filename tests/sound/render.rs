@@ -576,13 +576,8 @@ fn two_ears_hear_the_nearer_side_first_and_louder() {
     use lmfilm::sound::air::HALF_HEAD;
     use lmfilm::sound::render::head_shadow;
     use lmfilm::sound::Event;
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut unit = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::common::Rng(0x9e37_79b9_7f4a_7c15u64);
+    let mut unit = || rng.uniform(0.0, 1.0);
     let sigma = 2e-4;
     for case in 0..12 {
         let centre = DVec3::new(unit() * 20.0 - 10.0, 1.0 + unit(), unit() * 20.0 - 10.0);
@@ -663,13 +658,8 @@ fn two_ears_hear_the_nearer_side_first_and_louder() {
 #[test]
 fn the_ambisonic_master_points_each_channel_along_its_axis() {
     use lmfilm::sound::Event;
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut unit = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::common::Rng(0x2545_f491_4f6c_dd1du64);
+    let mut unit = || rng.uniform(0.0, 1.0);
     let sigma = 2e-4;
     let axes = |front: DVec3| {
         let f = front.normalize();

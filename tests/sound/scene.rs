@@ -172,6 +172,15 @@ fn a_scene_declares_its_own_sound_file() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A 0.2 s scene of one segment, the camera at (1, 2, 10) looking at
+/// `look_at`, with the option line `sound`.
+fn camera_scene(look_at: &str, sound: &str) -> String {
+    format!(
+        "Camera_AnimationParameters\nobserver 1 2 10\nlookatPoint {look_at}\n\
+         t_final_interval 0.2 0.04\nOptions\n{sound}\nAxiom\nF\nProductions\nEndProductions\n"
+    )
+}
+
 /// `Sound_event_file NAME INIT_ears 0 1` with no microphone puts two ears
 /// on the camera: the log declares them as ears and places them each
 /// frame 17.5 cm apart, either side of the eye along the image's right
@@ -181,12 +190,7 @@ fn a_scene_declares_its_own_sound_file() {
 fn a_scene_listens_with_two_ears_on_the_camera() {
     let dir = temp("ears");
     let scene = dir.join("ears.lm");
-    let text = |sound: &str| {
-        format!(
-            "Camera_AnimationParameters\nobserver 1 2 10\nlookatPoint 1 2 0\n\
-             t_final_interval 0.2 0.04\nOptions\n{sound}\nAxiom\nF\nProductions\nEndProductions\n"
-        )
-    };
+    let text = |sound: &str| camera_scene("1 2 0", sound);
     std::fs::write(&scene, text("Sound_event_file e.events INIT_ears 0 1")).unwrap();
     let film = derive_all(&scene);
     let log = film.events();
@@ -236,12 +240,7 @@ fn a_scene_listens_with_two_ears_on_the_camera() {
 fn a_scene_s_ambisonic_microphone_faces_where_the_camera_looks() {
     let dir = temp("ambix");
     let scene = dir.join("ambix.lm");
-    let text = |sound: &str| {
-        format!(
-            "Camera_AnimationParameters\nobserver 1 2 10\nlookatPoint 4 2 6\n\
-             t_final_interval 0.2 0.04\nOptions\n{sound}\nAxiom\nF\nProductions\nEndProductions\n"
-        )
-    };
+    let text = |sound: &str| camera_scene("4 2 6", sound);
     for (sound, mics, n) in [
         (
             "Sound_event_file e.events INIT_ears 0 1 INIT_ambix 2",
