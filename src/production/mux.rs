@@ -143,7 +143,7 @@ pub fn mux(
 ) -> Result<Muxed, MuxError> {
     let fps = rate.fps();
     let size = match frames.first() {
-        Some(f) => read_png(dir, &f.rel, f.limit)?.dimensions(),
+        Some(f) => png_size(dir, &f.rel, f.limit)?,
         None => {
             return Err(MuxError::Input {
                 path: dir.to_path_buf(),
@@ -221,19 +221,34 @@ pub fn mux(
 
 /// PNG frame `rel` of `dir` (at most `limit` bytes) as 8-bit RGB.
 fn read_png(dir: &Path, rel: &Path, limit: u64) -> Result<image::RgbImage, MuxError> {
+    png(dir, rel, limit, |reader| {
+        reader.decode().map(|i| i.into_rgb8())
+    })
+}
+
+/// The size of PNG frame `rel` of `dir`, from its header alone (its
+/// pixels are decoded where its group is encoded, if at all).
+fn png_size(dir: &Path, rel: &Path, limit: u64) -> Result<(u32, u32), MuxError> {
+    png(dir, rel, limit, |reader| reader.into_dimensions())
+}
+
+/// What `read` makes of PNG frame `rel` of `dir` (at most `limit` bytes).
+fn png<T>(
+    dir: &Path,
+    rel: &Path,
+    limit: u64,
+    read: impl FnOnce(image::ImageReader<io::Cursor<Vec<u8>>>) -> image::ImageResult<T>,
+) -> Result<T, MuxError> {
     let path = dir.join(rel);
     let bytes = read_file(&path, limit).map_err(|source| MuxError::Io {
         path: path.clone(),
         source,
     })?;
-    let image =
-        image::load_from_memory_with_format(&bytes, image::ImageFormat::Png).map_err(|e| {
-            MuxError::Input {
-                path: path.clone(),
-                why: format!("not a PNG lmfilm can read: {e}"),
-            }
-        })?;
-    Ok(image.into_rgb8())
+    let reader = image::ImageReader::with_format(io::Cursor::new(bytes), image::ImageFormat::Png);
+    read(reader).map_err(|e| MuxError::Input {
+        path,
+        why: format!("not a PNG lmfilm can read: {e}"),
+    })
 }
 
 /// The soundtrack's samples as the MP4 takes them, at a rate Opus
