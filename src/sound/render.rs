@@ -451,24 +451,25 @@ impl<'a> World<'a> {
         let mic: Vec<DVec3> = (0..out.len())
             .map(|j| self.mics[m].1.position(time(j), &mut hint))
             .collect();
-        // An ear's outward axis: from the other ear through it.
-        let ear = self.partner[m].filter(|_| pickup == Pickup::Pressure);
-        let axis: Option<Vec<DVec3>> = ear.map(|p| {
-            let mut hint = 0;
-            mic.iter()
-                .enumerate()
-                .map(|(j, &at)| {
+        // A directional pickup: its axis at each sample, and how it
+        // answers the cosine between that axis and where a sound comes
+        // from. An ear: its outward axis (from the other ear through it),
+        // in the head's shadow. An ambisonic component: the microphone's
+        // front (X), left (Y) or up (Z), the cosine itself.
+        let mut hint = 0;
+        let directional: Option<Directional> = match (pickup, self.partner[m], &self.facing) {
+            (Pickup::Pressure, Some(p), _) => {
+                let other = |(j, &at): (usize, &DVec3)| {
                     (at - self.mics[p].1.position(time(j), &mut hint)).normalize_or_zero()
-                })
-                .collect()
-        });
-        // The ambisonic component's axis: front (X), left (Y) or up (Z).
-        let component: Option<Vec<DVec3>> = match (pickup, &self.facing) {
-            (Pickup::Ambisonic(c @ 1..=3), Some((_, facing))) => {
-                let mut hint = 0;
-                let axes =
-                    (0..out.len()).map(|j| ambisonic_axes(facing.position(time(j), &mut hint)));
-                Some(axes.map(|[x, y, z]| [y, z, x][c - 1]).collect())
+                };
+                Some((mic.iter().enumerate().map(other).collect(), head_shadow))
+            }
+            (Pickup::Ambisonic(c @ 1..=3), _, Some((_, facing))) => {
+                let axis = |j| {
+                    let [x, y, z] = ambisonic_axes(facing.position(time(j), &mut hint));
+                    [y, z, x][c - 1]
+                };
+                Some(((0..out.len()).map(axis).collect(), |cos| cos))
             }
             _ => None,
         };
@@ -512,14 +513,9 @@ impl<'a> World<'a> {
                     })?;
                 previous = [Some(tau), previous[0]];
                 let mut gain = settings.attenuation.gain(c * (t - tau));
-                let direction = axis.as_ref().or(component.as_ref()).map(|axes| {
+                if let Some((axes, answer)) = &directional {
                     let from = (path.position(tau, &mut hint) - m_t).normalize_or_zero();
-                    axes[j].dot(from)
-                });
-                match (direction, &axis) {
-                    (Some(cos), Some(_)) => gain *= head_shadow(cos),
-                    (Some(cos), None) => gain *= cos,
-                    (None, _) => {}
+                    gain *= answer(axes[j].dot(from));
                 }
                 *acc += gain * e.signal.at((tau - e.start) * sig_rate);
             }
@@ -530,6 +526,10 @@ impl<'a> World<'a> {
         Ok(())
     }
 }
+
+/// A directional pickup's axis at each sample of a block, and its
+/// answer to the cosine between the axis and a sound's direction.
+type Directional = (Vec<DVec3>, fn(f64) -> f64);
 
 /// The ambisonic microphone's axes, front, left and up (AmbiX's X, Y and
 /// Z), for a microphone facing `front`: up is the world's up (+y) made
