@@ -63,7 +63,7 @@ pub struct Image {
     pub object: Vec<u32>,
     /// The reflectance of the surface the pixel's centre ray meets (its
     /// BSDF's albedo, textures included), 1 for none: what the denoiser
-    /// divides the light by.
+    /// divides the light by (all 1 in a frame not denoised).
     pub albedo: Vec<[f32; 3]>,
     /// The variance of the pixel's mean luminance over its samples (0
     /// for one sample): how noisy the pixel is.

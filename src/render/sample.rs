@@ -17,7 +17,8 @@ pub struct PixelOut {
     pub depth: f32,
     pub normal: [f32; 3],
     pub object: u32,
-    /// The albedo of the surface the centre ray meets (1 for none).
+    /// The albedo of the surface the centre ray meets (1 for none, and
+    /// where the frame is not denoised).
     pub albedo: [f32; 3],
     /// The variance of the pixel's mean luminance (0 for one sample).
     pub variance: f32,
@@ -27,13 +28,27 @@ pub struct PixelOut {
 #[derive(Clone, Copy)]
 pub struct Centre {
     pub hit: Hit,
-    /// Its BSDF's albedo, textures included.
+    /// Its BSDF's albedo, textures included, where the denoiser wants it
+    /// (else 1: no shading on the way of a frame that is not denoised).
     pub albedo: Vec3,
 }
 
 impl Centre {
-    /// The centre ray's `hit` of pixel (x, y), with its surface's albedo.
-    pub fn of(accel: &Accel, cam: &CameraRays, hit: Hit, (x, y): (u32, u32)) -> Centre {
+    /// The centre ray's `hit` of pixel (x, y), with its surface's albedo
+    /// when `st` denoises.
+    pub fn of(
+        accel: &Accel,
+        cam: &CameraRays,
+        st: &Settings,
+        hit: Hit,
+        (x, y): (u32, u32),
+    ) -> Centre {
+        if !st.denoise {
+            return Centre {
+                hit,
+                albedo: Vec3::ONE,
+            };
+        }
         let d = cam.dir(x as f32 + 0.5, y as f32 + 0.5);
         let albedo = shade::point(accel, &hit, cam.eye(), d).map_or(Vec3::ZERO, |pt| {
             let m = &accel.scene.materials[pt.material];
@@ -150,7 +165,7 @@ pub fn centre(accel: &Accel, cam: &CameraRays, st: &Settings, x: u32, y: u32) ->
         0.0,
         f32::INFINITY,
     )?;
-    Some(Centre::of(accel, cam, hit, (x, y)))
+    Some(Centre::of(accel, cam, st, hit, (x, y)))
 }
 
 /// A pixel from its samples, as (offset in the pixel, colour, whether

@@ -209,7 +209,7 @@ impl Integrate for Whitted {
                     .zip(&lit[..n])
                     .map(|(lane, &(c, hit))| (lane.offset, c, hit.is_some()));
                 let centre = match lit[per - 1].1 {
-                    Some(hit) if st.layers => Some(Centre::of(accel, cam, hit, (x, y))),
+                    Some(hit) if st.layers => Some(Centre::of(accel, cam, st, hit, (x, y))),
                     _ => None,
                 };
                 put(x, filtered(st, samples, centre));
